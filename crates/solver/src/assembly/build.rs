@@ -1,0 +1,403 @@
+//! Compiling a [`System`] into an [`Assembly`].
+
+use std::collections::BTreeSet;
+
+use super::constraints::{AngleK, DriverK, LineK, PointK};
+use super::forces::{BushingK, CoordSpringK, CustomK, FrictionK, LoadK, SpringK};
+use super::kin::V2;
+use super::layout::{EquationSpec, Layout, NONE};
+use super::{Assembly, BodyStatic, GEntry, PairMap, PrimMap, PrimRef};
+use crate::error::BuildError;
+use crate::linalg::block_lu::BlockOrdering;
+use crate::model::constraint::Constraint;
+use crate::model::force::ForceElement;
+use crate::model::system::System;
+
+/// Options of the compilation.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AssemblyOptions {
+    /// Block ordering for the elimination.
+    pub ordering: BlockOrdering,
+}
+
+/// A constraint primitive before its scatter map is known.
+enum Prim {
+    Point(PointK),
+    Angle(AngleK),
+    Line(LineK),
+    Driver(DriverK),
+}
+
+impl Prim {
+    fn bodies(&self) -> (u32, u32) {
+        match self {
+            Prim::Point(k) => (k.a, k.b),
+            Prim::Angle(k) => (k.a, k.b),
+            Prim::Line(k) => (k.a, k.b),
+            Prim::Driver(k) => (k.a, 0),
+        }
+    }
+
+    fn rows(&self) -> usize {
+        match self {
+            Prim::Point(_) => 2,
+            _ => 1,
+        }
+    }
+
+    /// Slots (0..6 over the two bodies) whose gradient entry can be non-zero, per row.
+    fn structural_slots(&self, row: usize) -> Vec<usize> {
+        match self {
+            Prim::Point(k) => {
+                let mut s = vec![row, 3 + row];
+                if k.pa.norm() > 0.0 {
+                    s.push(2);
+                }
+                if k.pb.norm() > 0.0 {
+                    s.push(5);
+                }
+                s.sort_unstable();
+                s
+            }
+            Prim::Angle(_) => vec![2, 5],
+            Prim::Line(_) => vec![0, 1, 2, 3, 4, 5],
+            Prim::Driver(k) => vec![k.slot as usize],
+        }
+    }
+}
+
+fn unit(d: [f64; 2]) -> V2 {
+    let v = V2::from(d);
+    v.scale(1.0 / v.norm())
+}
+
+pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Assembly, BuildError> {
+    system.validate()?;
+    let bodies = system.bodies();
+    let nb = bodies.len();
+    let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
+    let free: Vec<[bool; 3]> = bodies.iter().map(|b| b.free).collect();
+    let pose = |b: usize| bodies[b].pose;
+
+    // Constraint primitives and equation specs.
+    let mut prims: Vec<(usize, Prim)> = Vec::new();
+    for (ci, (_, c)) in system.constraints().iter().enumerate() {
+        let id = |b: crate::model::body::BodyId| b.index() as u32;
+        match c {
+            Constraint::Revolute(j) => prims.push((
+                ci,
+                Prim::Point(PointK { a: id(j.body_a), b: id(j.body_b), pa: V2::from(j.point_a), pb: V2::from(j.point_b) }),
+            )),
+            Constraint::Weld(j) => {
+                let (a, b) = (id(j.body_a), id(j.body_b));
+                prims.push((ci, Prim::Point(PointK { a, b, pa: V2::from(j.point_a), pb: V2::from(j.point_b) })));
+                let phi0 = pose(a as usize)[2] - pose(b as usize)[2];
+                prims.push((ci, Prim::Angle(AngleK { a, b, phi0 })));
+            }
+            Constraint::Prismatic(j) => {
+                let (a, b) = (id(j.slider), id(j.base));
+                let phi0 = pose(a as usize)[2] - pose(b as usize)[2];
+                prims.push((ci, Prim::Angle(AngleK { a, b, phi0 })));
+                prims.push((
+                    ci,
+                    Prim::Line(LineK {
+                        a,
+                        b,
+                        pa: V2::from(j.point),
+                        lb: V2::from(j.axis_point),
+                        ub: unit(j.axis_direction),
+                    }),
+                ));
+            }
+            Constraint::PointOnLine(j) => prims.push((
+                ci,
+                Prim::Line(LineK {
+                    a: id(j.body),
+                    b: id(j.line_body),
+                    pa: V2::from(j.point),
+                    lb: V2::from(j.line_point),
+                    ub: unit(j.line_direction),
+                }),
+            )),
+            Constraint::Driver(d) => prims.push((
+                ci,
+                Prim::Driver(DriverK { a: id(d.body), slot: d.coord.slot() as u8, motion: d.motion.clone() }),
+            )),
+        }
+    }
+    // Preference: bodies touched by fewer constraints take the equations.
+    let mut touches = vec![0usize; nb];
+    for (_, c) in system.constraints() {
+        let (a, b) = c.bodies();
+        touches[a.index()] += 1;
+        touches[b.index()] += 1;
+    }
+    let mut equations = Vec::new();
+    let mut eq_bodies = Vec::new();
+    let mut eq_constraint = Vec::new();
+    for (ci, p) in &prims {
+        let (a, b) = p.bodies();
+        let mut order = vec![a, b];
+        order.sort_by_key(|&x| touches[x as usize]);
+        for row in 0..p.rows() {
+            let slots = p.structural_slots(row);
+            let mut candidates = Vec::new();
+            for &body in &order {
+                if body == 0 {
+                    continue;
+                }
+                let base = if body == a { 0 } else { 3 };
+                // translational slots before the rotation
+                for &s in slots.iter().filter(|&&s| s >= base && s < base + 3) {
+                    candidates.push((body, (s - base) as u8));
+                }
+            }
+            equations.push(EquationSpec { constraint: system.constraints()[*ci].0.clone(), candidates });
+            eq_bodies.push((a, b));
+            eq_constraint.push(*ci as u32);
+        }
+    }
+    let couplings: Vec<(u32, u32)> = system
+        .forces()
+        .iter()
+        .map(|(_, f)| {
+            let (a, b) = f.bodies();
+            (a.index() as u32, b.index() as u32)
+        })
+        .collect();
+    let layout = Layout::new(&free, &names, &equations, &eq_bodies, &couplings, options.ordering)?;
+    let n = layout.n as u32;
+    let sink = layout.sink();
+
+    let body_static: Vec<BodyStatic> =
+        (0..nb).map(|b| BodyStatic { coord: layout.body_coord[b], pose0: bodies[b].pose }).collect();
+    let slots_of = |a: u32, b: u32| -> [u32; 6] {
+        let mut f = [n; 6];
+        for s in 0..3 {
+            let ca = layout.body_coord[a as usize][s];
+            let cb = layout.body_coord[b as usize][s];
+            f[s] = if ca == NONE { n } else { ca };
+            f[3 + s] = if cb == NONE { n } else { cb };
+        }
+        f
+    };
+    let jac_of = |f: &[u32; 6]| -> [u32; 36] {
+        let mut jac = [sink; 36];
+        for i in 0..6 {
+            for j in 0..6 {
+                if f[i] < n && f[j] < n {
+                    jac[i * 6 + j] =
+                        layout.entry(layout.unknown_of_coord[f[i] as usize], layout.unknown_of_coord[f[j] as usize]);
+                }
+            }
+        }
+        jac
+    };
+    let pair = |a: u32, b: u32| {
+        let f = slots_of(a, b);
+        PairMap { f, jac: jac_of(&f) }
+    };
+
+    let mut asm = Assembly {
+        bodies: body_static,
+        coord_mass: layout.coord_body.iter().map(|&(b, s)| bodies[b as usize].slot_mass(s as usize)).collect(),
+        mass_pos: (0..layout.n)
+            .map(|c| layout.entry(layout.unknown_of_coord[c], layout.unknown_of_coord[c]))
+            .collect(),
+        bushings: Vec::new(),
+        frictions: Vec::new(),
+        springs: Vec::new(),
+        coord_springs: Vec::new(),
+        loads: Vec::new(),
+        customs: Vec::new(),
+        points: Vec::new(),
+        angles: Vec::new(),
+        lines: Vec::new(),
+        drivers: Vec::new(),
+        g_entries: Vec::new(),
+        eq_mref: Vec::new(),
+        constraint_names: system.constraints().iter().map(|(n, _)| n.clone()).collect(),
+        constraint_prims: vec![Vec::new(); system.constraints().len()],
+        eq_constraint,
+        gravity: V2::from(system.excitation().gravity),
+        ground: [system.excitation().ground_x.clone(), system.excitation().ground_y.clone()],
+        translational: [Vec::new(), Vec::new()],
+        structural_nnz: 0,
+        d_entries: Vec::new(),
+        initial: (Vec::new(), Vec::new()),
+        layout: layout.clone(),
+    };
+    asm.eq_mref = layout.eq_coord.iter().map(|&c| asm.coord_mass[c as usize]).collect();
+
+    for (_, f) in system.forces() {
+        let (a, b) = f.bodies();
+        let (a, b) = (a.index() as u32, b.index() as u32);
+        match f {
+            ForceElement::Bushing(e) => asm.bushings.push((
+                BushingK {
+                    a,
+                    b,
+                    pa: V2::from(e.frame_point),
+                    pb: V2::from(e.point),
+                    k: e.stiffness,
+                    c: e.damping,
+                    rest: V2::from(e.rest),
+                },
+                pair(a, b),
+            )),
+            ForceElement::Friction(e) => asm.frictions.push((
+                FrictionK { a, b, pa: V2::from(e.point), force: e.sliding_force(), v_eps: e.v_eps, law: e.law },
+                pair(a, b),
+            )),
+            ForceElement::SpringDamper(e) => asm.springs.push((
+                SpringK {
+                    a,
+                    b,
+                    pa: V2::from(e.point_a),
+                    pb: V2::from(e.point_b),
+                    k: e.stiffness,
+                    c: e.damping,
+                    l0: e.rest_length,
+                },
+                pair(a, b),
+            )),
+            ForceElement::CoordinateSpring(e) => {
+                let c = layout.body_coord[a as usize][e.coord.slot()];
+                let u = layout.unknown_of_coord[c as usize];
+                asm.coord_springs.push((
+                    CoordSpringK { body: a, slot: e.coord.slot() as u8, k: e.stiffness, c: e.damping, rest: e.rest },
+                    c,
+                    layout.entry(u, u),
+                ));
+            }
+            ForceElement::AppliedLoad(e) => asm.loads.push((
+                LoadK { a, pa: V2::from(e.point), fx: e.fx.clone(), fy: e.fy.clone(), torque: e.torque.clone() },
+                pair(a, 0),
+            )),
+            ForceElement::Custom(e) => asm.customs.push((CustomK { a, b, law: e.clone() }, pair(a, b))),
+        }
+    }
+
+    let mut eq = 0u32;
+    for (ci, p) in prims {
+        let (a, b) = p.bodies();
+        let f = slots_of(a, b);
+        let g_start = asm.g_entries.len() as u32;
+        for row in 0..p.rows() {
+            let e = eq + row as u32;
+            for slot in p.structural_slots(row) {
+                let c = f[slot];
+                if c >= n {
+                    continue;
+                }
+                let (ue, uc) = (layout.unknown_of_eq[e as usize], layout.unknown_of_coord[c as usize]);
+                asm.g_entries.push(GEntry {
+                    pos: layout.entry(ue, uc),
+                    pos_t: layout.entry(uc, ue),
+                    eq: e,
+                    coord: c,
+                    row: row as u8,
+                    slot: slot as u8,
+                });
+            }
+        }
+        let map = PrimMap {
+            eq,
+            rows: p.rows() as u8,
+            f,
+            h: jac_of(&f),
+            g_start,
+            g_count: (asm.g_entries.len() as u32 - g_start) as u8,
+        };
+        eq += p.rows() as u32;
+        let r = match p {
+            Prim::Point(k) => {
+                asm.points.push((k, map));
+                PrimRef::Point(asm.points.len() as u32 - 1)
+            }
+            Prim::Angle(k) => {
+                asm.angles.push((k, map));
+                PrimRef::Angle(asm.angles.len() as u32 - 1)
+            }
+            Prim::Line(k) => {
+                asm.lines.push((k, map));
+                PrimRef::Line(asm.lines.len() as u32 - 1)
+            }
+            Prim::Driver(k) => {
+                asm.drivers.push((k, map));
+                PrimRef::Driver(asm.drivers.len() as u32 - 1)
+            }
+        };
+        asm.constraint_prims[ci].push(r);
+    }
+
+    for (b, body) in bodies.iter().enumerate().skip(1) {
+        for dir in 0..2 {
+            let c = layout.body_coord[b][dir];
+            if c != NONE {
+                asm.translational[dir].push((c, body.mass));
+            }
+        }
+    }
+    let mut q0 = vec![0.0; layout.n];
+    let mut v0 = vec![0.0; layout.n];
+    for (c, &(b, s)) in layout.coord_body.iter().enumerate() {
+        q0[c] = bodies[b as usize].pose[s as usize];
+        v0[c] = bodies[b as usize].velocity[s as usize];
+    }
+    asm.initial = (q0, v0);
+    asm.structural_nnz = structural_nnz(&asm);
+    asm.d_entries = damping_entries(&asm);
+    Ok(asm)
+}
+
+/// Distinct positions written by any element or constraint.
+fn structural_nnz(asm: &Assembly) -> usize {
+    let sink = asm.layout.sink();
+    let mut set: BTreeSet<u32> = asm.mass_pos.iter().copied().collect();
+    let maps = asm
+        .bushings
+        .iter()
+        .map(|x| &x.1)
+        .chain(asm.frictions.iter().map(|x| &x.1))
+        .chain(asm.springs.iter().map(|x| &x.1))
+        .chain(asm.loads.iter().map(|x| &x.1))
+        .chain(asm.customs.iter().map(|x| &x.1));
+    for m in maps {
+        set.extend(m.jac.iter().copied().filter(|&p| p != sink));
+    }
+    for m in asm.points.iter().map(|x| &x.1).chain(asm.lines.iter().map(|x| &x.1)) {
+        set.extend(m.h.iter().copied().filter(|&p| p != sink));
+    }
+    for e in &asm.g_entries {
+        set.insert(e.pos);
+        set.insert(e.pos_t);
+    }
+    set.len()
+}
+
+/// Distinct (row, column, position) entries of the damping matrix.
+fn damping_entries(asm: &Assembly) -> Vec<(u32, u32, u32)> {
+    let n = asm.layout.n as u32;
+    let mut set = BTreeSet::new();
+    let maps = asm
+        .bushings
+        .iter()
+        .map(|x| &x.1)
+        .chain(asm.frictions.iter().map(|x| &x.1))
+        .chain(asm.springs.iter().map(|x| &x.1))
+        .chain(asm.customs.iter().map(|x| &x.1));
+    for m in maps {
+        for i in 0..6 {
+            for j in 0..6 {
+                if m.f[i] < n && m.f[j] < n {
+                    set.insert((m.jac[i * 6 + j], m.f[i], m.f[j]));
+                }
+            }
+        }
+    }
+    for (_, c, p) in &asm.coord_springs {
+        set.insert((*p, *c, *c));
+    }
+    set.into_iter().map(|(p, r, c)| (r, c, p)).collect()
+}

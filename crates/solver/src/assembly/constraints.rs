@@ -1,0 +1,166 @@
+//! Constraint primitives with their derivatives.
+//!
+//! Each user constraint is made of primitives: a revolute is a point
+//! coincidence, a weld a point coincidence plus an angle, a prismatic joint
+//! an angle plus a line, a point-on-line a line, a driver a coordinate
+//! equation. A primitive with `k` equations provides, over the coordinates
+//! `z = (x_a, y_a, phi_a, x_b, y_b, phi_b)`,
+//! - `g(z, t)` (k values) and the rows of `G = dg/dz`,
+//! - the Hessian contraction `H = sum_i lambda_i d^2 g_i / dz^2` (6x6),
+//! - the velocity constraint `G z' + dg/dt`,
+//! - `gamma`, the part of `d^2 g / dt^2` free of accelerations (for the
+//!   consistent initial accelerations).
+
+use super::kin::{BodyKin, Mat6, V2};
+use crate::timefn::TimeFunction;
+
+/// Point of body `a` coincides with point of body `b` (2 equations).
+#[derive(Debug, Clone)]
+pub(crate) struct PointK {
+    pub a: u32,
+    pub b: u32,
+    pub pa: V2,
+    pub pb: V2,
+}
+
+/// Relative angle `phi_a - phi_b - phi0 = 0` (1 equation).
+#[derive(Debug, Clone)]
+pub(crate) struct AngleK {
+    pub a: u32,
+    pub b: u32,
+    pub phi0: f64,
+}
+
+/// Point `pa` of body `a` lies on the line through `lb` along unit `ub` of body `b` (1 equation).
+#[derive(Debug, Clone)]
+pub(crate) struct LineK {
+    pub a: u32,
+    pub b: u32,
+    pub pa: V2,
+    pub lb: V2,
+    pub ub: V2,
+}
+
+/// Coordinate `slot` of body `a` equals `f(t)` (1 equation).
+#[derive(Debug, Clone)]
+pub(crate) struct DriverK {
+    pub a: u32,
+    pub slot: u8,
+    pub motion: TimeFunction,
+}
+
+/// Equation values and gradient rows of one primitive (up to 2 equations).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Rows {
+    pub g: [f64; 2],
+    pub grad: [[f64; 6]; 2],
+}
+
+impl PointK {
+    fn parts(&self, ka: &BodyKin, kb: &BodyKin) -> (V2, V2) {
+        (ka.rot.apply(self.pa), kb.rot.apply(self.pb))
+    }
+
+    pub fn rows(&self, ka: &BodyKin, kb: &BodyKin) -> Rows {
+        let (ra, rb) = self.parts(ka, kb);
+        let g = (ka.r + ra) - (kb.r + rb);
+        let (sa, sb) = (ra.perp(), rb.perp());
+        Rows {
+            g: [g.x, g.y],
+            grad: [[1.0, 0.0, sa.x, -1.0, 0.0, -sb.x], [0.0, 1.0, sa.y, 0.0, -1.0, -sb.y]],
+        }
+    }
+
+    pub fn hessian(&self, ka: &BodyKin, kb: &BodyKin, lam: &[f64], h: &mut Mat6) {
+        let (ra, rb) = self.parts(ka, kb);
+        let l = V2::new(lam[0], lam[1]);
+        h[2][2] += -l.dot(ra);
+        h[5][5] += l.dot(rb);
+    }
+
+    pub fn gamma(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 2] {
+        let (ra, rb) = self.parts(ka, kb);
+        let g = -(ka.w * ka.w * ra) + kb.w * kb.w * rb;
+        [g.x, g.y]
+    }
+}
+
+impl AngleK {
+    pub fn rows(&self, ka: &BodyKin, kb: &BodyKin) -> Rows {
+        let mut r = Rows { g: [ka.phi - kb.phi - self.phi0, 0.0], ..Rows::default() };
+        r.grad[0][2] = 1.0;
+        r.grad[0][5] = -1.0;
+        r
+    }
+}
+
+struct LineEval {
+    rho_a: V2,
+    lam_b: V2,
+    n: V2,
+    w: V2,
+}
+
+impl LineK {
+    fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> LineEval {
+        let rho_a = ka.rot.apply(self.pa);
+        let lam_b = kb.rot.apply(self.lb);
+        let n = kb.rot.apply(self.ub.perp());
+        let w = (ka.r + rho_a) - (kb.r + lam_b);
+        LineEval { rho_a, lam_b, n, w }
+    }
+
+    pub fn rows(&self, ka: &BodyKin, kb: &BodyKin) -> Rows {
+        let e = self.eval(ka, kb);
+        let n = e.n;
+        let gphib = n.perp().dot(e.w) - n.dot(e.lam_b.perp());
+        let mut r = Rows { g: [n.dot(e.w), 0.0], ..Rows::default() };
+        r.grad[0] = [n.x, n.y, n.dot(e.rho_a.perp()), -n.x, -n.y, gphib];
+        r
+    }
+
+    pub fn hessian(&self, ka: &BodyKin, kb: &BodyKin, lam: f64, h: &mut Mat6) {
+        let e = self.eval(ka, kb);
+        let n = e.n;
+        let np = n.perp();
+        h[2][2] += lam * -n.dot(e.rho_a);
+        let x = lam * n.dot(e.rho_a);
+        h[2][5] += x;
+        h[5][2] += x;
+        for (i, v) in [(0usize, np.x), (1, np.y), (3, -np.x), (4, -np.y)] {
+            h[5][i] += lam * v;
+            h[i][5] += lam * v;
+        }
+        h[5][5] += lam * (-n.dot(e.w) - n.dot(e.lam_b));
+    }
+
+    pub fn gamma(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
+        let e = self.eval(ka, kb);
+        let wdot = (ka.v + ka.w * e.rho_a.perp()) - (kb.v + kb.w * e.lam_b.perp());
+        let (wa, wb) = (ka.w, kb.w);
+        -wb * wb * e.n.dot(e.w) + 2.0 * wb * e.n.perp().dot(wdot) - wa * wa * e.n.dot(e.rho_a)
+            + wb * wb * e.n.dot(e.lam_b)
+    }
+}
+
+impl DriverK {
+    pub fn coordinate(&self, ka: &BodyKin) -> f64 {
+        match self.slot {
+            0 => ka.r.x,
+            1 => ka.r.y,
+            _ => ka.phi,
+        }
+    }
+
+    pub fn rows(&self, ka: &BodyKin, t: f64) -> Rows {
+        let mut r = Rows { g: [self.coordinate(ka) - self.motion.value(t), 0.0], ..Rows::default() };
+        r.grad[0][self.slot as usize] = 1.0;
+        r
+    }
+
+    /// `dg/dt = -f'(t)` and `-f''(t)`.
+    pub fn time_derivatives(&self, t: f64) -> (f64, f64) {
+        let e = self.motion.eval(t);
+        (-e[1], -e[2])
+    }
+}

@@ -1,0 +1,726 @@
+//! What the solver linearises: the compiled system.
+//!
+//! [`Assembly`] turns a [`System`] into typed kernel arrays with precomputed
+//! scatter indices into
+//! - the generalised-force vector `F = Q(t, q, q') - G(q)^T lambda` (length `n`),
+//! - the constraint vector `g(q, t)` (length `m`),
+//! - three Jacobian arrays laid out like the block iteration matrix: the
+//!   stiffness `K = -dF/dq` (the constraint Hessian included), the damping
+//!   `D = -dF/dq'` and the constraint gradient `G = dg/dq`.
+//!
+//! The integrator forms its iteration matrices `c^2 M + c D + K` with the
+//! scaled constraint blocks (see [`Assembly::form`]) from these arrays, so
+//! each force law is written once and the integrator supplies the factors.
+
+pub(crate) mod constraints;
+pub(crate) mod forces;
+pub(crate) mod kin;
+pub(crate) mod layout;
+mod build;
+
+use crate::error::BuildError;
+use crate::linalg::block_lu::BlockSymbolic;
+use crate::linalg::scalar::Scalar;
+use crate::model::body::{BodyId, Coord};
+use crate::model::constraint::ConstraintId;
+use crate::model::system::System;
+use crate::timefn::TimeFunction;
+use constraints::{AngleK, DriverK, LineK, PointK, Rows};
+use forces::{BushingK, CoordSpringK, CustomK, FrictionK, LoadK, SpringK};
+use kin::{BodyKin, Mat6, Rot, V2};
+use layout::{Layout, NONE};
+
+pub use build::AssemblyOptions;
+
+/// Scatter map of a two-body element.
+#[derive(Debug, Clone)]
+pub(crate) struct PairMap {
+    /// Index into `F` of each of the 6 slots (the sink `n` when locked).
+    pub f: [u32; 6],
+    /// Position in the Jacobian arrays of each entry of the 6x6 block.
+    pub jac: [u32; 36],
+}
+
+/// Scatter map of a constraint primitive.
+#[derive(Debug, Clone)]
+pub(crate) struct PrimMap {
+    /// First equation index.
+    pub eq: u32,
+    /// Number of equations (1 or 2).
+    pub rows: u8,
+    /// Index into `F` of each of the 6 slots.
+    pub f: [u32; 6],
+    /// Hessian positions (6x6).
+    pub h: [u32; 36],
+    /// First entry in [`Assembly::g_entries`] and how many.
+    pub g_start: u32,
+    pub g_count: u8,
+}
+
+/// One stored entry of `G`: its position in the matrix, the position of its
+/// transpose, and which row and slot of the primitive it is.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct GEntry {
+    pub pos: u32,
+    pub pos_t: u32,
+    pub eq: u32,
+    pub coord: u32,
+    pub row: u8,
+    pub slot: u8,
+}
+
+/// Per-body data for the kinematics cache.
+#[derive(Debug, Clone)]
+pub(crate) struct BodyStatic {
+    pub coord: [u32; 3],
+    pub pose0: [f64; 3],
+}
+
+/// Which primitive a user constraint consists of.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum PrimRef {
+    Point(u32),
+    Angle(u32),
+    Line(u32),
+    Driver(u32),
+}
+
+/// Stiffness, damping and constraint-gradient values of one Jacobian
+/// evaluation, in the layout of the block iteration matrix.
+#[derive(Debug, Clone)]
+pub struct JacobianValues {
+    /// `K = -dF/dq` (constraint Hessian included); one extra sink entry at the end.
+    pub k: Vec<f64>,
+    /// `D = -dF/dq'`; one extra sink entry at the end.
+    pub d: Vec<f64>,
+    /// `G = dg/dq`, one value per stored gradient entry.
+    pub g: Vec<f64>,
+}
+
+impl JacobianValues {
+    /// `K` without the sink entry.
+    pub fn stiffness(&self) -> &[f64] {
+        &self.k[..self.k.len() - 1]
+    }
+    /// `D` without the sink entry.
+    pub fn damping(&self) -> &[f64] {
+        &self.d[..self.d.len() - 1]
+    }
+}
+
+/// Power flows at one state, for the energy balance [W].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Powers {
+    /// Dissipated by dampers (bushings, spring-dampers, coordinate dampers); never negative.
+    pub damping: f64,
+    /// Dissipated by friction; never negative.
+    pub friction: f64,
+    /// Delivered by applied loads and custom forces.
+    pub applied: f64,
+    /// Delivered by the base excitation (`-m a_g` on every body).
+    pub base: f64,
+    /// Delivered by rheonomic constraints (drivers).
+    pub constraints: f64,
+}
+
+/// Largest element forces at one state.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ForceExtremes {
+    /// Largest bushing force magnitude [N].
+    pub bushing: f64,
+    /// Largest friction force magnitude [N].
+    pub friction: f64,
+}
+
+/// Scratch space for evaluations; one per thread.
+#[derive(Debug, Clone)]
+pub struct Workspace {
+    kin: Vec<BodyKin>,
+    f: Vec<f64>,
+    g: Vec<f64>,
+    w: Vec<f64>,
+    vx: Vec<f64>,
+    rows: Vec<Rows>,
+    km: Mat6,
+    dm: Mat6,
+}
+
+impl Workspace {
+    /// Generalised forces `F = Q - G^T lambda` of the last [`Assembly::residual`] call.
+    pub fn forces(&self) -> &[f64] {
+        &self.f[..self.f.len() - 1]
+    }
+    /// Constraint values `g` of the last [`Assembly::residual`] call (or
+    /// `gamma` of the last [`Assembly::constraint_gamma`] call).
+    pub fn constraints(&self) -> &[f64] {
+        &self.g
+    }
+    /// Velocity constraint `G q' + g_t` of the last [`Assembly::residual`] call.
+    pub fn velocity_constraints(&self) -> &[f64] {
+        &self.w
+    }
+}
+
+/// The compiled system.
+#[derive(Debug, Clone)]
+pub struct Assembly {
+    pub(crate) layout: Layout,
+    pub(crate) bodies: Vec<BodyStatic>,
+    pub(crate) coord_mass: Vec<f64>,
+    pub(crate) mass_pos: Vec<u32>,
+    pub(crate) bushings: Vec<(BushingK, PairMap)>,
+    pub(crate) frictions: Vec<(FrictionK, PairMap)>,
+    pub(crate) springs: Vec<(SpringK, PairMap)>,
+    pub(crate) coord_springs: Vec<(CoordSpringK, u32, u32)>,
+    pub(crate) loads: Vec<(LoadK, PairMap)>,
+    pub(crate) customs: Vec<(CustomK, PairMap)>,
+    pub(crate) points: Vec<(PointK, PrimMap)>,
+    pub(crate) angles: Vec<(AngleK, PrimMap)>,
+    pub(crate) lines: Vec<(LineK, PrimMap)>,
+    pub(crate) drivers: Vec<(DriverK, PrimMap)>,
+    pub(crate) g_entries: Vec<GEntry>,
+    /// Reference mass of each equation for scaling the constraint rows.
+    pub(crate) eq_mref: Vec<f64>,
+    pub(crate) constraint_names: Vec<String>,
+    pub(crate) constraint_prims: Vec<Vec<PrimRef>>,
+    pub(crate) eq_constraint: Vec<u32>,
+    pub(crate) gravity: V2,
+    pub(crate) ground: [Option<TimeFunction>; 2],
+    /// Translational coordinates with their mass, per direction (base excitation, gravity).
+    pub(crate) translational: [Vec<(u32, f64)>; 2],
+    pub(crate) structural_nnz: usize,
+    /// Distinct positions of the damping matrix: (row coordinate, column coordinate, position).
+    pub(crate) d_entries: Vec<(u32, u32, u32)>,
+    pub(crate) initial: (Vec<f64>, Vec<f64>),
+}
+
+#[inline]
+fn scatter6(f: &mut [f64], idx: &[u32; 6], q: &[f64; 6]) {
+    for i in 0..6 {
+        f[idx[i] as usize] += q[i];
+    }
+}
+
+#[inline]
+fn scatter36(vals: &mut [f64], pos: &[u32; 36], m: &Mat6) {
+    for i in 0..6 {
+        for j in 0..6 {
+            vals[pos[i * 6 + j] as usize] += m[i][j];
+        }
+    }
+}
+
+#[inline]
+fn zero6(m: &mut Mat6) {
+    *m = [[0.0; 6]; 6];
+}
+
+impl Assembly {
+    /// Compiles a system.
+    pub fn new(system: &System, options: &AssemblyOptions) -> Result<Self, BuildError> {
+        build::compile(system, options)
+    }
+
+    /// Number of free coordinates `n`.
+    pub fn coordinates(&self) -> usize {
+        self.layout.n
+    }
+
+    /// Number of constraint equations `m`.
+    pub fn equations(&self) -> usize {
+        self.layout.m
+    }
+
+    /// Number of unknowns of the iteration matrix (`n + m`).
+    pub fn dim(&self) -> usize {
+        self.layout.n + self.layout.m
+    }
+
+    /// Structurally non-zero entries of the iteration matrix
+    /// `[c^2 M + c D + K, G^T; G, 0]`.
+    pub fn jacobian_nnz(&self) -> usize {
+        self.structural_nnz
+    }
+
+    /// The symbolic block structure.
+    pub fn block_structure(&self) -> &BlockSymbolic {
+        &self.layout.sym
+    }
+
+    /// Coordinate index of a body coordinate (None if locked or ground).
+    pub fn coordinate(&self, body: BodyId, coord: Coord) -> Option<usize> {
+        let c = self.bodies.get(body.index())?.coord[coord.slot()];
+        (c != NONE).then_some(c as usize)
+    }
+
+    /// Mass (or inertia) of each coordinate.
+    pub fn coordinate_masses(&self) -> &[f64] {
+        &self.coord_mass
+    }
+
+    /// Initial positions and velocities as given in the system.
+    pub fn initial_state(&self) -> (Vec<f64>, Vec<f64>) {
+        self.initial.clone()
+    }
+
+    /// A workspace sized for this system.
+    pub fn workspace(&self) -> Workspace {
+        Workspace {
+            kin: vec![BodyKin::default(); self.bodies.len()],
+            f: vec![0.0; self.layout.n + 1],
+            g: vec![0.0; self.layout.m],
+            rows: vec![Rows::default(); self.points.len() + self.angles.len() + self.lines.len() + self.drivers.len()],
+            w: vec![0.0; self.layout.m],
+            vx: vec![0.0; self.layout.n + 1],
+            km: [[0.0; 6]; 6],
+            dm: [[0.0; 6]; 6],
+        }
+    }
+
+    /// Empty Jacobian arrays.
+    pub fn jacobian_values(&self) -> JacobianValues {
+        let len = self.layout.sym.nnz() + 1;
+        JacobianValues { k: vec![0.0; len], d: vec![0.0; len], g: vec![0.0; self.g_entries.len()] }
+    }
+
+    /// Row and column unknowns of a position in the Jacobian arrays.
+    pub fn position_unknowns(&self, pos: usize) -> Option<(usize, usize)> {
+        let sym = &self.layout.sym;
+        sym.sub_blocks().find_map(|(i, j, off, _)| {
+            let (si, ni) = sym.span(i);
+            let (sj, nj) = sym.span(j);
+            (pos >= off && pos < off + ni * nj).then(|| (si + (pos - off) / nj, sj + (pos - off) % nj))
+        })
+    }
+
+    /// A readable name of an unknown of the iteration matrix, such as
+    /// `phi of "beam 3"` or `equation 1 of "pivot"`.
+    pub fn unknown_label(&self, unknown: usize) -> String {
+        if let Some(c) = self.layout.unknown_of_coord.iter().position(|&u| u as usize == unknown) {
+            let (b, s) = self.layout.coord_body[c];
+            let body = self.layout.position_names[self.layout.unknown_place[unknown].0 as usize].clone();
+            let _ = b;
+            return format!("{} of {body}", ["x", "y", "phi"][s as usize]);
+        }
+        if let Some(e) = self.layout.unknown_of_eq.iter().position(|&u| u as usize == unknown) {
+            let ci = self.eq_constraint[e] as usize;
+            let first = self.eq_constraint.iter().position(|&x| x as usize == ci).unwrap_or(e);
+            return format!("equation {} of \"{}\"", e - first, self.constraint_names[ci]);
+        }
+        format!("unknown {unknown}")
+    }
+
+    /// Name of a constraint.
+    pub fn constraint_name(&self, id: usize) -> &str {
+        &self.constraint_names[id]
+    }
+
+    /// The user constraint an equation belongs to.
+    pub fn equation_constraint(&self, eq: usize) -> usize {
+        self.eq_constraint[eq] as usize
+    }
+
+    fn load_kin(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) {
+        for (b, st) in self.bodies.iter().enumerate().skip(1) {
+            let mut p = st.pose0;
+            let mut w = [0.0; 3];
+            for s in 0..3 {
+                let c = st.coord[s];
+                if c != NONE {
+                    p[s] = q[c as usize];
+                    w[s] = v[c as usize];
+                }
+            }
+            ws.kin[b] = BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot: Rot::new(p[2]), v: V2::new(w[0], w[1]), w: w[2] };
+        }
+    }
+
+    fn prim_rows(&self, ws: &Workspace, t: f64, prim: PrimRef) -> (Rows, &PrimMap) {
+        match prim {
+            PrimRef::Point(i) => {
+                let (k, m) = &self.points[i as usize];
+                (k.rows(&ws.kin[k.a as usize], &ws.kin[k.b as usize]), m)
+            }
+            PrimRef::Angle(i) => {
+                let (k, m) = &self.angles[i as usize];
+                (k.rows(&ws.kin[k.a as usize], &ws.kin[k.b as usize]), m)
+            }
+            PrimRef::Line(i) => {
+                let (k, m) = &self.lines[i as usize];
+                (k.rows(&ws.kin[k.a as usize], &ws.kin[k.b as usize]), m)
+            }
+            PrimRef::Driver(i) => {
+                let (k, m) = &self.drivers[i as usize];
+                (k.rows(&ws.kin[k.a as usize], t), m)
+            }
+        }
+    }
+
+    /// Evaluates `F = Q(t, q, q') - G^T lambda`, `g(q, t)` and the velocity
+    /// constraint `G(q) q' + g_t(t)` into the workspace ([`Workspace::forces`],
+    /// [`Workspace::constraints`], [`Workspace::velocity_constraints`]).
+    pub fn residual(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) {
+        self.load_kin(ws, q, v);
+        ws.f.iter_mut().for_each(|x| *x = 0.0);
+        self.applied_forces(ws, t, v);
+        let Workspace { kin, f, g, w, rows, vx, .. } = ws;
+        vx[..v.len()].copy_from_slice(v);
+        vx[v.len()] = 0.0;
+        let mut i = 0;
+        for (k, map) in &self.points {
+            rows[i] = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
+            apply_rows(f, g, w, vx, map, &rows[i], lam);
+            i += 1;
+        }
+        for (k, map) in &self.angles {
+            rows[i] = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
+            apply_rows(f, g, w, vx, map, &rows[i], lam);
+            i += 1;
+        }
+        for (k, map) in &self.lines {
+            rows[i] = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
+            apply_rows(f, g, w, vx, map, &rows[i], lam);
+            i += 1;
+        }
+        for (k, map) in &self.drivers {
+            rows[i] = k.rows(&kin[k.a as usize], t);
+            apply_rows(f, g, w, vx, map, &rows[i], lam);
+            w[map.eq as usize] += k.time_derivatives(t).0;
+            i += 1;
+        }
+    }
+
+    /// `out = G x` with the gradient values of `jac` (`x` over coordinates,
+    /// `out` over equations).
+    pub(crate) fn gradient_product<T: Scalar>(&self, jac: &JacobianValues, x: &[T], out: &mut [T]) {
+        out.iter_mut().for_each(|o| *o = T::ZERO);
+        for (e, &gv) in self.g_entries.iter().zip(&jac.g) {
+            out[e.eq as usize] += T::from_real(gv) * x[e.coord as usize];
+        }
+    }
+
+    /// Generalised applied forces `Q(t, q, q')` added into `ws.f` (kinematics loaded).
+    fn applied_forces(&self, ws: &mut Workspace, t: f64, v: &[f64]) {
+        let Workspace { kin, f, .. } = ws;
+        for (k, map) in &self.bushings {
+            scatter6(f, &map.f, &k.force(&kin[k.a as usize], &kin[k.b as usize]));
+        }
+        for (k, map) in &self.frictions {
+            scatter6(f, &map.f, &k.force(&kin[k.a as usize], &kin[k.b as usize]));
+        }
+        for (k, map) in &self.springs {
+            scatter6(f, &map.f, &k.force(&kin[k.a as usize], &kin[k.b as usize]));
+        }
+        for (k, fi, _) in &self.coord_springs {
+            f[*fi as usize] += k.force(&kin[k.body as usize]);
+        }
+        for (k, map) in &self.loads {
+            scatter6(f, &map.f, &k.force(&kin[k.a as usize], t));
+        }
+        for (k, map) in &self.customs {
+            scatter6(f, &map.f, &k.force(&kin[k.a as usize], &kin[k.b as usize], t));
+        }
+        let _ = v;
+        for dir in 0..2 {
+            let ag = self.ground[dir].as_ref().map_or(0.0, |a| a.value(t));
+            let gacc = if dir == 0 { self.gravity.x } else { self.gravity.y };
+            let acc = gacc - ag;
+            if acc != 0.0 {
+                for &(c, mass) in &self.translational[dir] {
+                    f[c as usize] += mass * acc;
+                }
+            }
+        }
+    }
+
+    /// Evaluates the Jacobian arrays at a state (the constraint Hessian uses `lam`).
+    pub fn jacobian(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64], jac: &mut JacobianValues) {
+        self.load_kin(ws, q, v);
+        jac.k.iter_mut().for_each(|x| *x = 0.0);
+        jac.d.iter_mut().for_each(|x| *x = 0.0);
+        let Workspace { kin, km, dm, .. } = ws;
+        for (k, map) in &self.bushings {
+            zero6(km);
+            zero6(dm);
+            k.jacobian(&kin[k.a as usize], &kin[k.b as usize], km, dm);
+            scatter36(&mut jac.k, &map.jac, km);
+            scatter36(&mut jac.d, &map.jac, dm);
+        }
+        for (k, map) in &self.frictions {
+            zero6(km);
+            zero6(dm);
+            k.jacobian(&kin[k.a as usize], &kin[k.b as usize], km, dm);
+            scatter36(&mut jac.k, &map.jac, km);
+            scatter36(&mut jac.d, &map.jac, dm);
+        }
+        for (k, map) in &self.springs {
+            zero6(km);
+            zero6(dm);
+            k.jacobian(&kin[k.a as usize], &kin[k.b as usize], km, dm);
+            scatter36(&mut jac.k, &map.jac, km);
+            scatter36(&mut jac.d, &map.jac, dm);
+        }
+        for (k, _, pos) in &self.coord_springs {
+            jac.k[*pos as usize] += k.k;
+            jac.d[*pos as usize] += k.c;
+        }
+        for (k, map) in &self.loads {
+            zero6(km);
+            k.jacobian(&kin[k.a as usize], t, km);
+            scatter36(&mut jac.k, &map.jac, km);
+        }
+        for (k, map) in &self.customs {
+            zero6(km);
+            zero6(dm);
+            k.jacobian(&kin[k.a as usize], &kin[k.b as usize], t, km, dm);
+            scatter36(&mut jac.k, &map.jac, km);
+            scatter36(&mut jac.d, &map.jac, dm);
+        }
+        for (k, map) in &self.points {
+            let r = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
+            store_grad(&mut jac.g, &self.g_entries, map, &r);
+            zero6(km);
+            let e = map.eq as usize;
+            k.hessian(&kin[k.a as usize], &kin[k.b as usize], &lam[e..e + 2], km);
+            scatter36(&mut jac.k, &map.h, km);
+        }
+        for (k, map) in &self.angles {
+            let r = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
+            store_grad(&mut jac.g, &self.g_entries, map, &r);
+        }
+        for (k, map) in &self.lines {
+            let r = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
+            store_grad(&mut jac.g, &self.g_entries, map, &r);
+            zero6(km);
+            k.hessian(&kin[k.a as usize], &kin[k.b as usize], lam[map.eq as usize], km);
+            scatter36(&mut jac.k, &map.h, km);
+        }
+        for (k, map) in &self.drivers {
+            let r = k.rows(&kin[k.a as usize], t);
+            store_grad(&mut jac.g, &self.g_entries, map, &r);
+        }
+    }
+
+    /// The acceleration-free part of `d^2 g/dt^2` (for consistent accelerations),
+    /// into [`Workspace::constraints`].
+    pub fn constraint_gamma(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
+        self.load_kin(ws, q, v);
+        let Workspace { kin, g, .. } = ws;
+        for (k, m) in &self.points {
+            let gm = k.gamma(&kin[k.a as usize], &kin[k.b as usize]);
+            g[m.eq as usize] = gm[0];
+            g[m.eq as usize + 1] = gm[1];
+        }
+        for (_, m) in &self.angles {
+            g[m.eq as usize] = 0.0;
+        }
+        for (k, m) in &self.lines {
+            g[m.eq as usize] = k.gamma(&kin[k.a as usize], &kin[k.b as usize]);
+        }
+        for (k, m) in &self.drivers {
+            g[m.eq as usize] = k.time_derivatives(t).1;
+        }
+    }
+
+    /// Kinetic energy `1/2 q'^T M q'` [J].
+    pub fn kinetic_energy(&self, v: &[f64]) -> f64 {
+        0.5 * self.coord_mass.iter().zip(v).map(|(m, v)| m * v * v).sum::<f64>()
+    }
+
+    /// Energy stored in springs, bushings and the gravity field [J].
+    pub fn potential_energy(&self, ws: &mut Workspace, q: &[f64]) -> f64 {
+        // velocities do not enter stored energy; q stands in for them
+        self.load_kin(ws, q, q);
+        let kin = &ws.kin;
+        let mut e = 0.0;
+        for (k, _) in &self.bushings {
+            e += k.potential(&kin[k.a as usize], &kin[k.b as usize]);
+        }
+        for (k, _) in &self.springs {
+            e += k.potential(&kin[k.a as usize], &kin[k.b as usize]);
+        }
+        for (k, _, _) in &self.coord_springs {
+            e += k.potential(&kin[k.body as usize]);
+        }
+        for dir in 0..2 {
+            let gacc = if dir == 0 { self.gravity.x } else { self.gravity.y };
+            if gacc != 0.0 {
+                for &(c, mass) in &self.translational[dir] {
+                    e -= mass * gacc * q[c as usize];
+                }
+            }
+        }
+        e
+    }
+
+    /// Power flows at a state.
+    pub fn powers(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) -> Powers {
+        self.load_kin(ws, q, v);
+        let kin = &ws.kin;
+        let mut p = Powers::default();
+        for (k, _) in &self.bushings {
+            p.damping += k.dissipation(&kin[k.a as usize], &kin[k.b as usize]);
+        }
+        for (k, _) in &self.springs {
+            p.damping += k.dissipation(&kin[k.a as usize], &kin[k.b as usize]);
+        }
+        for (k, _, _) in &self.coord_springs {
+            p.damping += k.dissipation(&kin[k.body as usize]);
+        }
+        for (k, _) in &self.frictions {
+            p.friction += k.dissipation(&kin[k.a as usize], &kin[k.b as usize]);
+        }
+        for (k, _) in &self.loads {
+            p.applied += k.power(&kin[k.a as usize], t);
+        }
+        for (k, map) in &self.customs {
+            let qf = k.force(&kin[k.a as usize], &kin[k.b as usize], t);
+            for s in 0..6 {
+                let c = map.f[s] as usize;
+                if c < self.layout.n {
+                    p.applied += qf[s] * v[c];
+                }
+            }
+        }
+        for dir in 0..2 {
+            if let Some(a) = &self.ground[dir] {
+                let ag = a.value(t);
+                if ag != 0.0 {
+                    for &(c, mass) in &self.translational[dir] {
+                        p.base -= mass * ag * v[c as usize];
+                    }
+                }
+            }
+        }
+        for (k, m) in &self.drivers {
+            p.constraints += lam[m.eq as usize] * k.time_derivatives(t).0;
+        }
+        p
+    }
+
+    /// Largest bushing and friction force magnitudes at a state.
+    pub fn force_extremes(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) -> ForceExtremes {
+        self.load_kin(ws, q, v);
+        let kin = &ws.kin;
+        let mut x = ForceExtremes::default();
+        for (k, _) in &self.bushings {
+            x.bushing = x.bushing.max(k.force_magnitude(&kin[k.a as usize], &kin[k.b as usize]));
+        }
+        for (k, _) in &self.frictions {
+            x.friction = x.friction.max(k.force_magnitude(&kin[k.a as usize], &kin[k.b as usize]));
+        }
+        x
+    }
+
+    /// Reaction of a constraint on one body, `-G^T lambda` restricted to the
+    /// body: (fx [N], fy [N], torque about the centre of mass [N m]). Locked
+    /// coordinates of the body report zero.
+    pub fn constraint_reaction(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        lam: &[f64],
+        constraint: ConstraintId,
+        body: BodyId,
+    ) -> [f64; 3] {
+        // velocities do not enter the reaction; q stands in for them
+        self.load_kin(ws, q, q);
+        let mut out = [0.0; 3];
+        let Some(prims) = self.constraint_prims.get(constraint.index()) else {
+            return out;
+        };
+        let coords = self.bodies[body.index()].coord;
+        for &prim in prims {
+            let (rows, map) = self.prim_rows(ws, t, prim);
+            for r in 0..map.rows as usize {
+                let l = lam[map.eq as usize + r];
+                for slot in 0..6 {
+                    let fi = map.f[slot];
+                    if let Some(s) = coords.iter().position(|&c| c == fi && c != NONE) {
+                        out[s] -= rows.grad[r][slot] * l;
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// First breakpoint of any time function strictly after `t`.
+    pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
+        let mut best: Option<f64> = None;
+        let mut consider = |x: Option<f64>| {
+            if let Some(x) = x {
+                best = Some(best.map_or(x, |b: f64| b.min(x)));
+            }
+        };
+        for g in self.ground.iter().flatten() {
+            consider(g.next_breakpoint(t));
+        }
+        for (k, _) in &self.loads {
+            consider(k.next_breakpoint(t));
+        }
+        for (k, _) in &self.drivers {
+            consider(k.motion.next_breakpoint(t));
+        }
+        best
+    }
+
+    /// Writes the iteration matrix `c2 M + c1 D + K` with the constraint blocks
+    /// scaled by `gscale * m_ref` into `out` (block layout). Returns nothing;
+    /// `out` must have [`BlockSymbolic::nnz`] entries.
+    pub(crate) fn form<T: Scalar>(&self, c2: T, c1: T, kcoef: f64, gscale: f64, jac: &JacobianValues, out: &mut [T]) {
+        let nnz = out.len();
+        for ((o, &k), &d) in out.iter_mut().zip(&jac.k[..nnz]).zip(&jac.d[..nnz]) {
+            *o = T::from_real(kcoef * k) + c1 * T::from_real(d);
+        }
+        for (&p, &m) in self.mass_pos.iter().zip(&self.coord_mass) {
+            out[p as usize] += c2 * T::from_real(m);
+        }
+        for (e, &g) in self.g_entries.iter().zip(&jac.g) {
+            let v = T::from_real(gscale * self.eq_mref[e.eq as usize] * g);
+            out[e.pos as usize] = v;
+            out[e.pos_t as usize] = v;
+        }
+    }
+
+    /// `(c M + D) x` for a coordinate vector `x` (used by the error estimate).
+    pub(crate) fn mass_damping_product(&self, c: f64, jac: &JacobianValues, x: &[f64], out: &mut [f64]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = c * self.coord_mass[i] * x[i];
+        }
+        for &(r, col, p) in &self.d_entries {
+            out[r as usize] += jac.d[p as usize] * x[col as usize];
+        }
+    }
+}
+
+/// Writes `g` and `G v` values and subtracts `G^T lambda` from `F` for one
+/// primitive (`vx` is `v` with a zero sink entry).
+#[inline]
+fn apply_rows(f: &mut [f64], g: &mut [f64], w: &mut [f64], vx: &[f64], map: &PrimMap, rows: &Rows, lam: &[f64]) {
+    let e0 = map.eq as usize;
+    for r in 0..map.rows as usize {
+        g[e0 + r] = rows.g[r];
+        let grad = &rows.grad[r];
+        let mut gv = 0.0;
+        for s in 0..6 {
+            gv += grad[s] * vx[map.f[s] as usize];
+        }
+        w[e0 + r] = gv;
+        let l = lam[e0 + r];
+        if l != 0.0 {
+            for s in 0..6 {
+                f[map.f[s] as usize] -= grad[s] * l;
+            }
+        }
+    }
+}
+
+#[inline]
+fn store_grad(g: &mut [f64], entries: &[GEntry], map: &PrimMap, rows: &Rows) {
+    let start = map.g_start as usize;
+    for (i, e) in entries[start..start + map.g_count as usize].iter().enumerate() {
+        g[start + i] = rows.grad[e.row as usize][e.slot as usize];
+    }
+}

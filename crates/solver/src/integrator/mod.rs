@@ -1,0 +1,241 @@
+//! Time integration of the constrained equations of motion
+//!
+//! ```text
+//!   q' = v
+//!   M v' = Q(t, q, v) - G(q)^T lambda
+//!   0 = g(q, t)
+//! ```
+//!
+//! with the Radau IIA method of order 5 ([`radau5`]), variable step size
+//! driven by a local error estimate, the stages satisfying the constraints at
+//! acceleration level, and every accepted state projected onto `g = 0` and
+//! `G v + g_t = 0`.
+
+pub mod radau5;
+
+use crate::assembly::{Assembly, Workspace};
+use crate::linalg::LinearSolver;
+
+pub use radau5::Radau5;
+
+/// How the Jacobian is obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum JacobianMode {
+    /// Analytic element derivatives (default).
+    #[default]
+    Analytic,
+    /// Finite differences with Curtis-Powell-Reid column colouring, the
+    /// colour groups on the rayon pool when `parallel`.
+    FiniteDifference {
+        /// Evaluate colour groups in parallel.
+        parallel: bool,
+    },
+}
+
+/// Options of the integrator. Tolerances apply to the local error of one
+/// step: a coordinate's error is measured against
+/// `atol + rtol * |q - q_0|` (positions, relative to the initial state) or
+/// `atol + rtol * |v|` (velocities). Multipliers are not in the error test.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IntegratorOptions {
+    /// Relative tolerance [-].
+    pub rtol: f64,
+    /// Absolute tolerance of translations [m].
+    pub atol_translation: f64,
+    /// Absolute tolerance of rotations [rad].
+    pub atol_rotation: f64,
+    /// Absolute tolerance of translational velocities [m/s].
+    pub atol_velocity: f64,
+    /// Absolute tolerance of angular velocities [rad/s].
+    pub atol_angular_velocity: f64,
+    /// First step size tried [s].
+    pub h_initial: f64,
+    /// Largest step size [s].
+    pub h_max: f64,
+    /// Smallest step size before the run is abandoned [s].
+    pub h_min: f64,
+    /// Largest number of steps (accepted and rejected) per run.
+    pub max_steps: u64,
+    /// Newton iterations per step before the step is rejected.
+    pub max_newton: u32,
+    /// Keep the Jacobian while Newton contracts faster than this rate.
+    pub jacobian_reuse: f64,
+    /// Largest |g| and |G v + g_t| accepted after a step; larger values are
+    /// projected away [m, rad, m/s, rad/s].
+    pub constraint_tolerance: f64,
+    /// Largest |g| of the given initial positions that is silently projected [m, rad].
+    pub initial_tolerance: f64,
+    /// Consecutive failed attempts at one time before the run ends.
+    pub max_failures: u32,
+    /// Wall-clock limit of a run [s] (None: no limit).
+    pub max_wall_time: Option<f64>,
+    /// Sparse LU used for the iteration matrices.
+    pub linear_solver: LinearSolver,
+    /// Analytic or finite-difference Jacobian.
+    pub jacobian: JacobianMode,
+}
+
+impl Default for IntegratorOptions {
+    fn default() -> Self {
+        Self {
+            rtol: 1e-6,
+            atol_translation: 1e-6,
+            atol_rotation: 1e-6,
+            atol_velocity: 1e-6,
+            atol_angular_velocity: 1e-6,
+            h_initial: 1e-4,
+            h_max: f64::INFINITY,
+            h_min: 1e-12,
+            max_steps: 10_000_000,
+            max_newton: 7,
+            jacobian_reuse: 0.05,
+            constraint_tolerance: 1e-10,
+            initial_tolerance: 1e-6,
+            max_failures: 25,
+            max_wall_time: None,
+            linear_solver: LinearSolver::Block,
+            jacobian: JacobianMode::Analytic,
+        }
+    }
+}
+
+impl IntegratorOptions {
+    /// The same options with all tolerances multiplied by `factor`.
+    pub fn scaled_tolerances(&self, factor: f64) -> Self {
+        let mut o = self.clone();
+        o.rtol *= factor;
+        o.atol_translation *= factor;
+        o.atol_rotation *= factor;
+        o.atol_velocity *= factor;
+        o.atol_angular_velocity *= factor;
+        o
+    }
+}
+
+/// Counters of one run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Steps rejected by the error test.
+    pub rejected: u64,
+    /// Attempts abandoned because Newton failed or a matrix was singular.
+    pub failed_attempts: u64,
+    /// Newton iterations.
+    pub newton_iterations: u64,
+    /// Evaluations of the residual (forces and constraints).
+    pub residual_evaluations: u64,
+    /// Evaluations of the Jacobian.
+    pub jacobian_evaluations: u64,
+    /// Numeric factorisations of the iteration matrix pair (real and complex).
+    pub factorizations: u64,
+    /// Factorisations that needed the faer fallback.
+    pub faer_fallbacks: u64,
+    /// Linear solves (real and complex counted separately).
+    pub linear_solves: u64,
+    /// Projections of the accepted state onto the constraints.
+    pub projections: u64,
+}
+
+/// Running energy balance of a run [J].
+///
+/// `error = (T + V) - (T0 + V0) + damping + friction - applied - base - constraints`
+/// is zero for the exact solution.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EnergyBalance {
+    /// Kinetic plus stored energy at the start.
+    pub initial: f64,
+    /// Kinetic energy now.
+    pub kinetic: f64,
+    /// Stored energy (springs, bushings, gravity) now.
+    pub potential: f64,
+    /// Energy dissipated by dampers so far.
+    pub damping: f64,
+    /// Energy dissipated by friction so far.
+    pub friction: f64,
+    /// Work of applied loads so far.
+    pub applied: f64,
+    /// Work of the base excitation so far.
+    pub base: f64,
+    /// Work of rheonomic constraints (drivers) so far.
+    pub constraints: f64,
+    /// Largest |error| seen so far.
+    pub max_error: f64,
+    /// Largest energy scale seen so far (see [`EnergyBalance::relative_error`]).
+    pub max_scale: f64,
+}
+
+impl EnergyBalance {
+    /// The balance error now.
+    pub fn error(&self) -> f64 {
+        self.kinetic + self.potential - self.initial + self.damping + self.friction
+            - self.applied
+            - self.base
+            - self.constraints
+    }
+
+    /// Largest |error| over the run divided by the largest energy scale over
+    /// the run, `max_t (T + |V - V0| + |W_applied| + |W_base| + |W_constraints|)`
+    /// (for an earthquake run, essentially the work of the earthquake load).
+    pub fn relative_error(&self) -> f64 {
+        if self.max_scale > 0.0 {
+            self.max_error / self.max_scale
+        } else {
+            0.0
+        }
+    }
+
+    pub(crate) fn record(&mut self, potential0: f64) {
+        let e = self.error().abs();
+        self.max_error = self.max_error.max(e);
+        let scale = self.kinetic
+            + (self.potential - potential0).abs()
+            + self.applied.abs()
+            + self.base.abs()
+            + self.constraints.abs();
+        self.max_scale = self.max_scale.max(scale);
+    }
+}
+
+/// Receives every accepted step.
+pub trait Observer {
+    /// Called after each accepted step; return `false` to stop the run.
+    fn step(&mut self, view: &mut StepView<'_>) -> bool;
+}
+
+/// An observer that does nothing.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoObserver;
+
+impl Observer for NoObserver {
+    fn step(&mut self, _: &mut StepView<'_>) -> bool {
+        true
+    }
+}
+
+/// The last accepted step, with dense output over it.
+pub struct StepView<'a> {
+    /// Start of the step [s].
+    pub t_prev: f64,
+    /// End of the step [s].
+    pub t: f64,
+    /// Positions at `t`.
+    pub q: &'a [f64],
+    /// Velocities at `t`.
+    pub v: &'a [f64],
+    /// Constraint multipliers at `t`.
+    pub lambda: &'a [f64],
+    /// The compiled system (for derived quantities).
+    pub assembly: &'a Assembly,
+    /// A scratch workspace for evaluations.
+    pub workspace: &'a mut Workspace,
+    pub(crate) dense: radau5::DenseRef<'a>,
+}
+
+impl StepView<'_> {
+    /// Positions, velocities and multipliers at `t` in `[t_prev, t]` from the
+    /// collocation polynomial of the step.
+    pub fn interpolate(&self, t: f64, q: &mut [f64], v: &mut [f64], lambda: &mut [f64]) {
+        self.dense.eval(t, q, v, lambda);
+    }
+}

@@ -1,0 +1,607 @@
+//! Structure-aware sparse LU: block Gaussian elimination over small dense
+//! blocks.
+//!
+//! Every unknown belongs to a block: one body's free coordinates followed by
+//! the constraint equations matched to them (at most 3 + 3 unknowns). The
+//! matrix is stored as dense sub-blocks `(i, j)` of a block pattern that is
+//! symmetric in structure (not in value). The symbolic analysis, done once per
+//! model, orders the blocks by minimum (size-weighted) degree, computes the
+//! fill and the list of block updates; the numeric factorisation then runs a
+//! fixed sequence of small dense operations, pivoting (partially) inside each
+//! diagonal block only. A diagonal block that is singular is reported, never
+//! divided by.
+//!
+//! In the expansion joint this eliminates each bearing (3 coordinates and its
+//! 2 prismatic equations) locally first, then the center beams, leaving a
+//! small dense block for the support beams and the deck.
+
+use std::collections::BTreeSet;
+
+use super::scalar::Scalar;
+use crate::error::LinalgError;
+
+/// Largest block: 3 coordinates and 3 matched equations.
+pub const MAX_BLOCK: usize = 6;
+
+/// How the blocks are ordered for elimination.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BlockOrdering {
+    /// Minimum size-weighted degree (default).
+    #[default]
+    MinimumDegree,
+    /// The order in which the blocks were given (for comparison).
+    Natural,
+}
+
+/// The symbolic analysis: elimination order, filled pattern and update lists.
+#[derive(Debug, Clone)]
+pub struct BlockSymbolic {
+    /// Original block index of each elimination position.
+    order: Vec<u32>,
+    /// Elimination position of each original block.
+    position: Vec<u32>,
+    /// Block sizes by position.
+    sizes: Vec<u32>,
+    /// First unknown of each position.
+    starts: Vec<u32>,
+    /// Number of unknowns.
+    n: usize,
+    /// Row pointers of the filled block pattern (by position).
+    row_ptr: Vec<u32>,
+    /// Column positions, sorted within each row.
+    cols: Vec<u32>,
+    /// Offset of each sub-block in the value array.
+    offs: Vec<u32>,
+    /// Whether the sub-block is fill (absent from the original pattern).
+    fill: Vec<bool>,
+    /// Number of stored values.
+    nnz: usize,
+    /// Later neighbours of each position: pointers into the three arrays below.
+    later_ptr: Vec<u32>,
+    later_pos: Vec<u32>,
+    off_kj: Vec<u32>,
+    off_jk: Vec<u32>,
+    /// For position k, the offsets of the targets (i, j) over later x later.
+    update_ptr: Vec<u32>,
+    update_off: Vec<u32>,
+    /// Floating-point multiply-adds of one real factorisation.
+    flops: u64,
+}
+
+impl BlockSymbolic {
+    /// Analyses a block pattern given by block `sizes` and undirected coupling
+    /// `edges` between blocks (the diagonal is implied).
+    pub fn analyse(sizes: &[u32], edges: &[(u32, u32)], ordering: BlockOrdering) -> Self {
+        let nb = sizes.len();
+        let mut adj: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); nb];
+        let mut original: BTreeSet<(u32, u32)> = BTreeSet::new();
+        for &(a, b) in edges {
+            if a != b {
+                adj[a as usize].insert(b);
+                adj[b as usize].insert(a);
+                original.insert((a.min(b), a.max(b)));
+            }
+        }
+        // Elimination (simulated): order and later-neighbour sets.
+        let mut eliminated = vec![false; nb];
+        let mut order = Vec::with_capacity(nb);
+        let mut later_sets: Vec<Vec<u32>> = vec![Vec::new(); nb];
+        let weight = |adj: &BTreeSet<u32>| -> u64 { adj.iter().map(|&u| sizes[u as usize] as u64).sum() };
+        let mut wdeg: Vec<u64> = adj.iter().map(weight).collect();
+        for step in 0..nb {
+            let v = match ordering {
+                BlockOrdering::Natural => step,
+                BlockOrdering::MinimumDegree => (0..nb)
+                    .filter(|&v| !eliminated[v])
+                    .min_by_key(|&v| (wdeg[v], v))
+                    .expect("a block remains"),
+            };
+            eliminated[v] = true;
+            order.push(v as u32);
+            let nbrs: Vec<u32> = adj[v].iter().copied().collect();
+            for &u in &nbrs {
+                let au = &mut adj[u as usize];
+                au.remove(&(v as u32));
+                for &w in &nbrs {
+                    if w != u {
+                        au.insert(w);
+                    }
+                }
+                wdeg[u as usize] = weight(&adj[u as usize]);
+            }
+            later_sets[v] = nbrs;
+            adj[v].clear();
+        }
+        let mut position = vec![0u32; nb];
+        for (p, &b) in order.iter().enumerate() {
+            position[b as usize] = p as u32;
+        }
+        let sizes_p: Vec<u32> = order.iter().map(|&b| sizes[b as usize]).collect();
+        let mut starts = Vec::with_capacity(nb);
+        let mut n = 0u32;
+        for &s in &sizes_p {
+            starts.push(n);
+            n += s;
+        }
+        // Filled pattern by position.
+        let mut rows: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); nb];
+        let mut later_p: Vec<Vec<u32>> = vec![Vec::new(); nb];
+        for (b, set) in later_sets.iter().enumerate() {
+            let k = position[b];
+            rows[k as usize].insert(k);
+            let mut l: Vec<u32> = set.iter().map(|&u| position[u as usize]).collect();
+            l.sort_unstable();
+            for &j in &l {
+                rows[k as usize].insert(j);
+                rows[j as usize].insert(k);
+            }
+            later_p[k as usize] = l;
+        }
+        let mut row_ptr = vec![0u32];
+        let mut cols = Vec::new();
+        let mut offs = Vec::new();
+        let mut fill = Vec::new();
+        let mut nnz = 0u32;
+        for (i, r) in rows.iter().enumerate() {
+            for &j in r {
+                cols.push(j);
+                offs.push(nnz);
+                let (bi, bj) = (order[i], order[j as usize]);
+                fill.push(i as u32 != j && !original.contains(&(bi.min(bj), bi.max(bj))));
+                nnz += sizes_p[i] * sizes_p[j as usize];
+            }
+            row_ptr.push(cols.len() as u32);
+        }
+        let mut sym = Self {
+            order,
+            position,
+            sizes: sizes_p,
+            starts,
+            n: n as usize,
+            row_ptr,
+            cols,
+            offs,
+            fill,
+            nnz: nnz as usize,
+            later_ptr: vec![0],
+            later_pos: Vec::new(),
+            off_kj: Vec::new(),
+            off_jk: Vec::new(),
+            update_ptr: vec![0],
+            update_off: Vec::new(),
+            flops: 0,
+        };
+        for (k, l) in later_p.iter().enumerate() {
+            let nk = sym.sizes[k] as u64;
+            sym.flops += nk * nk * nk;
+            for &j in l {
+                sym.later_pos.push(j);
+                sym.off_kj.push(sym.block_offset(k, j as usize).expect("filled"));
+                sym.off_jk.push(sym.block_offset(j as usize, k).expect("filled"));
+                sym.flops += nk * nk * sym.sizes[j as usize] as u64;
+            }
+            sym.later_ptr.push(sym.later_pos.len() as u32);
+            for &i in l {
+                for &j in l {
+                    sym.update_off.push(sym.block_offset(i as usize, j as usize).expect("filled"));
+                    sym.flops += sym.sizes[i as usize] as u64 * nk * sym.sizes[j as usize] as u64;
+                }
+            }
+            sym.update_ptr.push(sym.update_off.len() as u32);
+        }
+        sym
+    }
+
+    /// Number of unknowns.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// Number of stored values (the sub-blocks of the filled pattern).
+    pub fn nnz(&self) -> usize {
+        self.nnz
+    }
+
+    /// Number of blocks.
+    pub fn blocks(&self) -> usize {
+        self.sizes.len()
+    }
+
+    /// Multiply-adds of one real numeric factorisation.
+    pub fn flops(&self) -> u64 {
+        self.flops
+    }
+
+    /// Elimination position of an original block.
+    pub fn position_of(&self, block: usize) -> usize {
+        self.position[block] as usize
+    }
+
+    /// Original block at an elimination position.
+    pub fn block_at(&self, position: usize) -> usize {
+        self.order[position] as usize
+    }
+
+    /// First unknown and size of the block at a position.
+    pub fn span(&self, position: usize) -> (usize, usize) {
+        (self.starts[position] as usize, self.sizes[position] as usize)
+    }
+
+    /// Offset of sub-block (i, j) (positions) in the value array.
+    pub fn block_offset(&self, i: usize, j: usize) -> Option<u32> {
+        let (a, b) = (self.row_ptr[i] as usize, self.row_ptr[i + 1] as usize);
+        let row = &self.cols[a..b];
+        row.binary_search(&(j as u32)).ok().map(|p| self.offs[a + p])
+    }
+
+    /// Iterates over the sub-blocks: (row position, column position, offset, is fill).
+    pub fn sub_blocks(&self) -> impl Iterator<Item = (usize, usize, usize, bool)> + '_ {
+        (0..self.sizes.len()).flat_map(move |i| {
+            (self.row_ptr[i] as usize..self.row_ptr[i + 1] as usize)
+                .map(move |p| (i, self.cols[p] as usize, self.offs[p] as usize, self.fill[p]))
+        })
+    }
+
+    /// Number of values in original (non-fill) sub-blocks.
+    pub fn nnz_original(&self) -> usize {
+        self.sub_blocks()
+            .filter(|s| !s.3)
+            .map(|(i, j, _, _)| (self.sizes[i] * self.sizes[j]) as usize)
+            .sum()
+    }
+}
+
+/// `y = A x` for a matrix in block layout (`values` as filled by the formation).
+pub fn block_matvec<T: Scalar>(sym: &BlockSymbolic, values: &[T], x: &[T], y: &mut [T]) {
+    y.iter_mut().for_each(|v| *v = T::ZERO);
+    for (i, j, off, _) in sym.sub_blocks() {
+        let (si, ni) = sym.span(i);
+        let (sj, nj) = sym.span(j);
+        for r in 0..ni {
+            let mut s = T::ZERO;
+            for c in 0..nj {
+                s += values[off + r * nj + c] * x[sj + c];
+            }
+            y[si + r] += s;
+        }
+    }
+}
+
+/// A numeric block LU factorisation (values plus pivots) for one scalar type.
+#[derive(Debug, Clone)]
+pub struct BlockLu<T: Scalar> {
+    values: Vec<T>,
+    piv: Vec<u8>,
+    scratch_col: Vec<T>,
+    scratch_row: Vec<T>,
+}
+
+impl<T: Scalar> BlockLu<T> {
+    /// Storage for a factorisation with the given structure.
+    pub fn new(sym: &BlockSymbolic) -> Self {
+        Self {
+            values: vec![T::ZERO; sym.nnz],
+            piv: vec![0; sym.n],
+            scratch_col: Vec::with_capacity(sym.n * MAX_BLOCK),
+            scratch_row: Vec::with_capacity(sym.n * MAX_BLOCK),
+        }
+    }
+
+    /// The value array to be filled with the matrix before [`Self::factor`].
+    pub fn values_mut(&mut self) -> &mut [T] {
+        &mut self.values
+    }
+
+    /// Factorises in place. `describe` names a position in error messages.
+    pub fn factor(&mut self, sym: &BlockSymbolic, describe: &dyn Fn(usize) -> String) -> Result<(), LinalgError> {
+        let values = &mut self.values;
+        for k in 0..sym.sizes.len() {
+            let nk = sym.sizes[k] as usize;
+            let dk = sym.block_offset(k, k).expect("diagonal") as usize;
+            let pk = sym.starts[k] as usize;
+            {
+                let d = &mut values[dk..dk + nk * nk];
+                dense_lu(d, nk, &mut self.piv[pk..pk + nk]).map_err(|(pivot, scale)| LinalgError::Singular {
+                    location: describe(k),
+                    pivot,
+                    scale,
+                })?;
+            }
+            let (l0, l1) = (sym.later_ptr[k] as usize, sym.later_ptr[k + 1] as usize);
+            if l0 == l1 {
+                continue;
+            }
+            // X_kj = D_kk^{-1} A_kj, stored in place of A_kj; copy rows and columns.
+            self.scratch_col.clear();
+            self.scratch_row.clear();
+            let mut dcopy = [T::ZERO; MAX_BLOCK * MAX_BLOCK];
+            dcopy[..nk * nk].copy_from_slice(&values[dk..dk + nk * nk]);
+            let piv = &self.piv[pk..pk + nk];
+            for t in l0..l1 {
+                let j = sym.later_pos[t] as usize;
+                let nj = sym.sizes[j] as usize;
+                let okj = sym.off_kj[t] as usize;
+                let x = &mut values[okj..okj + nk * nj];
+                dense_solve_cols(&dcopy[..nk * nk], nk, piv, x, nj);
+                self.scratch_row.extend_from_slice(x);
+                let ojk = sym.off_jk[t] as usize;
+                self.scratch_col.extend_from_slice(&values[ojk..ojk + nj * nk]);
+            }
+            // A_ij -= A_ik X_kj
+            let mut u = sym.update_ptr[k] as usize;
+            let mut col_at = 0usize;
+            for ti in l0..l1 {
+                let ni = sym.sizes[sym.later_pos[ti] as usize] as usize;
+                let a_ik = &self.scratch_col[col_at..col_at + ni * nk];
+                col_at += ni * nk;
+                let mut row_at = 0usize;
+                for tj in l0..l1 {
+                    let nj = sym.sizes[sym.later_pos[tj] as usize] as usize;
+                    let x_kj = &self.scratch_row[row_at..row_at + nk * nj];
+                    row_at += nk * nj;
+                    let o = sym.update_off[u] as usize;
+                    u += 1;
+                    gemm_sub(&mut values[o..o + ni * nj], a_ik, x_kj, ni, nk, nj);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place (`b` in block-position order of unknowns).
+    pub fn solve(&self, sym: &BlockSymbolic, b: &mut [T]) {
+        let values = &self.values;
+        let nb = sym.sizes.len();
+        for k in 0..nb {
+            let nk = sym.sizes[k] as usize;
+            let pk = sym.starts[k] as usize;
+            let dk = sym.block_offset(k, k).expect("diagonal") as usize;
+            let mut y = [T::ZERO; MAX_BLOCK];
+            y[..nk].copy_from_slice(&b[pk..pk + nk]);
+            dense_solve_cols(&values[dk..dk + nk * nk], nk, &self.piv[pk..pk + nk], &mut y[..nk], 1);
+            b[pk..pk + nk].copy_from_slice(&y[..nk]);
+            for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
+                let i = sym.later_pos[t] as usize;
+                let ni = sym.sizes[i] as usize;
+                let pi = sym.starts[i] as usize;
+                let o = sym.off_jk[t] as usize;
+                let a = &values[o..o + ni * nk];
+                for r in 0..ni {
+                    let mut s = T::ZERO;
+                    for c in 0..nk {
+                        s += a[r * nk + c] * y[c];
+                    }
+                    b[pi + r] -= s;
+                }
+            }
+        }
+        for k in (0..nb).rev() {
+            let nk = sym.sizes[k] as usize;
+            let pk = sym.starts[k] as usize;
+            for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
+                let j = sym.later_pos[t] as usize;
+                let nj = sym.sizes[j] as usize;
+                let pj = sym.starts[j] as usize;
+                let o = sym.off_kj[t] as usize;
+                let x = &values[o..o + nk * nj];
+                for r in 0..nk {
+                    let mut s = T::ZERO;
+                    for c in 0..nj {
+                        s += x[r * nj + c] * b[pj + c];
+                    }
+                    b[pk + r] -= s;
+                }
+            }
+        }
+    }
+}
+
+/// Dense LU with partial pivoting of a row-major `n x n` block, in place.
+/// Returns `(largest pivot candidate, block scale)` when singular.
+fn dense_lu<T: Scalar>(a: &mut [T], n: usize, piv: &mut [u8]) -> Result<(), (f64, f64)> {
+    let scale = a.iter().fold(0.0f64, |m, x| m.max(x.magnitude()));
+    let tol = 1e-13 * scale;
+    for k in 0..n {
+        let mut p = k;
+        let mut best = a[k * n + k].magnitude();
+        for r in k + 1..n {
+            let m = a[r * n + k].magnitude();
+            if m > best {
+                best = m;
+                p = r;
+            }
+        }
+        if !(best > tol) || !best.is_finite() {
+            return Err((best, scale));
+        }
+        piv[k] = p as u8;
+        if p != k {
+            for c in 0..n {
+                a.swap(k * n + c, p * n + c);
+            }
+        }
+        let inv = T::ONE / a[k * n + k];
+        for r in k + 1..n {
+            let f = a[r * n + k] * inv;
+            a[r * n + k] = f;
+            if f != T::ZERO {
+                for c in k + 1..n {
+                    let u = a[k * n + c];
+                    a[r * n + c] -= f * u;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Solves `LU X = P B` in place for a row-major `n x m` right-hand side.
+fn dense_solve_cols<T: Scalar>(lu: &[T], n: usize, piv: &[u8], x: &mut [T], m: usize) {
+    for k in 0..n {
+        let p = piv[k] as usize;
+        if p != k {
+            for c in 0..m {
+                x.swap(k * m + c, p * m + c);
+            }
+        }
+    }
+    for k in 0..n {
+        for r in k + 1..n {
+            let f = lu[r * n + k];
+            if f != T::ZERO {
+                for c in 0..m {
+                    let v = x[k * m + c];
+                    x[r * m + c] -= f * v;
+                }
+            }
+        }
+    }
+    for k in (0..n).rev() {
+        let inv = T::ONE / lu[k * n + k];
+        for c in 0..m {
+            x[k * m + c] *= inv;
+        }
+        for r in 0..k {
+            let f = lu[r * n + k];
+            if f != T::ZERO {
+                for c in 0..m {
+                    let v = x[k * m + c];
+                    x[r * m + c] -= f * v;
+                }
+            }
+        }
+    }
+}
+
+/// `c -= a b` for row-major `a (n x k)`, `b (k x m)`, `c (n x m)`.
+#[inline]
+fn gemm_sub<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usize) {
+    for r in 0..n {
+        let ar = &a[r * k..r * k + k];
+        let cr = &mut c[r * m..r * m + m];
+        for (p, &arp) in ar.iter().enumerate() {
+            if arp == T::ZERO {
+                continue;
+            }
+            let bp = &b[p * m..p * m + m];
+            for (cv, &bv) in cr.iter_mut().zip(bp) {
+                *cv -= arp * bv;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::scalar::Complex64;
+
+    /// Deterministic pseudo-random numbers for tests.
+    fn lcg(seed: &mut u64) -> f64 {
+        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        ((*seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+    }
+
+    fn dense_of<T: Scalar>(sym: &BlockSymbolic, vals: &[T]) -> Vec<Vec<T>> {
+        let n = sym.dim();
+        let mut a = vec![vec![T::ZERO; n]; n];
+        for (i, j, off, _) in sym.sub_blocks() {
+            let (si, ni) = sym.span(i);
+            let (sj, nj) = sym.span(j);
+            for r in 0..ni {
+                for c in 0..nj {
+                    a[si + r][sj + c] = vals[off + r * nj + c];
+                }
+            }
+        }
+        a
+    }
+
+    fn check_solve<T: Scalar>(make: impl Fn(f64, f64) -> T) {
+        // A chain of 5 blocks with a star centre; sizes 3..5.
+        let sizes = [5u32, 3, 5, 3, 6, 4, 1];
+        let edges = [(0, 1), (1, 2), (2, 3), (3, 4), (4, 0), (5, 1), (5, 3), (6, 4), (6, 2)];
+        for ordering in [BlockOrdering::MinimumDegree, BlockOrdering::Natural] {
+            let sym = BlockSymbolic::analyse(&sizes, &edges, ordering);
+            let mut lu = BlockLu::<T>::new(&sym);
+            let mut seed = 7u64;
+            // fill original blocks with random values, diagonal dominant; fill blocks stay zero
+            let mut vals = vec![T::ZERO; sym.nnz()];
+            for (i, j, off, fill) in sym.sub_blocks() {
+                if fill {
+                    continue;
+                }
+                let (_, ni) = sym.span(i);
+                let (_, nj) = sym.span(j);
+                for r in 0..ni {
+                    for c in 0..nj {
+                        let mut v = make(lcg(&mut seed), lcg(&mut seed));
+                        if i == j && r == c {
+                            v += T::from_real(8.0);
+                        }
+                        vals[off + r * nj + c] = v;
+                    }
+                }
+            }
+            let a = dense_of(&sym, &vals);
+            lu.values_mut().copy_from_slice(&vals);
+            lu.factor(&sym, &|k| format!("block {k}")).unwrap();
+            let n = sym.dim();
+            let x_true: Vec<T> = (0..n).map(|i| make(i as f64 * 0.3 - 1.0, 0.1 * i as f64)).collect();
+            let mut b: Vec<T> = (0..n)
+                .map(|r| {
+                    let mut s = T::ZERO;
+                    for c in 0..n {
+                        s += a[r][c] * x_true[c];
+                    }
+                    s
+                })
+                .collect();
+            lu.solve(&sym, &mut b);
+            for i in 0..n {
+                assert!((b[i] - x_true[i]).magnitude() < 1e-12, "{ordering:?} {i}: {:?} vs {:?}", b[i], x_true[i]);
+            }
+        }
+    }
+
+    #[test]
+    fn block_lu_solves_real_systems() {
+        check_solve::<f64>(|a, _| a);
+    }
+
+    #[test]
+    fn block_lu_solves_complex_systems() {
+        check_solve::<Complex64>(Complex64::new);
+    }
+
+    #[test]
+    fn zero_diagonal_inside_a_block_is_pivoted() {
+        // A 2x2 KKT-like block [[1, 1], [1, 0]] needs a row interchange.
+        let sym = BlockSymbolic::analyse(&[2], &[], BlockOrdering::MinimumDegree);
+        let mut lu = BlockLu::<f64>::new(&sym);
+        lu.values_mut().copy_from_slice(&[0.0, 1.0, 1.0, 1.0]);
+        lu.factor(&sym, &|_| String::new()).unwrap();
+        let mut b = [1.0, 3.0];
+        lu.solve(&sym, &mut b);
+        assert!((b[0] - 2.0).abs() < 1e-15 && (b[1] - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn singular_block_is_an_error_not_a_panic() {
+        let sym = BlockSymbolic::analyse(&[2], &[], BlockOrdering::MinimumDegree);
+        let mut lu = BlockLu::<f64>::new(&sym);
+        lu.values_mut().copy_from_slice(&[1.0, 2.0, 2.0, 4.0]);
+        let err = lu.factor(&sym, &|k| format!("block {k}")).unwrap_err();
+        assert!(matches!(err, LinalgError::Singular { .. }), "{err:?}");
+    }
+
+    #[test]
+    fn minimum_degree_eliminates_leaves_first() {
+        // star: centre 0 with leaves 1..5 -> leaves first, no fill
+        let sizes = [3u32, 5, 5, 5, 5, 5];
+        let edges: Vec<(u32, u32)> = (1..6).map(|i| (0, i)).collect();
+        let sym = BlockSymbolic::analyse(&sizes, &edges, BlockOrdering::MinimumDegree);
+        assert_eq!(sym.block_at(5), 0, "centre last");
+        assert!(sym.sub_blocks().all(|s| !s.3), "no fill");
+    }
+}

@@ -1,0 +1,99 @@
+//! Planar rigid bodies.
+
+/// Index of a body in a [`crate::System`]. The ground is [`BodyId::GROUND`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BodyId(pub(crate) u32);
+
+impl BodyId {
+    /// The ground (inertial frame, fixed at the origin).
+    pub const GROUND: BodyId = BodyId(0);
+
+    /// Position of the body in the system's body list (the ground is 0).
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+
+    /// Whether this id is the ground.
+    pub fn is_ground(self) -> bool {
+        self.0 == 0
+    }
+}
+
+/// One of the three planar coordinates of a body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Coord {
+    /// x of the centre of mass [m].
+    X = 0,
+    /// y of the centre of mass [m].
+    Y = 1,
+    /// Rotation about the vertical axis, counter-clockwise [rad].
+    Phi = 2,
+}
+
+impl Coord {
+    /// All three coordinates in storage order.
+    pub const ALL: [Coord; 3] = [Coord::X, Coord::Y, Coord::Phi];
+
+    /// Slot index 0, 1, 2.
+    pub fn slot(self) -> usize {
+        self as usize
+    }
+
+    /// Name used in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Coord::X => "x",
+            Coord::Y => "y",
+            Coord::Phi => "phi",
+        }
+    }
+}
+
+/// A planar rigid body: centre-of-mass coordinates (x, y, phi).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Name used in messages and reports.
+    pub name: String,
+    /// Mass [kg].
+    pub mass: f64,
+    /// Moment of inertia about the vertical axis through the centre of mass [kg m^2].
+    pub inertia: f64,
+    /// Initial pose (x [m], y [m], phi [rad]).
+    pub pose: [f64; 3],
+    /// Initial velocity (vx [m/s], vy [m/s], omega [rad/s]).
+    pub velocity: [f64; 3],
+    /// Which of (x, y, phi) are free; a locked coordinate keeps its initial
+    /// value and zero velocity (the bridge deck, for example, moves only in x).
+    pub free: [bool; 3],
+}
+
+impl Body {
+    /// A body free in x, y and phi, at rest at `pose`.
+    pub fn new(name: impl Into<String>, mass: f64, inertia: f64, pose: [f64; 3]) -> Self {
+        Self { name: name.into(), mass, inertia, pose, velocity: [0.0; 3], free: [true; 3] }
+    }
+
+    /// Sets the initial velocity.
+    pub fn with_velocity(mut self, velocity: [f64; 3]) -> Self {
+        self.velocity = velocity;
+        self
+    }
+
+    /// Restricts the body to the listed coordinates.
+    pub fn only(mut self, coords: &[Coord]) -> Self {
+        self.free = [false; 3];
+        for c in coords {
+            self.free[c.slot()] = true;
+        }
+        self
+    }
+
+    /// Mass associated with a coordinate slot (mass for x and y, inertia for phi).
+    pub fn slot_mass(&self, slot: usize) -> f64 {
+        if slot == 2 {
+            self.inertia
+        } else {
+            self.mass
+        }
+    }
+}

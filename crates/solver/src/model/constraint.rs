@@ -1,0 +1,138 @@
+//! Kinematic constraints as the user describes them. Their equations and
+//! derivatives live in `assembly::constraints`.
+
+use super::body::{BodyId, Coord};
+use crate::timefn::TimeFunction;
+
+/// Index of a constraint in a [`crate::System`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ConstraintId(pub(crate) u32);
+
+impl ConstraintId {
+    /// Position in the system's constraint list.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// Revolute joint: a point of `body_a` coincides with a point of `body_b`
+/// (2 equations). With `body_b` the ground, `point_b` is a fixed world point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Revolute {
+    /// First body.
+    pub body_a: BodyId,
+    /// Joint point on `body_a`, in its frame [m].
+    pub point_a: [f64; 2],
+    /// Second body (may be the ground).
+    pub body_b: BodyId,
+    /// Joint point on `body_b`, in its frame [m] (world point for the ground).
+    pub point_b: [f64; 2],
+}
+
+/// Prismatic joint: `slider` keeps its orientation relative to `base` and a
+/// point of it stays on an axis of `base` (2 equations):
+/// `phi_s - phi_b - (phi_s0 - phi_b0) = 0` and `n . (r_P - r_A) = 0`, with `n`
+/// the axis normal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prismatic {
+    /// The sliding body.
+    pub slider: BodyId,
+    /// Point of the slider that stays on the axis, in its frame [m].
+    pub point: [f64; 2],
+    /// The body carrying the axis (may be the ground).
+    pub base: BodyId,
+    /// A point of the axis, in the base frame [m].
+    pub axis_point: [f64; 2],
+    /// Direction of the axis, in the base frame (need not be unit length).
+    pub axis_direction: [f64; 2],
+}
+
+/// A point of `body` stays on an axis of `line_body` (1 equation). A body
+/// restricted to x (the deck) can carry the point: its point moves with the
+/// coordinate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointOnLine {
+    /// Body carrying the point.
+    pub body: BodyId,
+    /// The point, in the frame of `body` [m].
+    pub point: [f64; 2],
+    /// Body carrying the line (may be the ground).
+    pub line_body: BodyId,
+    /// A point of the line, in the frame of `line_body` [m].
+    pub line_point: [f64; 2],
+    /// Direction of the line, in the frame of `line_body`.
+    pub line_direction: [f64; 2],
+}
+
+/// Weld: `body_a` is rigidly attached to `body_b` at the reference pose
+/// (3 equations: point coincidence and relative angle).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Weld {
+    /// First body.
+    pub body_a: BodyId,
+    /// Reference point on `body_a`, in its frame [m].
+    pub point_a: [f64; 2],
+    /// Second body (may be the ground).
+    pub body_b: BodyId,
+    /// The coinciding point on `body_b`, in its frame [m].
+    pub point_b: [f64; 2],
+}
+
+/// A coordinate prescribed as a function of time: `q(t) = f(t)` (1 equation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Driver {
+    /// The driven body.
+    pub body: BodyId,
+    /// The driven coordinate (must be free).
+    pub coord: Coord,
+    /// The prescribed motion [m or rad].
+    pub motion: TimeFunction,
+}
+
+/// Any constraint.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Constraint {
+    /// See [`Revolute`].
+    Revolute(Revolute),
+    /// See [`Prismatic`].
+    Prismatic(Prismatic),
+    /// See [`PointOnLine`].
+    PointOnLine(PointOnLine),
+    /// See [`Weld`].
+    Weld(Weld),
+    /// See [`Driver`].
+    Driver(Driver),
+}
+
+impl Constraint {
+    /// Number of scalar equations.
+    pub fn equations(&self) -> usize {
+        match self {
+            Constraint::Revolute(_) | Constraint::Prismatic(_) => 2,
+            Constraint::PointOnLine(_) | Constraint::Driver(_) => 1,
+            Constraint::Weld(_) => 3,
+        }
+    }
+
+    /// Short type name used in messages.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Constraint::Revolute(_) => "revolute",
+            Constraint::Prismatic(_) => "prismatic",
+            Constraint::PointOnLine(_) => "point-on-line",
+            Constraint::Weld(_) => "weld",
+            Constraint::Driver(_) => "driver",
+        }
+    }
+
+    /// The bodies involved (the second is the ground for a driver).
+    pub fn bodies(&self) -> (BodyId, BodyId) {
+        match self {
+            Constraint::Revolute(c) => (c.body_a, c.body_b),
+            Constraint::Prismatic(c) => (c.slider, c.base),
+            Constraint::PointOnLine(c) => (c.body, c.line_body),
+            Constraint::Weld(c) => (c.body_a, c.body_b),
+            Constraint::Driver(c) => (c.body, BodyId::GROUND),
+        }
+    }
+}

@@ -1,0 +1,105 @@
+//! Free vibration of a mass on a spring with Coulomb friction.
+//!
+//! With friction force `F` and spring `k`, each half cycle ends at a turning
+//! point whose amplitude is `2 F / k` smaller than the previous one (Den
+//! Hartog 1931); the motion stops at the first turning point with
+//! `|x| < F / k`, because the spring can no longer overcome static friction.
+//! The regularised law is viscous below `v_eps`, so for the time `2 v_eps / a`
+//! the mass spends near each turning point (`a` its acceleration there) the
+//! friction is weaker than Coulomb's; the turning points shift by about
+//! `v_eps^2 / a`. The amplitudes must match the closed form within that
+//! tolerance, which shrinks with `v_eps`; the friction work must equal the
+//! spring energy lost.
+
+use std::sync::Arc;
+
+use quakejoint_solver::reference::friction_oscillator;
+use quakejoint_solver::*;
+
+/// Positions at the turning points (velocity sign changes), on the dense output.
+struct TurningPoints {
+    x: usize,
+    last_v: f64,
+    extremes: Vec<(f64, f64)>,
+}
+
+impl Observer for TurningPoints {
+    fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        let v1 = view.v[self.x];
+        if self.last_v != 0.0 && v1 != 0.0 && v1.signum() != self.last_v.signum() {
+            let (n, m) = (view.q.len(), view.lambda.len());
+            let (mut q, mut v, mut l) = (vec![0.0; n], vec![0.0; n], vec![0.0; m]);
+            let (mut a, mut b) = (view.t_prev, view.t);
+            for _ in 0..60 {
+                let c = 0.5 * (a + b);
+                view.interpolate(c, &mut q, &mut v, &mut l);
+                if v[self.x].signum() == self.last_v.signum() {
+                    a = c;
+                } else {
+                    b = c;
+                }
+            }
+            view.interpolate(0.5 * (a + b), &mut q, &mut v, &mut l);
+            self.extremes.push((0.5 * (a + b), q[self.x]));
+        }
+        if v1 != 0.0 {
+            self.last_v = v1;
+        }
+        true
+    }
+}
+
+/// Den Hartog's turning points from `x0` until the stop.
+fn den_hartog(x0: f64, f_over_k: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut x = x0;
+    loop {
+        let next = -(x.abs() - 2.0 * f_over_k) * x.signum();
+        if x.abs() <= f_over_k {
+            break;
+        }
+        out.push(next);
+        x = next;
+    }
+    out
+}
+
+fn turning_point_errors(v_eps: f64) -> (f64, f64) {
+    let (m, k, f, x0) = (1.0, 100.0, 1.0, 0.105);
+    let (sys, body) = friction_oscillator(m, k, f, v_eps, FrictionLaw::Linear, x0);
+    let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
+    let x = asm.coordinate(body, Coord::X).unwrap();
+    let mut sim = Radau5::new(asm, IntegratorOptions::default().scaled_tolerances(1e-2)).unwrap();
+    let mut obs = TurningPoints { x, last_v: -1.0, extremes: Vec::new() };
+    // stop just after the last turning point, before the regularised creep
+    sim.run(1.6, &mut obs).unwrap();
+    let expected = den_hartog(x0, f / k);
+    assert_eq!(expected.len(), 5);
+    assert!(obs.extremes.len() >= 5, "turning points {:?}", obs.extremes);
+    let mut worst = 0.0f64;
+    for (e, got) in expected.iter().zip(&obs.extremes) {
+        worst = worst.max((got.1 - e).abs());
+    }
+    // smallest acceleration at a turning point: (k |x| - F)/m at the last one
+    let a_min = (k * 0.025 - f) / m;
+    let allowed = 2.0 * v_eps * v_eps / a_min + 1e-6 * v_eps.sqrt();
+    eprintln!("v_eps {v_eps:e}: worst turning-point error {worst:.2e} m (allowed {allowed:.2e})");
+    assert!(worst < allowed, "v_eps {v_eps}: error {worst:e} > {allowed:e}; got {:?}", obs.extremes);
+    // energy: friction work equals the spring energy lost (plus kinetic now)
+    let e = sim.energy();
+    assert!(e.relative_error() < 1e-5, "energy balance {:e}", e.relative_error());
+    (worst, e.friction)
+}
+
+#[test]
+fn amplitude_drops_by_two_friction_displacements_per_half_cycle() {
+    let mut last = f64::INFINITY;
+    for v_eps in [1e-2, 3e-3, 1e-3] {
+        let (worst, friction_work) = turning_point_errors(v_eps);
+        assert!(worst < last, "error must shrink with v_eps");
+        last = worst;
+        // spring energy 1/2 k (x0^2 - x_stop^2) dissipated by friction
+        let lost = 0.5 * 100.0 * (0.105f64.powi(2) - 0.005f64.powi(2));
+        assert!((friction_work - lost).abs() / lost < 1e-3, "friction work {friction_work} vs {lost}");
+    }
+}
