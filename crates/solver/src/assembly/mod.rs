@@ -20,7 +20,7 @@ mod build;
 
 use crate::error::BuildError;
 use crate::linalg::block_lu::BlockSymbolic;
-use crate::linalg::scalar::Scalar;
+use crate::linalg::scalar::{Complex64, Scalar};
 use crate::model::body::{BodyId, Coord};
 use crate::model::constraint::ConstraintId;
 use crate::model::system::System;
@@ -682,6 +682,18 @@ impl Assembly {
             out[e.pos as usize] = v;
             out[e.pos_t as usize] = v;
         }
+    }
+
+    /// The real Radau iteration matrix `[c^2 M + c D + K, G^T S; S G, 0]`
+    /// (`S = c^2 m_ref` per equation) in block layout; `out` has
+    /// [`BlockSymbolic::nnz`] entries.
+    pub fn form_real(&self, c: f64, jac: &JacobianValues, out: &mut [f64]) {
+        self.form(c * c, c, 1.0, c * c, jac, out);
+    }
+
+    /// The complex Radau iteration matrix for a complex `c`, scaled with `|c|^2`.
+    pub fn form_complex(&self, c: Complex64, jac: &JacobianValues, out: &mut [Complex64]) {
+        self.form(c * c, c, 1.0, c.norm_sqr(), jac, out);
     }
 
     /// `(c M + D) x` for a coordinate vector `x` (used by the error estimate).

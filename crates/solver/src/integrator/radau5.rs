@@ -526,10 +526,10 @@ impl Radau5 {
         let g = GAMMA / h;
         let jac = &self.jac;
         self.fact_h = f64::NAN;
-        self.real.factor(sym, &mut self.faer, &|out: &mut [f64]| asm.form(g * g, g, 1.0, g * g, jac, out), &desc)?;
+        self.real.factor(sym, &mut self.faer, &|out: &mut [f64]| asm.form_real(g, jac, out), &desc)?;
         let c = Complex64::new(ALPHA / h, BETA / h);
         let gs = c.norm_sqr();
-        self.cplx.factor(sym, &mut self.faer, &|out: &mut [Complex64]| asm.form(c * c, c, 1.0, gs, jac, out), &desc)?;
+        self.cplx.factor(sym, &mut self.faer, &|out: &mut [Complex64]| asm.form_complex(c, jac, out), &desc)?;
         self.gscale_r = g * g;
         self.gscale_c = gs;
         self.fact_h = h;
