@@ -1,7 +1,8 @@
 //! Cost of the solver's building blocks on the reference chain of N rods
 //! (each with a slider: 2N bodies, 6N coordinates) for N = 10, 100, 1000:
 //! one residual, one analytic Jacobian, one real and one complex numeric
-//! factorisation, one real and one complex solve, and ten integrator steps.
+//! factorisation (and the real one with faer's COLAMD sparse LU for
+//! comparison), one real and one complex solve, and ten integrator steps.
 //! Each should grow about linearly with N. Results: docs/performance.md.
 
 use std::hint::black_box;
@@ -60,6 +61,10 @@ fn kernels(c: &mut Criterion) {
         let mut real = KktSolver::<f64>::new(sym, LinearSolver::Block);
         group.bench_with_input(BenchmarkId::new("factor_real", n), &n, |b, _| {
             b.iter(|| real.factor(sym, &mut cache, &|out: &mut [f64]| asm.form_real(3.64 / h, &jac, out), &desc).unwrap())
+        });
+        let mut faer = KktSolver::<f64>::new(sym, LinearSolver::Faer);
+        group.bench_with_input(BenchmarkId::new("factor_real_faer_colamd", n), &n, |b, _| {
+            b.iter(|| faer.factor(sym, &mut cache, &|out: &mut [f64]| asm.form_real(3.64 / h, &jac, out), &desc).unwrap())
         });
         let cz = Complex64::new(2.68 / h, 3.05 / h);
         let mut cplx = KktSolver::<Complex64>::new(sym, LinearSolver::Block);
