@@ -60,16 +60,22 @@ fn kernels(c: &mut Criterion) {
         let h = 1e-3;
         let mut real = KktSolver::<f64>::new(sym, LinearSolver::Block);
         group.bench_with_input(BenchmarkId::new("factor_real", n), &n, |b, _| {
-            b.iter(|| real.factor(sym, &mut cache, &|out: &mut [f64]| asm.form_real(3.64 / h, &jac, out), &desc).unwrap())
+            b.iter(|| {
+                real.factor(sym, &mut cache, &|out: &mut [f64]| asm.form_real(3.64 / h, &jac, out), &desc).unwrap()
+            })
         });
         let mut faer = KktSolver::<f64>::new(sym, LinearSolver::Faer);
         group.bench_with_input(BenchmarkId::new("factor_real_faer_colamd", n), &n, |b, _| {
-            b.iter(|| faer.factor(sym, &mut cache, &|out: &mut [f64]| asm.form_real(3.64 / h, &jac, out), &desc).unwrap())
+            b.iter(|| {
+                faer.factor(sym, &mut cache, &|out: &mut [f64]| asm.form_real(3.64 / h, &jac, out), &desc).unwrap()
+            })
         });
         let cz = Complex64::new(2.68 / h, 3.05 / h);
         let mut cplx = KktSolver::<Complex64>::new(sym, LinearSolver::Block);
         group.bench_with_input(BenchmarkId::new("factor_complex", n), &n, |b, _| {
-            b.iter(|| cplx.factor(sym, &mut cache, &|out: &mut [Complex64]| asm.form_complex(cz, &jac, out), &desc).unwrap())
+            b.iter(|| {
+                cplx.factor(sym, &mut cache, &|out: &mut [Complex64]| asm.form_complex(cz, &jac, out), &desc).unwrap()
+            })
         });
         let mut rhs = vec![1.0; sym.dim()];
         group.bench_with_input(BenchmarkId::new("solve_real", n), &n, |b, _| {

@@ -44,7 +44,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (a, b) = (0.5 * (a + b), (a * b).sqrt());
     }
     let exact = 4.0 * (1.0f64 / 9.81).sqrt() * PI / (2.0 * a);
-    println!("period        {period:.6} s (exact {exact:.6} s, small-angle {:.6} s)", 2.0 * PI * (1.0f64 / 9.81).sqrt());
+    println!(
+        "period        {period:.6} s (exact {exact:.6} s, small-angle {:.6} s)",
+        2.0 * PI * (1.0f64 / 9.81).sqrt()
+    );
     println!("energy drift  {:.2e} of the energy scale over 10 s", sim.energy().relative_error());
     let (g, gv) = sim.max_constraint_residuals();
     println!("constraints   |g| <= {g:.1e} m, |G v| <= {gv:.1e} m/s");

@@ -164,12 +164,7 @@ struct GroupResult {
     g: Vec<f64>,
 }
 
-fn eval_group(
-    asm: &Assembly,
-    col: &Colouring,
-    group: &[u32],
-    state: (f64, &[f64], &[f64], &[f64]),
-) -> GroupResult {
+fn eval_group(asm: &Assembly, col: &Colouring, group: &[u32], state: (f64, &[f64], &[f64], &[f64])) -> GroupResult {
     let (t, q, v, lam) = state;
     let mut ws = asm.workspace();
     let mut qp = q.to_vec();

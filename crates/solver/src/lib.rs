@@ -42,16 +42,14 @@ pub mod timefn;
 
 pub use assembly::{Assembly, AssemblyOptions, ForceExtremes, JacobianValues, Powers, Workspace};
 pub use error::{BuildError, LinalgError, SolverError, StepFailure};
-pub use integrator::{
-    EnergyBalance, IntegratorOptions, JacobianMode, NoObserver, Observer, Radau5, Stats, StepView,
-};
+pub use integrator::{EnergyBalance, IntegratorOptions, JacobianMode, NoObserver, Observer, Radau5, Stats, StepView};
 pub use linalg::block_lu::BlockOrdering;
 pub use linalg::LinearSolver;
 pub use model::body::{Body, BodyId, Coord};
 pub use model::constraint::{Constraint, ConstraintId, Driver, PointOnLine, Prismatic, Revolute, Weld};
 pub use model::force::{
-    AppliedLoad, BodyState, Bushing, CoordinateSpring, CustomElement, CustomForce, Excitation, ForceElement,
-    ForceId, Friction, FrictionLaw, SpringDamper,
+    AppliedLoad, BodyState, Bushing, CoordinateSpring, CustomElement, CustomForce, Excitation, ForceElement, ForceId,
+    Friction, FrictionLaw, SpringDamper,
 };
 pub use model::system::System;
 pub use timefn::{SmoothTriangle, TimeFunction, TimeSeries};

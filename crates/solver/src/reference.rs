@@ -7,8 +7,8 @@ use std::sync::Arc;
 use crate::model::body::{Body, BodyId, Coord};
 use crate::model::constraint::{Constraint, Driver, PointOnLine, Prismatic, Revolute, Weld};
 use crate::model::force::{
-    AppliedLoad, BodyState, Bushing, CoordinateSpring, CustomElement, CustomForce, Excitation, ForceElement,
-    Friction, FrictionLaw, SpringDamper,
+    AppliedLoad, BodyState, Bushing, CoordinateSpring, CustomElement, CustomForce, Excitation, ForceElement, Friction,
+    FrictionLaw, SpringDamper,
 };
 use crate::model::system::System;
 use crate::timefn::{TimeFunction, TimeSeries};
@@ -25,7 +25,12 @@ pub fn pendulum(mass: f64, length: f64, g: f64, angle0: f64) -> (System, BodyId)
     let bob = sys.add_body(Body::new("bob", mass, mass * 1e-6, [length * s, -length * c, phi]));
     sys.add_constraint_named(
         "pivot",
-        Constraint::Revolute(Revolute { body_a: bob, point_a: [-length, 0.0], body_b: BodyId::GROUND, point_b: [0.0, 0.0] }),
+        Constraint::Revolute(Revolute {
+            body_a: bob,
+            point_a: [-length, 0.0],
+            body_b: BodyId::GROUND,
+            point_b: [0.0, 0.0],
+        }),
     );
     sys.set_excitation(Excitation { gravity: [0.0, -g], ..Default::default() });
     (sys, bob)
@@ -89,11 +94,20 @@ pub fn bead_on_rod(omega: f64, r0: f64) -> (System, BodyId, BodyId) {
     let rod = sys.add_body(Body::new("rod", 2.0, 0.5, [0.0; 3]).with_velocity([0.0, 0.0, omega]));
     sys.add_constraint_named(
         "hub",
-        Constraint::Revolute(Revolute { body_a: rod, point_a: [0.0, 0.0], body_b: BodyId::GROUND, point_b: [0.0, 0.0] }),
+        Constraint::Revolute(Revolute {
+            body_a: rod,
+            point_a: [0.0, 0.0],
+            body_b: BodyId::GROUND,
+            point_b: [0.0, 0.0],
+        }),
     );
     sys.add_constraint_named(
         "motor",
-        Constraint::Driver(Driver { body: rod, coord: Coord::Phi, motion: TimeFunction::Linear { value0: 0.0, rate: omega } }),
+        Constraint::Driver(Driver {
+            body: rod,
+            coord: Coord::Phi,
+            motion: TimeFunction::Linear { value0: 0.0, rate: omega },
+        }),
     );
     let bead = sys.add_body(Body::new("bead", 0.1, 1e-4, [r0, 0.0, 0.0]).with_velocity([0.0, omega * r0, omega]));
     sys.add_constraint_named(
@@ -221,7 +235,9 @@ pub fn element_zoo() -> System {
         damping: [2.0, 2.0],
         rest: [0.0, 0.0],
     }));
-    for (slider, base, law) in [(b, c, FrictionLaw::Linear), (c, a, FrictionLaw::Smooth), (e, BodyId::GROUND, FrictionLaw::Linear)] {
+    for (slider, base, law) in
+        [(b, c, FrictionLaw::Linear), (c, a, FrictionLaw::Smooth), (e, BodyId::GROUND, FrictionLaw::Linear)]
+    {
         sys.add_force(ForceElement::Friction(Friction {
             slider,
             point: [0.05, -0.02],
@@ -256,14 +272,23 @@ pub fn element_zoo() -> System {
         fy: TimeFunction::Constant(-2.0),
         torque: TimeFunction::Constant(0.5),
     }));
-    sys.add_force(ForceElement::Custom(CustomElement(Arc::new(CustomSpring { body: e, stiffness: 20.0, damping: 0.5 }))));
+    sys.add_force(ForceElement::Custom(CustomElement(Arc::new(CustomSpring {
+        body: e,
+        stiffness: 20.0,
+        damping: 0.5,
+    }))));
     sys.add_constraint(Constraint::Revolute(Revolute {
         body_a: a,
         point_a: [-0.3, 0.0],
         body_b: BodyId::GROUND,
         point_b: [0.0, 0.2],
     }));
-    sys.add_constraint(Constraint::Revolute(Revolute { body_a: f, point_a: [0.2, 0.1], body_b: e, point_b: [-0.3, -0.4] }));
+    sys.add_constraint(Constraint::Revolute(Revolute {
+        body_a: f,
+        point_a: [0.2, 0.1],
+        body_b: e,
+        point_b: [-0.3, -0.4],
+    }));
     sys.add_constraint(Constraint::Prismatic(Prismatic {
         slider: b,
         point: [0.1, 0.0],

@@ -41,12 +41,7 @@ impl TimeSeries {
     /// Samples at arbitrary strictly increasing times.
     pub fn from_points(times: Vec<f64>, values: Vec<f64>) -> Result<Self, BuildError> {
         if times.len() != values.len() {
-            return Err(invalid(
-                "time series",
-                "times",
-                times.len() as f64,
-                "must have as many entries as values",
-            ));
+            return Err(invalid("time series", "times", times.len() as f64, "must have as many entries as values"));
         }
         check_values(&values)?;
         for w in times.windows(2) {

@@ -44,7 +44,12 @@ fn bead_moves_out_as_r0_cosh_omega_t() {
     let phi = asm.coordinate(rod, Coord::Phi).unwrap();
     let mut sim = Radau5::new(asm, IntegratorOptions::default()).unwrap();
     sim.run(2.0, &mut obs).unwrap();
-    eprintln!("bead: worst relative radius error {:.2e}, energy {:.2e}, {:?}", obs.worst, sim.energy().relative_error(), sim.stats());
+    eprintln!(
+        "bead: worst relative radius error {:.2e}, energy {:.2e}, {:?}",
+        obs.worst,
+        sim.energy().relative_error(),
+        sim.stats()
+    );
     assert!(obs.worst < 1e-6, "radius error {:e}", obs.worst);
     assert!((sim.positions()[phi] - omega * 2.0).abs() < 1e-9, "driver followed");
     let e = sim.energy();

@@ -83,4 +83,3 @@ fn dense_and_coloured_finite_differences_agree() {
     compare("K", a.stiffness(), b.stiffness());
     compare("G", &a.g, &b.g);
 }
-

@@ -140,7 +140,11 @@ fn sdof_peak_absolute_acceleration_matches_the_exact_piecewise_linear_step() {
         assert_eq!(obs.samples, ag.len() - 1, "every sample time is a step");
         let exact = exact_sa(period, zeta, dt, &ag);
         let rel = (obs.sa - exact).abs() / exact;
-        eprintln!("T={period} zeta={zeta}: Sa {:.9} exact {exact:.9} rel {rel:.1e}, {} steps", obs.sa, sim.stats().steps);
+        eprintln!(
+            "T={period} zeta={zeta}: Sa {:.9} exact {exact:.9} rel {rel:.1e}, {} steps",
+            obs.sa,
+            sim.stats().steps
+        );
         assert!(rel < 1e-6, "T={period} zeta={zeta}: Sa {} vs exact {exact} ({rel:e})", obs.sa);
     }
 }

@@ -27,10 +27,8 @@ fn finite_difference_jacobian_and_faer_lu_reproduce_the_default_run() {
     let base = IntegratorOptions::default().scaled_tolerances(1e-2);
     let (reference, stats) = final_state(base.clone());
     assert_eq!(stats.faer_fallbacks, 0);
-    let (fd, _) = final_state(IntegratorOptions {
-        jacobian: JacobianMode::FiniteDifference { parallel: true },
-        ..base.clone()
-    });
+    let (fd, _) =
+        final_state(IntegratorOptions { jacobian: JacobianMode::FiniteDifference { parallel: true }, ..base.clone() });
     let (faer, _) = final_state(IntegratorOptions { linear_solver: LinearSolver::Faer, ..base.clone() });
     let d_fd = max_diff(&reference, &fd);
     let d_faer = max_diff(&reference, &faer);

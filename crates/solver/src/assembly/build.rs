@@ -86,7 +86,12 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         match c {
             Constraint::Revolute(j) => prims.push((
                 ci,
-                Prim::Point(PointK { a: id(j.body_a), b: id(j.body_b), pa: V2::from(j.point_a), pb: V2::from(j.point_b) }),
+                Prim::Point(PointK {
+                    a: id(j.body_a),
+                    b: id(j.body_b),
+                    pa: V2::from(j.point_a),
+                    pb: V2::from(j.point_b),
+                }),
             )),
             Constraint::Weld(j) => {
                 let (a, b) = (id(j.body_a), id(j.body_b));
@@ -201,9 +206,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
     let mut asm = Assembly {
         bodies: body_static,
         coord_mass: layout.coord_body.iter().map(|&(b, s)| bodies[b as usize].slot_mass(s as usize)).collect(),
-        mass_pos: (0..layout.n)
-            .map(|c| layout.entry(layout.unknown_of_coord[c], layout.unknown_of_coord[c]))
-            .collect(),
+        mass_pos: (0..layout.n).map(|c| layout.entry(layout.unknown_of_coord[c], layout.unknown_of_coord[c])).collect(),
         bushings: Vec::new(),
         frictions: Vec::new(),
         springs: Vec::new(),

@@ -65,10 +65,7 @@ impl PointK {
         let (ra, rb) = self.parts(ka, kb);
         let g = (ka.r + ra) - (kb.r + rb);
         let (sa, sb) = (ra.perp(), rb.perp());
-        Rows {
-            g: [g.x, g.y],
-            grad: [[1.0, 0.0, sa.x, -1.0, 0.0, -sb.x], [0.0, 1.0, sa.y, 0.0, -1.0, -sb.y]],
-        }
+        Rows { g: [g.x, g.y], grad: [[1.0, 0.0, sa.x, -1.0, 0.0, -sb.x], [0.0, 1.0, sa.y, 0.0, -1.0, -sb.y]] }
     }
 
     pub fn hessian(&self, ka: &BodyKin, kb: &BodyKin, lam: &[f64], h: &mut Mat6) {

@@ -196,10 +196,8 @@ impl FrictionK {
 
     pub fn jacobian(&self, ka: &BodyKin, kb: &BodyKin, km: &mut Mat6, dm: &mut Mat6) {
         let (e, dphi) = self.eval(ka, kb);
-        let cf = [
-            [self.force * dphi[0][0], self.force * dphi[0][1]],
-            [self.force * dphi[1][0], self.force * dphi[1][1]],
-        ];
+        let cf =
+            [[self.force * dphi[0][0], self.force * dphi[0][1]], [self.force * dphi[1][0], self.force * dphi[1][1]]];
         let ex = V2::new(1.0, 0.0);
         let ey = V2::new(0.0, 1.0);
         let b = [ex, ey, e.rho.perp(), -ex, -ey, -e.e.perp()];
@@ -215,14 +213,8 @@ impl FrictionK {
         km[5][4] -= -fp.y;
         // + B^T Cf P with P = d v_rel / dz
         let ws = kb.w;
-        let p = [
-            -(ws * ex.perp()),
-            -(ws * ey.perp()),
-            (ws - ka.w) * e.rho,
-            ws * ex.perp(),
-            ws * ey.perp(),
-            V2::default(),
-        ];
+        let p =
+            [-(ws * ex.perp()), -(ws * ey.perp()), (ws - ka.w) * e.rho, ws * ex.perp(), ws * ey.perp(), V2::default()];
         add_btcp(km, &b, cf, &p);
     }
 
@@ -294,10 +286,7 @@ impl SpringK {
         // -dF_b/dDelta = n (k n^T + c w^T N / l) + f N / l
         let inv_l = if e.l > 1e-300 { 1.0 / e.l } else { 0.0 };
         let big_n = [[1.0 - nn[0][0], -nn[0][1]], [-nn[1][0], 1.0 - nn[1][1]]];
-        let wn = V2::new(
-            e.w.x * big_n[0][0] + e.w.y * big_n[1][0],
-            e.w.x * big_n[0][1] + e.w.y * big_n[1][1],
-        );
+        let wn = V2::new(e.w.x * big_n[0][0] + e.w.y * big_n[1][0], e.w.x * big_n[0][1] + e.w.y * big_n[1][1]);
         let mut s = [[0.0; 2]; 2];
         let row = [self.k * n.x + self.c * wn.x * inv_l, self.k * n.y + self.c * wn.y * inv_l];
         let nv = [n.x, n.y];

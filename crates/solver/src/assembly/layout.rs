@@ -177,13 +177,7 @@ impl Layout {
 fn match_equations(equations: &[EquationSpec], body_coord: &[[u32; 3]], n: usize) -> Result<Vec<u32>, BuildError> {
     let cands: Vec<Vec<u32>> = equations
         .iter()
-        .map(|e| {
-            e.candidates
-                .iter()
-                .map(|&(b, s)| body_coord[b as usize][s as usize])
-                .filter(|&c| c != NONE)
-                .collect()
-        })
+        .map(|e| e.candidates.iter().map(|&(b, s)| body_coord[b as usize][s as usize]).filter(|&c| c != NONE).collect())
         .collect();
     let mut coord_eq = vec![NONE; n];
     let mut eq_coord = vec![NONE; equations.len()];

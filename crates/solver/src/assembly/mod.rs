@@ -12,11 +12,11 @@
 //! scaled constraint blocks (see [`Assembly::form`]) from these arrays, so
 //! each force law is written once and the integrator supplies the factors.
 
+mod build;
 pub(crate) mod constraints;
 pub(crate) mod forces;
 pub(crate) mod kin;
 pub(crate) mod layout;
-mod build;
 
 use crate::error::BuildError;
 use crate::linalg::block_lu::BlockSymbolic;
@@ -331,7 +331,8 @@ impl Assembly {
                     w[s] = v[c as usize];
                 }
             }
-            ws.kin[b] = BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot: Rot::new(p[2]), v: V2::new(w[0], w[1]), w: w[2] };
+            ws.kin[b] =
+                BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot: Rot::new(p[2]), v: V2::new(w[0], w[1]), w: w[2] };
         }
     }
 

@@ -122,9 +122,14 @@ fn stages(len: usize) -> Stages {
 
 /// Outcome of one Newton solve.
 enum Newton {
-    Converged { iterations: u32 },
+    Converged {
+        iterations: u32,
+    },
     /// Reject the attempt; retry with `h * factor`.
-    Retry { factor: f64, cause: StepFailure },
+    Retry {
+        factor: f64,
+        cause: StepFailure,
+    },
 }
 
 /// The integrator and the state it advances.
@@ -399,7 +404,12 @@ impl Radau5 {
             let a = &asm;
             let desc = |p: usize| a.layout.position_names[p].clone();
             self.real
-                .factor(a.block_structure(), &mut self.faer, &|out: &mut [f64]| a.form(1.0, 0.0, 0.0, 1.0, jac, out), &desc)
+                .factor(
+                    a.block_structure(),
+                    &mut self.faer,
+                    &|out: &mut [f64]| a.form(1.0, 0.0, 0.0, 1.0, jac, out),
+                    &desc,
+                )
                 .map_err(SolverError::Initialisation)?;
         }
         self.gscale_r = 1.0;
@@ -777,8 +787,10 @@ impl Radau5 {
                 let mc = self.mass[c];
                 let u = lay.unknown_of_coord[c] as usize;
                 self.rhs_r[u] = r[0] - g_r * mc * w[0];
-                self.rhs_c[u] =
-                    Complex64::new(r[1] - mc * (c_c.re * w[1] - c_c.im * w[2]), r[2] - mc * (c_c.im * w[1] + c_c.re * w[2]));
+                self.rhs_c[u] = Complex64::new(
+                    r[1] - mc * (c_c.re * w[1] - c_c.im * w[2]),
+                    r[2] - mc * (c_c.im * w[1] + c_c.re * w[2]),
+                );
             }
             let inv_c = c_c.inv();
             for e in 0..m {
@@ -858,8 +870,7 @@ impl Radau5 {
         // F1 = M_big (hee . Z); cont = F1 + F(t_n, y_n)
         for c in 0..n {
             self.e1q[c] = hee[0] * self.zq[0][c] + hee[1] * self.zq[1][c] + hee[2] * self.zq[2][c];
-            self.e1v[c] =
-                self.mass[c] * (hee[0] * self.zv[0][c] + hee[1] * self.zv[1][c] + hee[2] * self.zv[2][c]);
+            self.e1v[c] = self.mass[c] * (hee[0] * self.zv[0][c] + hee[1] * self.zv[1][c] + hee[2] * self.zv[2][c]);
             self.ecq[c] = self.e1q[c] + self.v[c];
             self.ecv[c] = self.e1v[c] + self.y0f[c];
         }
@@ -909,8 +920,7 @@ impl Radau5 {
             self.bv[c] = ev;
             let q1 = self.q[c] + self.zq[2][c];
             let v1 = self.v[c] + self.zv[2][c];
-            let sq = self.atol_q[c]
-                + self.rtol * (self.q[c] - self.q_ref[c]).abs().max((q1 - self.q_ref[c]).abs());
+            let sq = self.atol_q[c] + self.rtol * (self.q[c] - self.q_ref[c]).abs().max((q1 - self.q_ref[c]).abs());
             let sv = self.atol_v[c] + self.rtol * self.v[c].abs().max(v1.abs());
             sum += (eq / sq).powi(2) + (ev / sv).powi(2);
         }
@@ -942,7 +952,8 @@ impl Radau5 {
             self.energy.constraints += w * p.constraints;
         }
         // dense output coefficients
-        for (z, cont, len) in [(&self.zq, &mut self.cont_q, n), (&self.zv, &mut self.cont_v, n), (&self.zl, &mut self.cont_l, m)]
+        for (z, cont, len) in
+            [(&self.zq, &mut self.cont_q, n), (&self.zv, &mut self.cont_v, n), (&self.zl, &mut self.cont_l, m)]
         {
             for j in 0..len {
                 let (z1, z2, z3) = (z[0][j], z[1][j], z[2][j]);

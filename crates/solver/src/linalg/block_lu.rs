@@ -91,10 +91,9 @@ impl BlockSymbolic {
         for step in 0..nb {
             let v = match ordering {
                 BlockOrdering::Natural => step,
-                BlockOrdering::MinimumDegree => (0..nb)
-                    .filter(|&v| !eliminated[v])
-                    .min_by_key(|&v| (wdeg[v], v))
-                    .expect("a block remains"),
+                BlockOrdering::MinimumDegree => {
+                    (0..nb).filter(|&v| !eliminated[v]).min_by_key(|&v| (wdeg[v], v)).expect("a block remains")
+                }
             };
             eliminated[v] = true;
             order.push(v as u32);
@@ -244,10 +243,7 @@ impl BlockSymbolic {
 
     /// Number of values in original (non-fill) sub-blocks.
     pub fn nnz_original(&self) -> usize {
-        self.sub_blocks()
-            .filter(|s| !s.3)
-            .map(|(i, j, _, _)| (self.sizes[i] * self.sizes[j]) as usize)
-            .sum()
+        self.sub_blocks().filter(|s| !s.3).map(|(i, j, _, _)| (self.sizes[i] * self.sizes[j]) as usize).sum()
     }
 }
 

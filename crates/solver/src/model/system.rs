@@ -152,7 +152,10 @@ impl System {
         self.check_body(what, a)?;
         self.check_body(what, b)?;
         if a == b {
-            return Err(BuildError::SelfConnection { what: what.to_string(), body: self.bodies[a.index()].name.clone() });
+            return Err(BuildError::SelfConnection {
+                what: what.to_string(),
+                body: self.bodies[a.index()].name.clone(),
+            });
         }
         Ok(())
     }
@@ -163,7 +166,9 @@ impl System {
         match f {
             ForceElement::Bushing(e) => {
                 self.check_pair(&what, a, b)?;
-                for (n, v) in [("kx", e.stiffness[0]), ("ky", e.stiffness[1]), ("cx", e.damping[0]), ("cy", e.damping[1])] {
+                for (n, v) in
+                    [("kx", e.stiffness[0]), ("ky", e.stiffness[1]), ("cx", e.damping[0]), ("cy", e.damping[1])]
+                {
                     non_negative(&what, n, v)?;
                 }
                 finite_all(&what, "point", &[e.point[0], e.point[1], e.frame_point[0], e.frame_point[1]])?;
@@ -302,6 +307,11 @@ fn direction(what: &str, name: &'static str, d: [f64; 2]) -> Result<(), BuildErr
     if n.is_finite() && n > 0.0 {
         Ok(())
     } else {
-        Err(BuildError::InvalidParameter { what: what.to_string(), name, value: n, reason: "must be a non-zero direction" })
+        Err(BuildError::InvalidParameter {
+            what: what.to_string(),
+            name,
+            value: n,
+            reason: "must be a non-zero direction",
+        })
     }
 }

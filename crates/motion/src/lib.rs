@@ -1,0 +1,1 @@
+//! Ground-motion records and exact linear response spectra (to be written).
