@@ -30,6 +30,9 @@
 //! input or on a singular matrix; see [`error`].
 
 #![deny(missing_docs)]
+// Numerical kernels index several parallel arrays with one loop variable;
+// iterator chains would hide which entries go together.
+#![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
 pub mod error;

@@ -45,7 +45,7 @@ impl TimeSeries {
         }
         check_values(&values)?;
         for w in times.windows(2) {
-            if !(w[1] > w[0]) || !w[1].is_finite() {
+            if w[1].is_nan() || w[1] <= w[0] || w[1].is_infinite() {
                 return Err(invalid("time series", "times", w[1], "must be finite and strictly increasing"));
             }
         }

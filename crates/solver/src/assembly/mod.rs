@@ -321,19 +321,24 @@ impl Assembly {
     }
 
     fn load_kin(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) {
-        for (b, st) in self.bodies.iter().enumerate().skip(1) {
-            let mut p = st.pose0;
-            let mut w = [0.0; 3];
-            for s in 0..3 {
-                let c = st.coord[s];
-                if c != NONE {
-                    p[s] = q[c as usize];
-                    w[s] = v[c as usize];
-                }
-            }
-            ws.kin[b] =
-                BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot: Rot::new(p[2]), v: V2::new(w[0], w[1]), w: w[2] };
+        for b in 1..self.bodies.len() {
+            self.load_body(ws, b, q, v);
         }
+    }
+
+    #[inline]
+    fn load_body(&self, ws: &mut Workspace, b: usize, q: &[f64], v: &[f64]) {
+        let st = &self.bodies[b];
+        let mut p = st.pose0;
+        let mut w = [0.0; 3];
+        for s in 0..3 {
+            let c = st.coord[s];
+            if c != NONE {
+                p[s] = q[c as usize];
+                w[s] = v[c as usize];
+            }
+        }
+        ws.kin[b] = BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot: Rot::new(p[2]), v: V2::new(w[0], w[1]), w: w[2] };
     }
 
     fn prim_rows(&self, ws: &Workspace, t: f64, prim: PrimRef) -> (Rows, &PrimMap) {
@@ -625,26 +630,56 @@ impl Assembly {
         constraint: ConstraintId,
         body: BodyId,
     ) -> [f64; 3] {
-        // velocities do not enter the reaction; q stands in for them
-        self.load_kin(ws, q, q);
+        self.reaction_sum(ws, t, q, lam, &[constraint], body)
+    }
+
+    /// Sum of the reactions of several constraints on one body (see
+    /// [`Assembly::constraint_reaction`]); only the bodies involved are
+    /// evaluated, so this is cheap enough to call at every output time.
+    pub fn reaction_sum(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        lam: &[f64],
+        constraints: &[ConstraintId],
+        body: BodyId,
+    ) -> [f64; 3] {
         let mut out = [0.0; 3];
-        let Some(prims) = self.constraint_prims.get(constraint.index()) else {
-            return out;
-        };
         let coords = self.bodies[body.index()].coord;
-        for &prim in prims {
-            let (rows, map) = self.prim_rows(ws, t, prim);
-            for r in 0..map.rows as usize {
-                let l = lam[map.eq as usize + r];
-                for slot in 0..6 {
-                    let fi = map.f[slot];
-                    if let Some(s) = coords.iter().position(|&c| c == fi && c != NONE) {
-                        out[s] -= rows.grad[r][slot] * l;
+        for id in constraints {
+            let Some(prims) = self.constraint_prims.get(id.index()) else {
+                continue;
+            };
+            for &prim in prims {
+                let (a, b) = self.prim_bodies(prim);
+                // velocities do not enter the reaction; q stands in for them
+                self.load_body(ws, a as usize, q, q);
+                if b != 0 {
+                    self.load_body(ws, b as usize, q, q);
+                }
+                let (rows, map) = self.prim_rows(ws, t, prim);
+                for r in 0..map.rows as usize {
+                    let l = lam[map.eq as usize + r];
+                    for slot in 0..6 {
+                        let fi = map.f[slot];
+                        if let Some(s) = coords.iter().position(|&c| c == fi && c != NONE) {
+                            out[s] -= rows.grad[r][slot] * l;
+                        }
                     }
                 }
             }
         }
         out
+    }
+
+    fn prim_bodies(&self, prim: PrimRef) -> (u32, u32) {
+        match prim {
+            PrimRef::Point(i) => (self.points[i as usize].0.a, self.points[i as usize].0.b),
+            PrimRef::Angle(i) => (self.angles[i as usize].0.a, self.angles[i as usize].0.b),
+            PrimRef::Line(i) => (self.lines[i as usize].0.a, self.lines[i as usize].0.b),
+            PrimRef::Driver(i) => (self.drivers[i as usize].0.a, 0),
+        }
     }
 
     /// First breakpoint of any time function strictly after `t`.

@@ -163,6 +163,8 @@ pub struct EnergyBalance {
     pub max_error: f64,
     /// Largest energy scale seen so far (see [`EnergyBalance::relative_error`]).
     pub max_scale: f64,
+    /// Largest |work of applied loads + base excitation + drivers| seen so far.
+    pub max_input: f64,
 }
 
 impl EnergyBalance {
@@ -185,7 +187,19 @@ impl EnergyBalance {
         }
     }
 
+    /// Largest |error| over the run divided by the largest total input work
+    /// (applied loads, base excitation, drivers) over the run: for an
+    /// earthquake run, relative to the work of the earthquake load.
+    pub fn error_relative_to_input(&self) -> f64 {
+        if self.max_input > 0.0 {
+            self.max_error / self.max_input
+        } else {
+            self.relative_error()
+        }
+    }
+
     pub(crate) fn record(&mut self, potential0: f64) {
+        self.max_input = self.max_input.max((self.applied + self.base + self.constraints).abs());
         let e = self.error().abs();
         self.max_error = self.max_error.max(e);
         let scale = self.kinetic

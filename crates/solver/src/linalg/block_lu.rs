@@ -407,7 +407,8 @@ fn dense_lu<T: Scalar>(a: &mut [T], n: usize, piv: &mut [u8]) -> Result<(), (f64
                 p = r;
             }
         }
-        if !(best > tol) || !best.is_finite() {
+        // NaN fails both comparisons, so test for it explicitly
+        if best.is_nan() || best <= tol || best.is_infinite() {
             return Err((best, scale));
         }
         piv[k] = p as u8;
