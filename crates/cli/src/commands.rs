@@ -1,0 +1,343 @@
+//! Argument definitions and the command implementations.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+use quakejoint_model::config::base_dir;
+use quakejoint_model::generator::{build, Drive};
+use quakejoint_model::linear::linear_response;
+use quakejoint_model::run::{load_records, simulate_records, RunOptions};
+use quakejoint_model::service::service;
+use quakejoint_model::{Config, ModelError};
+use quakejoint_motion::{load_record, period_range, spectrum, RecordSpec, RecordStats, SpectrumOptions};
+use quakejoint_solver::{Assembly, AssemblyOptions};
+
+use crate::output;
+
+/// Expansion joints on bridges in earthquakes.
+#[derive(Debug, Parser)]
+#[command(name = "quakejoint", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Build the model of a config and print its size.
+    Model(ModelArgs),
+    /// Run one earthquake on the bridge with the joint (or without it).
+    Simulate(SimulateArgs),
+    /// Drive the deck through opening and closing cycles (the service case).
+    Service(ServiceArgs),
+    /// Read a ground-motion record and print its statistics.
+    Record(RecordArgs),
+    /// Exact linear response spectrum of a record.
+    Spectrum(SpectrumArgs),
+}
+
+/// Options shared by the commands that print results.
+#[derive(Debug, Args)]
+pub struct PrintArgs {
+    /// Print one JSON object on stdout instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+struct ModelArgs {
+    /// The TOML config.
+    config: PathBuf,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+struct SimulateArgs {
+    /// The TOML config.
+    config: PathBuf,
+    /// Bridge natural period [s] (default: from the config).
+    #[arg(long, allow_negative_numbers = true)]
+    period: Option<f64>,
+    /// Run the bridge alone (exact linear solution).
+    #[arg(long)]
+    no_joint: bool,
+    /// Record file to use instead of the config's (path relative to the current directory).
+    #[arg(long)]
+    record: Option<PathBuf>,
+    /// Write the time histories to this HDF5 file.
+    #[arg(long)]
+    output: Option<PathBuf>,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+struct ServiceArgs {
+    /// The TOML config.
+    config: PathBuf,
+    /// Opening speed [m/s] (default: the config's service.speed).
+    #[arg(long, allow_negative_numbers = true)]
+    speed: Option<f64>,
+    /// Amplitude of the opening [m] (default: service.amplitude).
+    #[arg(long, allow_negative_numbers = true)]
+    amplitude: Option<f64>,
+    /// Number of cycles (default: service.cycles).
+    #[arg(long)]
+    cycles: Option<u32>,
+    /// Write the hysteresis loop to this HDF5 file.
+    #[arg(long)]
+    output: Option<PathBuf>,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+/// How to read a record file (shared by `record` and `spectrum`).
+#[derive(Debug, Args)]
+pub struct RecordFileArgs {
+    /// The record: PEER NGA-West2 .AT2, two-column time/acceleration text or
+    /// CSV, or one-column text (give --dt).
+    pub file: PathBuf,
+    /// File format.
+    #[arg(long, value_enum, default_value_t = FormatArg::Auto)]
+    pub format: FormatArg,
+    /// Units of the values in the file.
+    #[arg(long, value_enum, default_value_t = UnitsArg::G)]
+    pub units: UnitsArg,
+    /// Time step of a one-column file [s].
+    #[arg(long, allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+    /// Column holding the acceleration in a multi-column file (1-based).
+    #[arg(long)]
+    pub column: Option<usize>,
+    /// Scale factor applied after the unit conversion.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub scale: f64,
+    /// Scale the record to this peak ground acceleration [g].
+    #[arg(long, allow_negative_numbers = true)]
+    pub target_pga_g: Option<f64>,
+}
+
+/// Record file formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FormatArg {
+    /// From the extension (.at2) and --dt.
+    Auto,
+    /// PEER NGA-West2 AT2.
+    At2,
+    /// Time and acceleration columns.
+    TwoColumn,
+    /// Acceleration only, with --dt.
+    OneColumn,
+}
+
+/// Acceleration units.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum UnitsArg {
+    /// Standard gravity (9.80665 m/s^2).
+    G,
+    /// m/s^2.
+    #[value(name = "m/s2")]
+    MetersPerSecond2,
+    /// cm/s^2 (gal).
+    #[value(name = "cm/s2")]
+    CentimetersPerSecond2,
+}
+
+impl RecordFileArgs {
+    fn spec(&self) -> RecordSpec {
+        let mut spec = RecordSpec::new(&self.file);
+        spec.format = match self.format {
+            FormatArg::Auto => quakejoint_motion::Format::Auto,
+            FormatArg::At2 => quakejoint_motion::Format::At2,
+            FormatArg::TwoColumn => quakejoint_motion::Format::TwoColumn,
+            FormatArg::OneColumn => quakejoint_motion::Format::OneColumn,
+        };
+        spec.units = Some(match self.units {
+            UnitsArg::G => quakejoint_motion::Units::G,
+            UnitsArg::MetersPerSecond2 => quakejoint_motion::Units::MetersPerSecond2,
+            UnitsArg::CentimetersPerSecond2 => quakejoint_motion::Units::CentimetersPerSecond2,
+        });
+        spec.dt = self.dt;
+        spec.column = self.column;
+        spec.scale = self.scale;
+        spec.target_pga_g = self.target_pga_g;
+        spec
+    }
+}
+
+#[derive(Debug, Args)]
+struct RecordArgs {
+    #[command(flatten)]
+    record: RecordFileArgs,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+struct SpectrumArgs {
+    #[command(flatten)]
+    record: RecordFileArgs,
+    /// Damping ratios (several allowed: --damping 0.02 --damping 0.05, or 0.02,0.05).
+    #[arg(long, value_delimiter = ',', default_values_t = [0.05], allow_negative_numbers = true)]
+    damping: Vec<f64>,
+    /// Periods [s] (comma-separated); overrides --from/--to/--count.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    periods: Vec<f64>,
+    /// First period of the grid [s].
+    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+    from: f64,
+    /// Last period of the grid [s].
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    to: f64,
+    /// Number of periods of the grid.
+    #[arg(long, default_value_t = 60)]
+    count: usize,
+    /// Space the grid logarithmically (default: linearly).
+    #[arg(long)]
+    log: bool,
+    /// Points per sample interval at which peaks are sought (1: the sample times).
+    #[arg(long, default_value_t = 1)]
+    subdivisions: u32,
+    /// Print CSV (the default) with the columns damping,period,sa,psa,sd,sv.
+    #[arg(long, conflicts_with = "json")]
+    csv: bool,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+/// An error caused by the input (exit code 2).
+#[derive(Debug)]
+pub struct InputError(pub String);
+
+impl std::fmt::Display for InputError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for InputError {}
+
+/// Exit code for an error: 2 for bad input, 1 otherwise.
+pub fn exit_code(err: &anyhow::Error) -> u8 {
+    for cause in err.chain() {
+        if cause.downcast_ref::<InputError>().is_some() {
+            return 2;
+        }
+        if let Some(m) = cause.downcast_ref::<ModelError>() {
+            return if m.is_input_error() { 2 } else { 1 };
+        }
+        if cause.downcast_ref::<quakejoint_motion::RecordError>().is_some()
+            || cause.downcast_ref::<quakejoint_motion::SpectrumError>().is_some()
+        {
+            return 2;
+        }
+    }
+    1
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> Result<ExitCode> {
+    match cli.command {
+        Command::Model(a) => model(a),
+        Command::Simulate(a) => simulate(a),
+        Command::Service(a) => service_cmd(a),
+        Command::Record(a) => record_cmd(a),
+        Command::Spectrum(a) => spectrum_cmd(a),
+    }
+}
+
+fn record_cmd(a: RecordArgs) -> Result<ExitCode> {
+    let loaded = load_record(&a.record.spec(), Path::new(""))?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    output::record_stats(&loaded.record, &RecordStats::of(&loaded.record), &loaded.warnings, a.print.json);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn spectrum_cmd(a: SpectrumArgs) -> Result<ExitCode> {
+    let loaded = load_record(&a.record.spec(), Path::new(""))?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    let periods = if a.periods.is_empty() { period_range(a.from, a.to, a.count, a.log)? } else { a.periods.clone() };
+    let rows = spectrum(&loaded.record, &periods, &a.damping, SpectrumOptions { subdivisions: a.subdivisions })?;
+    output::spectrum_rows(&rows, a.print.json);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Reads and validates a config file.
+pub fn read_config(path: &Path) -> Result<(Config, String)> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError(format!("{}: cannot read the config: {e}", path.display())))?;
+    let config = Config::from_toml(&text, &path.display().to_string())?;
+    Ok((config, text))
+}
+
+fn model(a: ModelArgs) -> Result<ExitCode> {
+    let (config, _) = read_config(&a.config)?;
+    let model = build(&config, None, Drive::None)?;
+    let asm = Assembly::new(&model.system, &AssemblyOptions::default()).map_err(ModelError::from)?;
+    output::model_summary(&a.config, &config, &model, &asm, a.print.json);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn period_to_omega(period: Option<f64>) -> Result<Option<f64>> {
+    match period {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            Err(InputError(format!("--period {t}: the period must be positive")).into())
+        }
+        Some(t) => Ok(Some(2.0 * std::f64::consts::PI / t)),
+        None => Ok(None),
+    }
+}
+
+fn simulate(a: SimulateArgs) -> Result<ExitCode> {
+    let (mut config, text) = read_config(&a.config)?;
+    let base = if let Some(path) = &a.record {
+        // the override is relative to the current directory; keep the other record settings
+        let mut spec = config.record.clone().unwrap_or_else(|| RecordSpec::new(path));
+        spec.file = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+        spec.name = None;
+        config.record = Some(spec);
+        PathBuf::new()
+    } else {
+        base_dir(&a.config)
+    };
+    let omega = period_to_omega(a.period)?;
+    let (rx, ry) = load_records(&config, &base)?;
+    let histories = a.output.is_some();
+    let result = if a.no_joint {
+        linear_response(&rx, omega.unwrap_or_else(|| config.bridge.omega()), config.bridge.damping, histories)
+    } else {
+        simulate_records(&config, &rx, ry.as_ref(), &RunOptions { omega, histories })?
+    };
+    if let Some(path) = &a.output {
+        quakejoint_sweep::h5::write_run(path, &text, &rx.name, &result).context("writing the time histories")?;
+    }
+    output::run_result(&a.config, &rx.name, &result, a.no_joint, a.print.json);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
+    let (mut config, text) = read_config(&a.config)?;
+    if let Some(s) = a.speed {
+        config.service.speed = s;
+    }
+    if let Some(x) = a.amplitude {
+        config.service.amplitude = x;
+    }
+    if let Some(c) = a.cycles {
+        config.service.cycles = c;
+    }
+    config.validate()?;
+    let result = service(&config)?;
+    if let Some(path) = &a.output {
+        quakejoint_sweep::h5::write_service(path, &text, &result).context("writing the hysteresis loop")?;
+    }
+    output::service_result(&a.config, &result, a.print.json);
+    Ok(ExitCode::SUCCESS)
+}

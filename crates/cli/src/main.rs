@@ -1,0 +1,23 @@
+//! `quakejoint`: the command-line interface.
+//!
+//! Thin by design: every command parses its arguments, calls the library
+//! crates and prints. Exit codes: 0 success, 1 a run failed, 2 bad input
+//! (the message names the file, field or value).
+
+mod commands;
+mod output;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    let cli = commands::Cli::parse();
+    match commands::run(cli) {
+        Ok(code) => code,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(commands::exit_code(&err))
+        }
+    }
+}

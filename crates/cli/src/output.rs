@@ -1,0 +1,253 @@
+//! Printing results as tables or JSON.
+
+use std::path::Path;
+
+use quakejoint_model::generator::JointModel;
+use quakejoint_model::run::RunResult;
+use quakejoint_model::service::ServiceResult;
+use quakejoint_model::Config;
+use quakejoint_motion::{Record, RecordStats, SpectrumRow};
+use quakejoint_solver::Assembly;
+use serde_json::json;
+
+/// `quakejoint model`.
+pub fn model_summary(path: &Path, config: &Config, model: &JointModel, asm: &Assembly, json: bool) {
+    let c = model.counts;
+    let nc = model.center_beams.len();
+    let ns = model.supports.len();
+    if json {
+        let v = json!({
+            "config": path.display().to_string(),
+            "bodies": c.bodies,
+            "center_beams": nc,
+            "support_beams": ns,
+            "bearings": nc * ns,
+            "coordinates": c.coordinates,
+            "constraints": c.constraints,
+            "dof": c.dof,
+            "jacobian_nnz": asm.jacobian_nnz(),
+            "unknowns": asm.dim(),
+            "block_lu_values": asm.block_structure().nnz(),
+            "block_lu_flops": asm.block_structure().flops(),
+            "gap": model.geometry.as_ref().map(|g| g.gap),
+            "bridge_omega": model.bridge.omega,
+            "bridge_period": 2.0 * std::f64::consts::PI / model.bridge.omega,
+            "geometry": model.geometry.as_ref().map(|g| json!({
+                "gap": g.gap,
+                "pitch": g.pitch,
+                "center_beam_width": g.width,
+                "center_beam_length": config.joint.center_beam.length,
+                "center_x": g.center_x,
+                "supports": g.supports.iter().map(|s| json!({
+                    "kind": match s.kind { quakejoint_model::config::SupportKind::Guide => "guide", quakejoint_model::config::SupportKind::Joist => "joist" },
+                    "y0": s.y0,
+                    "angle_deg": s.theta.to_degrees(),
+                    "box_dy": s.box_dy,
+                })).collect::<Vec<_>>(),
+                "bearings": g.center_x.iter().zip(&g.bearing_y).flat_map(|(&x, ys)| ys.iter().map(move |&y| [x, y])).collect::<Vec<_>>(),
+            })),
+        });
+        println!("{v}");
+        return;
+    }
+    println!("model {}", path.display());
+    println!("  rigid bodies          {:>8}  ({nc} center beams, {ns} support beams, {} bearings)", c.bodies, nc * ns);
+    println!("  coordinates           {:>8}  (body coordinates and the deck's u)", c.coordinates);
+    println!("  constraint equations  {:>8}", c.constraints);
+    println!("  degrees of freedom    {:>8}", c.dof);
+    println!("  Jacobian non-zeros    {:>8}  (iteration matrix, {} unknowns)", asm.jacobian_nnz(), asm.dim());
+    if let Some(g) = &model.geometry {
+        println!("  gap G0                {:>8.4} m", g.gap);
+    }
+    println!(
+        "  bridge                {:>8.3e} kg, w0 {:.4} rad/s (T {:.4} s), damping {}",
+        config.bridge.mass,
+        model.bridge.omega,
+        2.0 * std::f64::consts::PI / model.bridge.omega,
+        config.bridge.damping
+    );
+}
+
+/// `quakejoint simulate`.
+pub fn run_result(path: &Path, record: &str, r: &RunResult, no_joint: bool, json: bool) {
+    if json {
+        let mut v = json!({
+            "config": path.display().to_string(),
+            "record": record,
+            "joint": !no_joint,
+            "omega": r.omega,
+            "period": 2.0 * std::f64::consts::PI / r.omega,
+            "sa": r.sa, "psa": r.psa, "sd": r.sd, "sv": r.sv,
+            "t_sa": r.t_sa, "t_sd": r.t_sd, "t_sv": r.t_sv,
+            "wall_time_s": r.wall_time_s,
+        });
+        if !no_joint {
+            let extra = json!({
+                "peak_joint_force": r.peak_joint_force,
+                "peak_bushing_force": r.peak_bushing_force,
+                "peak_friction_force": r.peak_friction_force,
+                "friction_energy": r.friction_energy,
+                "damping_energy": r.damping_energy,
+                "earthquake_work": r.earthquake_work,
+                "min_subgap": r.min_subgap,
+                "max_subgap": r.max_subgap,
+                "max_subgap_deviation": r.max_subgap_deviation,
+                "energy_error": r.energy_error,
+                "max_constraint_residual": r.max_constraint_residual(),
+                "max_position_residual": r.max_position_residual,
+                "max_velocity_residual": r.max_velocity_residual,
+                "steps": r.stats.steps,
+                "rejected_steps": r.stats.rejected,
+                "failed_attempts": r.stats.failed_attempts,
+                "newton_iterations": r.stats.newton_iterations,
+                "jacobian_evaluations": r.stats.jacobian_evaluations,
+                "factorizations": r.stats.factorizations,
+                "residual_evaluations": r.stats.residual_evaluations,
+            });
+            if let (Some(obj), serde_json::Value::Object(more)) = (v.as_object_mut(), extra) {
+                obj.extend(more);
+            }
+        }
+        println!("{v}");
+        return;
+    }
+    let mode = if no_joint { "bridge alone (exact linear solution)" } else { "bridge with joint" };
+    println!("{} under {record}: {mode}", path.display());
+    println!(
+        "  w0 {:.4} rad/s, T {:.4} s, {:.2} s simulated",
+        r.omega,
+        2.0 * std::f64::consts::PI / r.omega,
+        r.duration
+    );
+    println!("  Sa   {:>12.5} m/s^2  at t = {:.3} s", r.sa, r.t_sa);
+    println!("  PSa  {:>12.5} m/s^2", r.psa);
+    println!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);
+    println!("  Sv   {:>12.5} m/s    at t = {:.3} s", r.sv, r.t_sv);
+    if no_joint {
+        return;
+    }
+    println!("joint demands");
+    println!("  peak joint force on the deck  {:>12.1} N", r.peak_joint_force);
+    println!("  peak bushing force            {:>12.1} N", r.peak_bushing_force);
+    println!("  peak friction force           {:>12.1} N", r.peak_friction_force);
+    println!("  friction energy               {:>12.1} J", r.friction_energy);
+    if let (Some(lo), Some(hi), Some(dev)) = (r.min_subgap, r.max_subgap, r.max_subgap_deviation) {
+        let flag = if lo < 0.0 { "  COLLISION: a sub-gap closed" } else { "" };
+        println!(
+            "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm){flag}",
+            lo * 1e3,
+            hi * 1e3,
+            dev * 1e3
+        );
+    }
+    println!("quality");
+    println!("  energy balance error          {:>12.2e} of the earthquake work", r.energy_error);
+    println!(
+        "  constraint residuals          {:>12.2e} (|g|), {:.2e} (|G q'|)",
+        r.max_position_residual, r.max_velocity_residual
+    );
+    let s = &r.stats;
+    println!(
+        "  steps {} (rejected {}, failed {}), Newton iterations {}, Jacobians {}, factorisations {}, {:.2} s wall",
+        s.steps,
+        s.rejected,
+        s.failed_attempts,
+        s.newton_iterations,
+        s.jacobian_evaluations,
+        s.factorizations,
+        r.wall_time_s
+    );
+}
+
+/// `quakejoint service`.
+pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
+    if json {
+        let v = json!({
+            "config": path.display().to_string(),
+            "period": r.period,
+            "cycles": r.cycles,
+            "friction_work_per_cycle": r.friction_work_per_cycle,
+            "loop_work_per_cycle": r.loop_work_per_cycle,
+            "hand_calculation": r.hand_calculation,
+            "peak_joint_force": r.peak_joint_force,
+            "energy_error": r.energy_error,
+            "max_constraint_residual": r.max_position_residual.max(r.max_velocity_residual),
+            "steps": r.stats.steps,
+            "wall_time_s": r.wall_time_s,
+        });
+        println!("{v}");
+        return;
+    }
+    println!("{}: service case, {} cycles of {:.3} s", path.display(), r.cycles, r.period);
+    println!("  friction work per cycle      {:>12.1} J (last cycle)", r.friction_work_per_cycle);
+    println!("  hand calculation             {:>12.1} J (sum of mu n_s F_N x sliding distance)", r.hand_calculation);
+    println!("  hysteresis loop area         {:>12.1} J (work of the deck on the joint)", r.loop_work_per_cycle);
+    println!("  peak joint force on the deck {:>12.1} N", r.peak_joint_force);
+    println!(
+        "  energy balance error {:.2e}, constraint residual {:.2e}, {} steps, {:.2} s wall",
+        r.energy_error,
+        r.max_position_residual.max(r.max_velocity_residual),
+        r.stats.steps,
+        r.wall_time_s
+    );
+}
+
+/// `quakejoint record`.
+pub fn record_stats(record: &Record, s: &RecordStats, warnings: &[String], json: bool) {
+    if json {
+        let v = json!({
+            "file": record.source,
+            "name": record.name,
+            "dt": s.dt,
+            "samples": s.samples,
+            "duration": s.duration,
+            "pga": s.pga, "t_pga": s.t_pga,
+            "pgv": s.pgv, "t_pgv": s.t_pgv,
+            "pgd": s.pgd, "t_pgd": s.t_pgd,
+            "arias": s.arias,
+            "d5_95": s.d5_95, "t5": s.t5, "t95": s.t95,
+            "scale": record.scale,
+            "warnings": warnings,
+        });
+        println!("{v}");
+        return;
+    }
+    let g = quakejoint_motion::G;
+    println!("record {} ({})", record.name, record.source);
+    for h in record.header.iter().skip(1).take(1) {
+        println!("  {}", h.trim());
+    }
+    println!("  dt                {:>12.5} s", s.dt);
+    println!("  samples           {:>12}", s.samples);
+    println!("  duration          {:>12.3} s", s.duration);
+    println!("  PGA               {:>12.5} m/s^2 ({:.4} g) at t = {:.3} s", s.pga, s.pga / g, s.t_pga);
+    println!("  PGV               {:>12.5} m/s at t = {:.3} s", s.pgv, s.t_pgv);
+    println!("  PGD               {:>12.5} m at t = {:.3} s (raw integration, no baseline correction)", s.pgd, s.t_pgd);
+    println!("  Arias intensity   {:>12.5} m/s", s.arias);
+    println!("  D5-95             {:>12.3} s (from {:.3} s to {:.3} s)", s.d5_95, s.t5, s.t95);
+}
+
+/// `quakejoint spectrum`: CSV (default) or JSON.
+pub fn spectrum_rows(rows: &[SpectrumRow], json: bool) {
+    if json {
+        let v: Vec<_> = rows
+            .iter()
+            .map(|r| {
+                json!({
+                    "damping": r.damping, "period": r.period,
+                    "sa": r.peaks.sa, "psa": r.peaks.psa, "sd": r.peaks.sd, "sv": r.peaks.sv,
+                    "psv": r.peaks.psv, "t_sa": r.peaks.t_sa, "t_sd": r.peaks.t_sd, "t_sv": r.peaks.t_sv,
+                })
+            })
+            .collect();
+        println!("{}", serde_json::Value::Array(v));
+        return;
+    }
+    println!("damping,period,sa,psa,sd,sv");
+    for r in rows {
+        println!(
+            "{},{},{:.9e},{:.9e},{:.9e},{:.9e}",
+            r.damping, r.period, r.peaks.sa, r.peaks.psa, r.peaks.sd, r.peaks.sv
+        );
+    }
+}

@@ -1,0 +1,459 @@
+//! The TOML configuration of a joint, its bridge, the record and the solver.
+//!
+//! Every parameter of the reference model (`docs/model.md`) has its default,
+//! so a config only names what differs; unknown keys are an error. Values are
+//! checked by [`Config::validate`] with messages naming the key.
+
+use std::path::PathBuf;
+
+use quakejoint_motion::RecordSpec;
+use serde::{Deserialize, Serialize};
+
+use crate::error::ModelError;
+
+/// A whole config file.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+#[derive(Default)]
+pub struct Config {
+    /// The expansion joint.
+    pub joint: JointConfig,
+    /// The bridge (single-DOF oscillator).
+    pub bridge: BridgeConfig,
+    /// Ground acceleration along the bridge axis (x).
+    pub record: Option<RecordSpec>,
+    /// Optional ground acceleration across the bridge (y), acting on the joint bodies.
+    pub record_y: Option<RecordSpec>,
+    /// Run length and solver options.
+    pub simulation: SimulationConfig,
+    /// The service case (deck driven kinematically).
+    pub service: ServiceConfig,
+    /// A spectrum sweep (used by `quakejoint sweep`).
+    pub sweep: Option<toml::Table>,
+}
+
+/// The swivel-joist joint.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct JointConfig {
+    /// Whether the joint is part of the model (false: the bridge alone, still
+    /// integrated by the multibody solver).
+    pub enabled: bool,
+    /// Number of center beams `Nc` [-].
+    pub center_beams: usize,
+    /// Reference pitch of the center beams `s0` [m]; the gap is `(Nc + 1) s0`.
+    pub pitch: f64,
+    /// Center beams.
+    pub center_beam: CenterBeamConfig,
+    /// Support beams (mass and inertia; the list of positions is `support_beams`).
+    pub support_beam: SupportBeamConfig,
+    /// Bearings.
+    pub bearing: BearingConfig,
+    /// The support beams: guide(s) and swivel joists.
+    pub support_beams: Vec<SupportBeam>,
+    /// Bushing between each bearing and its center beam.
+    pub bushing: BushingConfig,
+    /// Sliding friction between each bearing and its support beam.
+    pub friction: FrictionConfig,
+}
+
+impl Default for JointConfig {
+    fn default() -> Self {
+        let mut support_beams = vec![SupportBeam { kind: SupportKind::Guide, y: -7.2, angle_deg: 0.0 }];
+        // pivots at -5.6 + 1.4 j m (j = 0..8), written out so they are the decimal values
+        let pivots = [-5.6, -4.2, -2.8, -1.4, 0.0, 1.4, 2.8, 4.2, 5.6];
+        let angles = [-20.0, -17.0, -13.0, -13.0, 13.0, 13.0, 13.0, 17.0, 20.0];
+        for (&y, &angle_deg) in pivots.iter().zip(&angles) {
+            support_beams.push(SupportBeam { kind: SupportKind::Joist, y, angle_deg });
+        }
+        Self {
+            enabled: true,
+            center_beams: 27,
+            pitch: 0.13,
+            center_beam: CenterBeamConfig::default(),
+            support_beam: SupportBeamConfig::default(),
+            bearing: BearingConfig::default(),
+            support_beams,
+            bushing: BushingConfig::default(),
+            friction: FrictionConfig::default(),
+        }
+    }
+}
+
+/// Center beam properties.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CenterBeamConfig {
+    /// Length along y, centred on y = 0 [m].
+    pub length: f64,
+    /// Width in x, used only for the clear sub-gaps [m].
+    pub width: f64,
+    /// Mass [kg].
+    pub mass: f64,
+    /// Moment of inertia about z [kg m^2]; default `mass * length^2 / 12`.
+    pub inertia: Option<f64>,
+}
+
+impl CenterBeamConfig {
+    /// The moment of inertia: given, or `mass * length^2 / 12` [kg m^2].
+    pub fn inertia(&self) -> f64 {
+        self.inertia.unwrap_or(self.mass * self.length * self.length / 12.0)
+    }
+}
+
+impl Default for CenterBeamConfig {
+    fn default() -> Self {
+        Self { length: 15.0, width: 0.09, mass: 900.0, inertia: None }
+    }
+}
+
+/// Support beam (guide and joist) properties.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SupportBeamConfig {
+    /// Length, for the default inertia only [m].
+    pub length: f64,
+    /// Mass [kg].
+    pub mass: f64,
+    /// Moment of inertia about z [kg m^2]; default `mass * length^2 / 12`.
+    pub inertia: Option<f64>,
+}
+
+impl SupportBeamConfig {
+    /// The moment of inertia: given, or `mass * length^2 / 12` [kg m^2].
+    pub fn inertia(&self) -> f64 {
+        self.inertia.unwrap_or(self.mass * self.length * self.length / 12.0)
+    }
+}
+
+impl Default for SupportBeamConfig {
+    fn default() -> Self {
+        Self { length: 7.5, mass: 600.0, inertia: None }
+    }
+}
+
+/// Bearing properties.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BearingConfig {
+    /// Mass [kg].
+    pub mass: f64,
+    /// Moment of inertia about z [kg m^2].
+    pub inertia: f64,
+}
+
+impl Default for BearingConfig {
+    fn default() -> Self {
+        Self { mass: 20.0, inertia: 0.3 }
+    }
+}
+
+/// A guide or a swivel joist.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SupportKind {
+    /// Welded to the abutment; its bearings slide along it.
+    Guide,
+    /// Pivots on the abutment and slides through a joist box on the deck.
+    Joist,
+}
+
+/// One support beam.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportBeam {
+    /// Guide or joist.
+    pub kind: SupportKind,
+    /// Transverse position: of the guide's axis, or of a joist's pivot on the abutment [m].
+    pub y: f64,
+    /// Angle of the axis to the x axis, counter-clockwise [deg].
+    #[serde(default)]
+    pub angle_deg: f64,
+}
+
+/// Bushing between bearing and center beam.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BushingConfig {
+    /// Stiffness along the center beam's x axis [N/m].
+    pub kx: f64,
+    /// Stiffness along the center beam's y axis [N/m].
+    pub ky: f64,
+    /// Damping along x [N s/m].
+    pub cx: f64,
+    /// Damping along y [N s/m].
+    pub cy: f64,
+}
+
+impl Default for BushingConfig {
+    fn default() -> Self {
+        Self { kx: 1.0e7, ky: 1.0e7, cx: 2.0e3, cy: 2.0e3 }
+    }
+}
+
+/// Regularisation of the Coulomb law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LawConfig {
+    /// `v / max(|v|, v_eps)`.
+    #[default]
+    Linear,
+    /// `v / sqrt(|v|^2 + v_eps^2)`.
+    Smooth,
+}
+
+/// Sliding friction of the bearings.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FrictionConfig {
+    /// Friction coefficient [-].
+    pub mu: f64,
+    /// Normal force per sliding surface (preload) [N].
+    pub normal_force: f64,
+    /// Sliding surfaces per bearing [-].
+    pub surfaces: f64,
+    /// Regularisation velocity [m/s].
+    pub v_eps: f64,
+    /// Regularised law.
+    pub law: LawConfig,
+}
+
+impl Default for FrictionConfig {
+    fn default() -> Self {
+        Self { mu: 0.05, normal_force: 20.0e3, surfaces: 2.0, v_eps: 1.0e-3, law: LawConfig::Linear }
+    }
+}
+
+/// The bridge deck as a single-DOF oscillator in x.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BridgeConfig {
+    /// Deck mass [kg].
+    pub mass: f64,
+    /// Natural circular frequency [rad/s] (give this or `period`; default 6.3).
+    pub w0: Option<f64>,
+    /// Natural period [s] (give this or `w0`).
+    pub period: Option<f64>,
+    /// Damping ratio [-].
+    pub damping: f64,
+}
+
+impl Default for BridgeConfig {
+    fn default() -> Self {
+        Self { mass: 1.0e8, w0: None, period: None, damping: 0.05 }
+    }
+}
+
+impl BridgeConfig {
+    /// Circular frequency [rad/s].
+    pub fn omega(&self) -> f64 {
+        match (self.w0, self.period) {
+            (Some(w), _) => w,
+            (None, Some(t)) => 2.0 * std::f64::consts::PI / t,
+            (None, None) => 6.3,
+        }
+    }
+
+    /// Natural period [s].
+    pub fn natural_period(&self) -> f64 {
+        2.0 * std::f64::consts::PI / self.omega()
+    }
+}
+
+/// Which sparse LU the solver uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LinearSolverConfig {
+    /// Block elimination with faer fallback.
+    #[default]
+    Block,
+    /// faer's sparse LU throughout.
+    Faer,
+}
+
+/// Run length and solver options.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SimulationConfig {
+    /// Free vibration after the end of the record [s].
+    pub extra_time: f64,
+    /// Simulated duration [s]; default: the record's duration plus `extra_time`.
+    pub duration: Option<f64>,
+    /// Relative tolerance of the local error [-].
+    pub rtol: f64,
+    /// Absolute tolerance of translations [m] and translational velocities [m/s].
+    pub atol: f64,
+    /// Absolute tolerance of rotations [rad] and angular velocities [rad/s].
+    pub atol_rotation: f64,
+    /// Largest step [s].
+    pub h_max: Option<f64>,
+    /// Wall-clock limit of one run [s].
+    pub max_wall_time: Option<f64>,
+    /// Step limit of one run.
+    pub max_steps: Option<u64>,
+    /// Sparse LU of the iteration matrices.
+    pub linear_solver: LinearSolverConfig,
+    /// Use the coloured finite-difference Jacobian instead of the analytic one.
+    pub finite_difference_jacobian: bool,
+}
+
+impl Default for SimulationConfig {
+    fn default() -> Self {
+        Self {
+            extra_time: 0.0,
+            duration: None,
+            rtol: 1e-6,
+            atol: 1e-6,
+            atol_rotation: 1e-6,
+            h_max: None,
+            max_wall_time: None,
+            max_steps: None,
+            linear_solver: LinearSolverConfig::Block,
+            finite_difference_jacobian: false,
+        }
+    }
+}
+
+/// The service case: the deck opens and closes the joint at constant speed.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ServiceConfig {
+    /// Opening speed [m/s].
+    pub speed: f64,
+    /// Amplitude of the triangle wave (peak opening and closing) [m].
+    pub amplitude: f64,
+    /// Number of cycles [-].
+    pub cycles: u32,
+    /// Time over which each reversal is rounded (constant deceleration) [s].
+    pub blend: f64,
+}
+
+impl Default for ServiceConfig {
+    fn default() -> Self {
+        Self { speed: 0.2, amplitude: 0.2, cycles: 2, blend: 0.1 }
+    }
+}
+
+impl Config {
+    /// Parses TOML text; `source` names the file in messages.
+    pub fn from_toml(text: &str, source: &str) -> Result<Self, ModelError> {
+        let config: Config =
+            toml::from_str(text).map_err(|e| ModelError::Parse { file: source.to_string(), message: e.to_string() })?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    /// Reads and parses a config file.
+    pub fn from_file(path: &std::path::Path) -> Result<Self, ModelError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| ModelError::Io { file: path.display().to_string(), message: e.to_string() })?;
+        Self::from_toml(&text, &path.display().to_string())
+    }
+
+    /// Checks every value against its admissible range.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        let j = &self.joint;
+        if j.enabled {
+            if j.center_beams == 0 {
+                return Err(invalid("joint.center_beams", 0.0, "must be at least 1"));
+            }
+            positive("joint.pitch", j.pitch)?;
+            positive("joint.center_beam.length", j.center_beam.length)?;
+            non_negative("joint.center_beam.width", j.center_beam.width)?;
+            positive("joint.center_beam.mass", j.center_beam.mass)?;
+            positive("joint.center_beam.inertia", j.center_beam.inertia())?;
+            positive("joint.support_beam.length", j.support_beam.length)?;
+            positive("joint.support_beam.mass", j.support_beam.mass)?;
+            positive("joint.support_beam.inertia", j.support_beam.inertia())?;
+            positive("joint.bearing.mass", j.bearing.mass)?;
+            positive("joint.bearing.inertia", j.bearing.inertia)?;
+            non_negative("joint.bushing.kx", j.bushing.kx)?;
+            non_negative("joint.bushing.ky", j.bushing.ky)?;
+            non_negative("joint.bushing.cx", j.bushing.cx)?;
+            non_negative("joint.bushing.cy", j.bushing.cy)?;
+            non_negative("joint.friction.mu", j.friction.mu)?;
+            non_negative("joint.friction.normal_force", j.friction.normal_force)?;
+            non_negative("joint.friction.surfaces", j.friction.surfaces)?;
+            positive("joint.friction.v_eps", j.friction.v_eps)?;
+            if j.support_beams.is_empty() {
+                return Err(invalid("joint.support_beams", 0.0, "the list of support beams is empty"));
+            }
+        }
+        let b = &self.bridge;
+        positive("bridge.mass", b.mass)?;
+        match (b.w0, b.period) {
+            (Some(_), Some(_)) => {
+                return Err(ModelError::Invalid {
+                    field: "bridge.period".to_string(),
+                    value: b.period.unwrap_or_default().to_string(),
+                    reason: "give either bridge.w0 or bridge.period, not both".to_string(),
+                })
+            }
+            (Some(w), None) => positive("bridge.w0", w)?,
+            (None, Some(t)) => positive("bridge.period", t)?,
+            (None, None) => {}
+        }
+        if !(b.damping.is_finite() && (0.0..1.0).contains(&b.damping)) {
+            return Err(invalid("bridge.damping", b.damping, "must be at least 0 and below 1"));
+        }
+        let s = &self.simulation;
+        non_negative("simulation.extra_time", s.extra_time)?;
+        if let Some(d) = s.duration {
+            positive("simulation.duration", d)?;
+        }
+        positive("simulation.rtol", s.rtol)?;
+        positive("simulation.atol", s.atol)?;
+        positive("simulation.atol_rotation", s.atol_rotation)?;
+        if let Some(h) = s.h_max {
+            positive("simulation.h_max", h)?;
+        }
+        if let Some(w) = s.max_wall_time {
+            positive("simulation.max_wall_time", w)?;
+        }
+        let v = &self.service;
+        positive("service.speed", v.speed)?;
+        positive("service.amplitude", v.amplitude)?;
+        if v.cycles == 0 {
+            return Err(invalid("service.cycles", 0.0, "must be at least 1"));
+        }
+        positive("service.blend", v.blend)?;
+        if v.blend >= 2.0 * v.amplitude / v.speed {
+            return Err(invalid("service.blend", v.blend, "must be shorter than one stroke (2 amplitude / speed)"));
+        }
+        Ok(())
+    }
+
+    /// The x record, or an error naming the missing key.
+    pub fn record_x(&self) -> Result<&RecordSpec, ModelError> {
+        self.record.as_ref().ok_or_else(|| ModelError::Invalid {
+            field: "record".to_string(),
+            value: "missing".to_string(),
+            reason: "an earthquake run needs a [record] table with at least `file`".to_string(),
+        })
+    }
+}
+
+/// A directory against which relative record paths are resolved.
+pub fn base_dir(config_path: &std::path::Path) -> PathBuf {
+    config_path.parent().map(|p| p.to_path_buf()).unwrap_or_default()
+}
+
+pub(crate) fn invalid(field: &str, value: f64, reason: &str) -> ModelError {
+    ModelError::Invalid { field: field.to_string(), value: value.to_string(), reason: reason.to_string() }
+}
+
+fn positive(field: &str, v: f64) -> Result<(), ModelError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(field, v, "must be positive"))
+    }
+}
+
+fn non_negative(field: &str, v: f64) -> Result<(), ModelError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(field, v, "must be zero or positive"))
+    }
+}

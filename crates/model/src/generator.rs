@@ -1,0 +1,278 @@
+//! Builds the solver system of a swivel-joist joint on a single-DOF bridge.
+//!
+//! Bodies: `Nc` center beams, `Ns` support beams, `Nc * Ns` bearings (the
+//! joint), plus the deck, a body restricted to x whose coordinate is the
+//! opening `u`. Force elements: a bushing and a friction element per bearing,
+//! the bridge spring and damper on `u`. Constraints: a prismatic joint per
+//! bearing on its support beam, a revolute joint per joist pivot, a
+//! point-on-line per joist box (the deck point `(G0 + u, y_box)` on the
+//! joist axis), a weld per guide. The earthquake acts as `-m a_g(t)` on every
+//! body (x), optionally `-m a_gy(t)` on the joint bodies (y).
+
+use quakejoint_solver::{
+    Body, BodyId, Bushing, ConstraintId, Coord, CoordinateSpring, Driver, Excitation, ForceElement, Friction,
+    FrictionLaw, PointOnLine, Prismatic, Revolute, SmoothTriangle, System, TimeFunction, TimeSeries, Weld,
+};
+
+use crate::config::{Config, LawConfig, SupportKind};
+use crate::error::ModelError;
+use crate::geometry::Geometry;
+
+/// How the deck is moved.
+#[derive(Debug, Clone)]
+pub enum Drive {
+    /// No load (the reference state).
+    None,
+    /// Base excitation in x and optionally y [m/s^2].
+    Earthquake {
+        /// Ground acceleration along the bridge.
+        x: TimeSeries,
+        /// Ground acceleration across the bridge, on the joint bodies.
+        y: Option<TimeSeries>,
+    },
+    /// The deck opening prescribed as a function of time [m].
+    Service(SmoothTriangle),
+}
+
+/// The bridge as a single-DOF oscillator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bridge {
+    /// Mass [kg].
+    pub mass: f64,
+    /// Circular frequency [rad/s].
+    pub omega: f64,
+    /// Damping ratio [-].
+    pub damping: f64,
+}
+
+impl Bridge {
+    /// Spring stiffness `m w0^2` [N/m].
+    pub fn stiffness(&self) -> f64 {
+        self.mass * self.omega * self.omega
+    }
+    /// Damper `2 zeta m w0` [N s/m].
+    pub fn damper(&self) -> f64 {
+        2.0 * self.damping * self.mass * self.omega
+    }
+}
+
+/// Size of a model as the paper counts it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Counts {
+    /// Rigid bodies of the joint (center beams, support beams, bearings).
+    pub bodies: usize,
+    /// Coordinates (the joint bodies' plus the deck's `u`).
+    pub coordinates: usize,
+    /// Constraint equations.
+    pub constraints: usize,
+    /// Degrees of freedom.
+    pub dof: usize,
+}
+
+/// The generated system and the ids of its parts.
+#[derive(Debug, Clone)]
+pub struct JointModel {
+    /// The solver system.
+    pub system: System,
+    /// The joint geometry (None when the joint is disabled).
+    pub geometry: Option<Geometry>,
+    /// The deck.
+    pub deck: BodyId,
+    /// Center beams, abutment side first.
+    pub center_beams: Vec<BodyId>,
+    /// Support beams in config order.
+    pub supports: Vec<BodyId>,
+    /// Bearings `[center beam][support beam]`.
+    pub bearings: Vec<Vec<BodyId>>,
+    /// The joist-box constraints (the joint's only connection to the deck).
+    pub joist_boxes: Vec<ConstraintId>,
+    /// The service driver, if any.
+    pub driver: Option<ConstraintId>,
+    /// The bridge.
+    pub bridge: Bridge,
+    /// Size of the model.
+    pub counts: Counts,
+}
+
+/// Builds the model of `config` with the bridge frequency `omega` [rad/s]
+/// (the config's unless given) and the given drive.
+pub fn build(config: &Config, omega: Option<f64>, drive: Drive) -> Result<JointModel, ModelError> {
+    config.validate()?;
+    let j = &config.joint;
+    let bridge = Bridge {
+        mass: config.bridge.mass,
+        omega: omega.unwrap_or_else(|| config.bridge.omega()),
+        damping: config.bridge.damping,
+    };
+    if !(bridge.omega.is_finite() && bridge.omega > 0.0) {
+        return Err(crate::config::invalid("bridge.w0", bridge.omega, "must be positive"));
+    }
+    let mut sys = System::new();
+    let mut model = JointModel {
+        system: System::new(),
+        geometry: None,
+        deck: BodyId::GROUND,
+        center_beams: Vec::new(),
+        supports: Vec::new(),
+        bearings: Vec::new(),
+        joist_boxes: Vec::new(),
+        driver: None,
+        bridge,
+        counts: Counts { bodies: 0, coordinates: 0, constraints: 0, dof: 0 },
+    };
+    if j.enabled {
+        let geo = Geometry::new(config)?;
+        let cb = &j.center_beam;
+        let cb_inertia = cb.inertia();
+        for (i, &x) in geo.center_x.iter().enumerate() {
+            model.center_beams.push(sys.add_body(Body::new(
+                format!("center beam {}", i + 1),
+                cb.mass,
+                cb_inertia,
+                [x, 0.0, 0.0],
+            )));
+        }
+        let sbc = &j.support_beam;
+        let sb_inertia = sbc.inertia();
+        for (k, s) in geo.supports.iter().enumerate() {
+            let name = match s.kind {
+                SupportKind::Guide => format!("guide {k}"),
+                SupportKind::Joist => format!("joist {k}"),
+            };
+            let body = sys.add_body(Body::new(name, sbc.mass, sb_inertia, [s.centre[0], s.centre[1], s.theta]));
+            model.supports.push(body);
+        }
+        let law = match j.friction.law {
+            LawConfig::Linear => FrictionLaw::Linear,
+            LawConfig::Smooth => FrictionLaw::Smooth,
+        };
+        for (i, &x) in geo.center_x.iter().enumerate() {
+            let mut row = Vec::with_capacity(geo.supports.len());
+            for (k, s) in geo.supports.iter().enumerate() {
+                let y = geo.bearing_y[i][k];
+                let bearing = sys.add_body(Body::new(
+                    format!("bearing {}/{k}", i + 1),
+                    j.bearing.mass,
+                    j.bearing.inertia,
+                    [x, y, s.theta],
+                ));
+                sys.add_force_named(
+                    format!("bushing {}/{k}", i + 1),
+                    ForceElement::Bushing(Bushing {
+                        frame_body: model.center_beams[i],
+                        frame_point: [0.0, y],
+                        body: bearing,
+                        point: [0.0, 0.0],
+                        stiffness: [j.bushing.kx, j.bushing.ky],
+                        damping: [j.bushing.cx, j.bushing.cy],
+                        rest: [0.0, 0.0],
+                    }),
+                );
+                sys.add_force_named(
+                    format!("friction {}/{k}", i + 1),
+                    ForceElement::Friction(Friction {
+                        slider: bearing,
+                        point: [0.0, 0.0],
+                        base: model.supports[k],
+                        mu: j.friction.mu,
+                        normal_force: j.friction.normal_force,
+                        surfaces: j.friction.surfaces,
+                        v_eps: j.friction.v_eps,
+                        law,
+                    }),
+                );
+                sys.add_constraint_named(
+                    format!("slide {}/{k}", i + 1),
+                    quakejoint_solver::Constraint::Prismatic(Prismatic {
+                        slider: bearing,
+                        point: [0.0, 0.0],
+                        base: model.supports[k],
+                        axis_point: [0.0, 0.0],
+                        axis_direction: [1.0, 0.0],
+                    }),
+                );
+                row.push(bearing);
+            }
+            model.bearings.push(row);
+        }
+        model.geometry = Some(geo);
+    }
+    let deck = sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(&[Coord::X]));
+    model.deck = deck;
+    if let Some(geo) = &model.geometry {
+        for (k, s) in geo.supports.iter().enumerate() {
+            let body = model.supports[k];
+            match s.kind {
+                SupportKind::Joist => {
+                    sys.add_constraint_named(
+                        format!("pivot {k}"),
+                        quakejoint_solver::Constraint::Revolute(Revolute {
+                            body_a: body,
+                            point_a: [-s.half_span, 0.0],
+                            body_b: BodyId::GROUND,
+                            point_b: [0.0, s.y0],
+                        }),
+                    );
+                    let c = sys.add_constraint_named(
+                        format!("joist box {k}"),
+                        quakejoint_solver::Constraint::PointOnLine(PointOnLine {
+                            body: deck,
+                            point: [geo.gap, s.y0 + s.box_dy],
+                            line_body: body,
+                            line_point: [0.0, 0.0],
+                            line_direction: [1.0, 0.0],
+                        }),
+                    );
+                    model.joist_boxes.push(c);
+                }
+                SupportKind::Guide => {
+                    sys.add_constraint_named(
+                        format!("guide weld {k}"),
+                        quakejoint_solver::Constraint::Weld(Weld {
+                            body_a: body,
+                            point_a: [0.0, 0.0],
+                            body_b: BodyId::GROUND,
+                            point_b: s.centre,
+                        }),
+                    );
+                }
+            }
+        }
+    }
+    sys.add_force_named(
+        "bridge spring and damper",
+        ForceElement::CoordinateSpring(CoordinateSpring {
+            body: deck,
+            coord: Coord::X,
+            stiffness: bridge.stiffness(),
+            damping: bridge.damper(),
+            rest: 0.0,
+        }),
+    );
+    model.counts = Counts {
+        bodies: sys.body_count() - 1,
+        coordinates: sys.coordinate_count(),
+        constraints: sys.equation_count(),
+        dof: sys.coordinate_count() - sys.equation_count(),
+    };
+    match drive {
+        Drive::None => {}
+        Drive::Earthquake { x, y } => sys.set_excitation(Excitation {
+            gravity: [0.0, 0.0],
+            ground_x: Some(x.into()),
+            ground_y: y.map(TimeFunction::from),
+        }),
+        Drive::Service(tri) => {
+            model.driver = Some(sys.add_constraint_named(
+                "deck drive",
+                quakejoint_solver::Constraint::Driver(Driver {
+                    body: deck,
+                    coord: Coord::X,
+                    motion: TimeFunction::SmoothTriangle(tri),
+                }),
+            ));
+        }
+    }
+    model.system = sys;
+    Ok(model)
+}

@@ -1,0 +1,385 @@
+//! One coupled earthquake run: the bridge with the joint under a record.
+//!
+//! What is reported follows the model description: the deck's absolute
+//! acceleration `a_abs = u'' + a_g` from the force balance on the deck
+//! (spring, damper and joint reaction, not by differencing), the spectral
+//! values `Sa = max |a_abs|`, `Sd = max |u|`, `Sv = max |u'|`, `PSa = w0^2 Sd`
+//! with the times of the peaks (taken at the record's sample times, the
+//! spectrum convention), the joint's demands and the run's quality figures.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use quakejoint_motion::{load_record, Record};
+use quakejoint_solver::{
+    Assembly, AssemblyOptions, BodyId, ConstraintId, IntegratorOptions, JacobianMode, LinearSolver, Observer, Radau5,
+    Stats, StepView, TimeSeries,
+};
+
+use crate::config::{Config, LinearSolverConfig};
+use crate::error::ModelError;
+use crate::generator::{build, Bridge, Drive, JointModel};
+use crate::geometry::Geometry;
+
+/// Options of one run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunOptions {
+    /// Bridge circular frequency [rad/s] (the config's if None).
+    pub omega: Option<f64>,
+    /// Record time histories at every output time.
+    pub histories: bool,
+}
+
+/// Time histories at the output times (the record's sample times).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Histories {
+    /// Time [s].
+    pub t: Vec<f64>,
+    /// Ground acceleration [m/s^2].
+    pub ag: Vec<f64>,
+    /// Deck displacement relative to the ground `u` [m].
+    pub u: Vec<f64>,
+    /// Deck velocity relative to the ground [m/s].
+    pub v: Vec<f64>,
+    /// Deck absolute acceleration [m/s^2].
+    pub a_abs: Vec<f64>,
+    /// Force of the joint on the deck, x [N].
+    pub joint_force: Vec<f64>,
+    /// Power dissipated by friction [W].
+    pub friction_power: Vec<f64>,
+    /// x displacement of each center beam from its reference position,
+    /// `[beam][time]` [m].
+    pub center_beam_dx: Vec<Vec<f64>>,
+}
+
+/// Results of one earthquake run (SI units).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunResult {
+    /// Bridge circular frequency [rad/s].
+    pub omega: f64,
+    /// Peak absolute acceleration of the deck [m/s^2].
+    pub sa: f64,
+    /// Time of `sa` [s].
+    pub t_sa: f64,
+    /// Pseudo-spectral acceleration `w0^2 Sd` [m/s^2].
+    pub psa: f64,
+    /// Peak deck displacement relative to the ground [m].
+    pub sd: f64,
+    /// Time of `sd` [s].
+    pub t_sd: f64,
+    /// Peak deck velocity relative to the ground [m/s].
+    pub sv: f64,
+    /// Time of `sv` [s].
+    pub t_sv: f64,
+    /// Peak force of the joint on the deck [N].
+    pub peak_joint_force: f64,
+    /// Peak bushing force [N].
+    pub peak_bushing_force: f64,
+    /// Peak friction force of one bearing [N].
+    pub peak_friction_force: f64,
+    /// Energy dissipated by friction [J].
+    pub friction_energy: f64,
+    /// Energy dissipated by dampers (bridge and bushings) [J].
+    pub damping_energy: f64,
+    /// Work of the earthquake load on the whole system [J].
+    pub earthquake_work: f64,
+    /// Smallest clear sub-gap [m] (below zero: the beams would collide).
+    pub min_subgap: Option<f64>,
+    /// Largest clear sub-gap [m].
+    pub max_subgap: Option<f64>,
+    /// Largest deviation of a sub-gap from equal spacing [m].
+    pub max_subgap_deviation: Option<f64>,
+    /// Largest energy-balance error divided by the largest earthquake work [-].
+    pub energy_error: f64,
+    /// Largest |g| over the run [m or rad].
+    pub max_position_residual: f64,
+    /// Largest |G q' + g_t| over the run [m/s or rad/s].
+    pub max_velocity_residual: f64,
+    /// Solver counters.
+    pub stats: Stats,
+    /// Wall-clock time of the integration [s].
+    pub wall_time_s: f64,
+    /// Simulated duration [s].
+    pub duration: f64,
+    /// Time histories, if requested.
+    pub histories: Option<Histories>,
+}
+
+impl RunResult {
+    /// The larger of the position and velocity constraint residuals.
+    pub fn max_constraint_residual(&self) -> f64 {
+        self.max_position_residual.max(self.max_velocity_residual)
+    }
+}
+
+/// Loads the records of a config (x, and y if given).
+pub fn load_records(config: &Config, base_dir: &Path) -> Result<(Record, Option<Record>), ModelError> {
+    let x = load_record(config.record_x()?, base_dir)?.record;
+    let y = match &config.record_y {
+        Some(spec) => Some(load_record(spec, base_dir)?.record),
+        None => None,
+    };
+    Ok((x, y))
+}
+
+/// Reads the records of `config` (relative paths against `base_dir`) and runs.
+pub fn simulate(config: &Config, base_dir: &Path, options: &RunOptions) -> Result<RunResult, ModelError> {
+    let (x, y) = load_records(config, base_dir)?;
+    simulate_records(config, &x, y.as_ref(), options)
+}
+
+/// Solver options from the config.
+pub fn integrator_options(config: &Config) -> IntegratorOptions {
+    let s = &config.simulation;
+    let mut o = IntegratorOptions {
+        rtol: s.rtol,
+        atol_translation: s.atol,
+        atol_velocity: s.atol,
+        atol_rotation: s.atol_rotation,
+        atol_angular_velocity: s.atol_rotation,
+        max_wall_time: s.max_wall_time,
+        linear_solver: match s.linear_solver {
+            LinearSolverConfig::Block => LinearSolver::Block,
+            LinearSolverConfig::Faer => LinearSolver::Faer,
+        },
+        jacobian: if s.finite_difference_jacobian {
+            JacobianMode::FiniteDifference { parallel: false }
+        } else {
+            JacobianMode::Analytic
+        },
+        ..IntegratorOptions::default()
+    };
+    if let Some(h) = s.h_max {
+        o.h_max = h;
+    }
+    if let Some(n) = s.max_steps {
+        o.max_steps = n;
+    }
+    o
+}
+
+fn series(record: &Record) -> Result<TimeSeries, ModelError> {
+    Ok(TimeSeries::uniform(0.0, record.dt, record.acceleration.clone())?)
+}
+
+/// Runs the coupled model under given records.
+pub fn simulate_records(
+    config: &Config,
+    record_x: &Record,
+    record_y: Option<&Record>,
+    options: &RunOptions,
+) -> Result<RunResult, ModelError> {
+    let gx = series(record_x)?;
+    let gy = record_y.map(series).transpose()?;
+    let model = build(config, options.omega, Drive::Earthquake { x: gx.clone(), y: gy })?;
+    let duration = config.simulation.duration.unwrap_or(record_x.duration() + config.simulation.extra_time);
+    let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
+    let start = Instant::now();
+    let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
+    let mut obs = EarthquakeObserver::new(&model, &asm, gx, record_x.dt, options.histories)?;
+    obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), &asm, &mut asm.workspace());
+    sim.run(duration, &mut obs)?;
+    let wall = start.elapsed().as_secs_f64();
+    let e = sim.energy();
+    let (g, gv) = sim.max_constraint_residuals();
+    let w = model.bridge.omega;
+    Ok(RunResult {
+        omega: w,
+        sa: obs.sa.value,
+        t_sa: obs.sa.time,
+        psa: w * w * obs.sd.value,
+        sd: obs.sd.value,
+        t_sd: obs.sd.time,
+        sv: obs.sv.value,
+        t_sv: obs.sv.time,
+        peak_joint_force: obs.joint_force.value,
+        peak_bushing_force: obs.bushing,
+        peak_friction_force: obs.friction,
+        friction_energy: e.friction,
+        damping_energy: e.damping,
+        earthquake_work: e.base,
+        min_subgap: obs.gaps.as_ref().map(|g| g.min),
+        max_subgap: obs.gaps.as_ref().map(|g| g.max),
+        max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
+        energy_error: e.error_relative_to_input(),
+        max_position_residual: g,
+        max_velocity_residual: gv,
+        stats: sim.stats(),
+        wall_time_s: wall,
+        duration,
+        histories: obs.histories,
+    })
+}
+
+/// A running maximum of |x| with its time.
+#[derive(Debug, Clone, Copy, Default)]
+struct Peak {
+    value: f64,
+    time: f64,
+}
+
+impl Peak {
+    fn update(&mut self, x: f64, t: f64) {
+        if x.abs() > self.value {
+            self.value = x.abs();
+            self.time = t;
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+struct Gaps {
+    geometry: Geometry,
+    beams: Vec<usize>,
+    x: Vec<f64>,
+    buf: Vec<f64>,
+    min: f64,
+    max: f64,
+    deviation: f64,
+}
+
+/// Evaluates the reported quantities at the output times.
+struct EarthquakeObserver {
+    deck: usize,
+    deck_body: BodyId,
+    boxes: Vec<ConstraintId>,
+    bridge: Bridge,
+    ground: TimeSeries,
+    dt: f64,
+    next: u64,
+    sa: Peak,
+    sd: Peak,
+    sv: Peak,
+    joint_force: Peak,
+    bushing: f64,
+    friction: f64,
+    gaps: Option<Gaps>,
+    histories: Option<Histories>,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    l: Vec<f64>,
+}
+
+impl EarthquakeObserver {
+    fn new(
+        model: &JointModel,
+        asm: &Assembly,
+        ground: TimeSeries,
+        dt: f64,
+        histories: bool,
+    ) -> Result<Self, ModelError> {
+        let coord = |b: BodyId| {
+            asm.coordinate(b, quakejoint_solver::Coord::X)
+                .ok_or_else(|| ModelError::Geometry(format!("body {} has no x coordinate", b.index())))
+        };
+        let deck = coord(model.deck)?;
+        let gaps = match &model.geometry {
+            Some(g) => Some(Gaps {
+                geometry: g.clone(),
+                beams: model.center_beams.iter().map(|&b| coord(b)).collect::<Result<_, _>>()?,
+                x: vec![0.0; g.center_beams],
+                buf: Vec::with_capacity(g.center_beams + 1),
+                min: f64::INFINITY,
+                max: f64::NEG_INFINITY,
+                deviation: 0.0,
+            }),
+            None => None,
+        };
+        let histories = histories
+            .then(|| Histories { center_beam_dx: vec![Vec::new(); model.center_beams.len()], ..Histories::default() });
+        let (n, m) = (asm.coordinates(), asm.equations());
+        Ok(Self {
+            deck,
+            deck_body: model.deck,
+            boxes: model.joist_boxes.clone(),
+            bridge: model.bridge,
+            ground,
+            dt,
+            next: 0,
+            sa: Peak::default(),
+            sd: Peak::default(),
+            sv: Peak::default(),
+            joint_force: Peak::default(),
+            bushing: 0.0,
+            friction: 0.0,
+            gaps,
+            histories,
+            q: vec![0.0; n],
+            v: vec![0.0; n],
+            l: vec![0.0; m],
+        })
+    }
+
+    /// Quantities at one output time.
+    fn sample(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        lam: &[f64],
+        asm: &Assembly,
+        ws: &mut quakejoint_solver::Workspace,
+    ) {
+        let (u, ud) = (q[self.deck], v[self.deck]);
+        let fj = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body)[0];
+        let b = &self.bridge;
+        let a_abs = (-b.stiffness() * u - b.damper() * ud + fj) / b.mass;
+        self.sa.update(a_abs, t);
+        self.sd.update(u, t);
+        self.sv.update(ud, t);
+        self.joint_force.update(fj, t);
+        if let Some(g) = &mut self.gaps {
+            for (x, &c) in g.x.iter_mut().zip(&g.beams) {
+                *x = q[c];
+            }
+            g.geometry.subgaps(&g.x, u, &mut g.buf);
+            let equal = (g.geometry.gap + u) / (g.geometry.center_beams + 1) as f64 - g.geometry.width;
+            for &s in &g.buf {
+                g.min = g.min.min(s);
+                g.max = g.max.max(s);
+                g.deviation = g.deviation.max((s - equal).abs());
+            }
+            let x = asm.force_extremes(ws, q, v);
+            self.bushing = self.bushing.max(x.bushing);
+            self.friction = self.friction.max(x.friction);
+        }
+        if let Some(h) = &mut self.histories {
+            h.t.push(t);
+            h.ag.push(self.ground.value(t));
+            h.u.push(u);
+            h.v.push(ud);
+            h.a_abs.push(a_abs);
+            h.joint_force.push(fj);
+            h.friction_power.push(asm.powers(ws, t, q, v, lam).friction);
+            if let Some(g) = &self.gaps {
+                for (i, &c) in g.beams.iter().enumerate() {
+                    h.center_beam_dx[i].push(q[c] - g.geometry.center_x[i]);
+                }
+            }
+        }
+    }
+}
+
+impl Observer for EarthquakeObserver {
+    fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        loop {
+            let j = self.next + 1;
+            let tj = j as f64 * self.dt;
+            if tj > view.t + 1e-9 * self.dt {
+                break;
+            }
+            self.next = j;
+            if (tj - view.t).abs() <= 1e-9 * self.dt {
+                self.sample(view.t, view.q, view.v, view.lambda, view.assembly, view.workspace);
+            } else {
+                let (mut q, mut v, mut l) =
+                    (std::mem::take(&mut self.q), std::mem::take(&mut self.v), std::mem::take(&mut self.l));
+                view.interpolate(tj, &mut q, &mut v, &mut l);
+                self.sample(tj, &q, &v, &l, view.assembly, view.workspace);
+                (self.q, self.v, self.l) = (q, v, l);
+            }
+        }
+        true
+    }
+}
