@@ -13,6 +13,7 @@ use quakejoint_model::service::service;
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{load_record, period_range, spectrum, RecordSpec, RecordStats, SpectrumOptions};
 use quakejoint_solver::{Assembly, AssemblyOptions};
+use quakejoint_sweep::{run_sweep, Plan, SweepOptions};
 
 use crate::output;
 
@@ -36,6 +37,10 @@ enum Command {
     Record(RecordArgs),
     /// Exact linear response spectrum of a record.
     Spectrum(SpectrumArgs),
+    /// Run the spectrum sweep of a config ([sweep] table) on worker threads.
+    Sweep(SweepArgs),
+    /// Combine the outputs of sweep shards into one file.
+    Merge(MergeArgs),
 }
 
 /// Options shared by the commands that print results.
@@ -50,8 +55,54 @@ pub struct PrintArgs {
 struct ModelArgs {
     /// The TOML config.
     config: PathBuf,
+    /// Write the iteration matrix's sparsity pattern to this HDF5 file.
+    #[arg(long)]
+    sparsity: Option<PathBuf>,
     #[command(flatten)]
     print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+struct SweepArgs {
+    /// The TOML config with a [sweep] table.
+    config: PathBuf,
+    /// The HDF5 output (default: the config's name with .h5, in the current
+    /// directory); the journal is written beside it as <output>.journal.
+    #[arg(long)]
+    output: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Continue an interrupted sweep from its journal.
+    #[arg(long)]
+    resume: bool,
+    /// Run only shard K of N (for job arrays), e.g. --shard 2/8.
+    #[arg(long, value_parser = parse_shard)]
+    shard: Option<(usize, usize)>,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+struct MergeArgs {
+    /// The shard outputs.
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+    /// The merged file.
+    #[arg(long)]
+    output: PathBuf,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
+    let err = || format!("{s}: expected K/N with 1 <= K <= N, e.g. 2/8");
+    let (k, n) = s.split_once('/').ok_or_else(err)?;
+    let (k, n): (usize, usize) = (k.trim().parse().map_err(|_| err())?, n.trim().parse().map_err(|_| err())?);
+    if n == 0 || k == 0 || k > n {
+        return Err(err());
+    }
+    Ok((k, n))
 }
 
 #[derive(Debug, Args)]
@@ -229,6 +280,9 @@ pub fn exit_code(err: &anyhow::Error) -> u8 {
         if let Some(m) = cause.downcast_ref::<ModelError>() {
             return if m.is_input_error() { 2 } else { 1 };
         }
+        if let Some(s) = cause.downcast_ref::<quakejoint_sweep::SweepError>() {
+            return if s.is_input_error() { 2 } else { 1 };
+        }
         if cause.downcast_ref::<quakejoint_motion::RecordError>().is_some()
             || cause.downcast_ref::<quakejoint_motion::SpectrumError>().is_some()
         {
@@ -246,7 +300,33 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Command::Service(a) => service_cmd(a),
         Command::Record(a) => record_cmd(a),
         Command::Spectrum(a) => spectrum_cmd(a),
+        Command::Sweep(a) => sweep_cmd(a),
+        Command::Merge(a) => merge_cmd(a),
     }
+}
+
+fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
+    let text = std::fs::read_to_string(&a.config)
+        .map_err(|e| InputError(format!("{}: cannot read the config: {e}", a.config.display())))?;
+    let plan = Plan::new(&text, &a.config.display().to_string(), &base_dir(&a.config))?;
+    for r in plan.records.iter().chain(&plan.record_y) {
+        for w in &r.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    let output = a.output.clone().unwrap_or_else(|| {
+        PathBuf::from(a.config.file_stem().map_or("sweep".into(), |s| s.to_string_lossy().to_string()) + ".h5")
+    });
+    let opts = SweepOptions { output, threads: a.threads, resume: a.resume, shard: a.shard, progress: !a.print.json };
+    let summary = run_sweep(&plan, &opts)?;
+    output::sweep_summary(&summary, a.print.json);
+    Ok(if summary.failed.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(3) })
+}
+
+fn merge_cmd(a: MergeArgs) -> Result<ExitCode> {
+    let summary = quakejoint_sweep::merge(&a.files, &a.output)?;
+    output::merge_summary(&summary, a.print.json);
+    Ok(if summary.failed == 0 { ExitCode::SUCCESS } else { ExitCode::from(3) })
 }
 
 fn record_cmd(a: RecordArgs) -> Result<ExitCode> {
@@ -278,9 +358,13 @@ pub fn read_config(path: &Path) -> Result<(Config, String)> {
 }
 
 fn model(a: ModelArgs) -> Result<ExitCode> {
-    let (config, _) = read_config(&a.config)?;
+    let (config, text) = read_config(&a.config)?;
     let model = build(&config, None, Drive::None)?;
     let asm = Assembly::new(&model.system, &AssemblyOptions::default()).map_err(ModelError::from)?;
+    if let Some(path) = &a.sparsity {
+        let names: Vec<String> = model.system.bodies().iter().map(|b| b.name.clone()).collect();
+        quakejoint_sweep::h5::write_sparsity(path, &text, &asm, &names).context("writing the sparsity pattern")?;
+    }
     output::model_summary(&a.config, &config, &model, &asm, a.print.json);
     Ok(ExitCode::SUCCESS)
 }
@@ -313,10 +397,13 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     let result = if a.no_joint {
         linear_response(&rx, omega.unwrap_or_else(|| config.bridge.omega()), config.bridge.damping, histories)
     } else {
-        simulate_records(&config, &rx, ry.as_ref(), &RunOptions { omega, histories })?
+        simulate_records(&config, &rx, ry.as_ref(), &RunOptions { omega, histories, ..Default::default() })?
     };
     if let Some(path) = &a.output {
-        quakejoint_sweep::h5::write_run(path, &text, &rx.name, &result).context("writing the time histories")?;
+        let period = 2.0 * std::f64::consts::PI / result.omega;
+        let without = quakejoint_motion::history(&rx.acceleration, rx.dt, period, config.bridge.damping).a_abs;
+        quakejoint_sweep::h5::write_run(path, &text, &rx.name, &result, Some(&without))
+            .context("writing the time histories")?;
     }
     output::run_result(&a.config, &rx.name, &result, a.no_joint, a.print.json);
     Ok(ExitCode::SUCCESS)

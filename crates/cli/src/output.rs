@@ -1,5 +1,18 @@
 //! Printing results as tables or JSON.
 
+/// `println!` to stdout that ends the program quietly when the reader has
+/// gone away (`quakejoint ... | head`) instead of panicking.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
 use std::path::Path;
 
 use quakejoint_model::generator::JointModel;
@@ -47,19 +60,19 @@ pub fn model_summary(path: &Path, config: &Config, model: &JointModel, asm: &Ass
                 "bearings": g.center_x.iter().zip(&g.bearing_y).flat_map(|(&x, ys)| ys.iter().map(move |&y| [x, y])).collect::<Vec<_>>(),
             })),
         });
-        println!("{v}");
+        out!("{v}");
         return;
     }
-    println!("model {}", path.display());
-    println!("  rigid bodies          {:>8}  ({nc} center beams, {ns} support beams, {} bearings)", c.bodies, nc * ns);
-    println!("  coordinates           {:>8}  (body coordinates and the deck's u)", c.coordinates);
-    println!("  constraint equations  {:>8}", c.constraints);
-    println!("  degrees of freedom    {:>8}", c.dof);
-    println!("  Jacobian non-zeros    {:>8}  (iteration matrix, {} unknowns)", asm.jacobian_nnz(), asm.dim());
+    out!("model {}", path.display());
+    out!("  rigid bodies          {:>8}  ({nc} center beams, {ns} support beams, {} bearings)", c.bodies, nc * ns);
+    out!("  coordinates           {:>8}  (body coordinates and the deck's u)", c.coordinates);
+    out!("  constraint equations  {:>8}", c.constraints);
+    out!("  degrees of freedom    {:>8}", c.dof);
+    out!("  Jacobian non-zeros    {:>8}  (iteration matrix, {} unknowns)", asm.jacobian_nnz(), asm.dim());
     if let Some(g) = &model.geometry {
-        println!("  gap G0                {:>8.4} m", g.gap);
+        out!("  gap G0                {:>8.4} m", g.gap);
     }
-    println!(
+    out!(
         "  bridge                {:>8.3e} kg, w0 {:.4} rad/s (T {:.4} s), damping {}",
         config.bridge.mass,
         model.bridge.omega,
@@ -108,46 +121,42 @@ pub fn run_result(path: &Path, record: &str, r: &RunResult, no_joint: bool, json
                 obj.extend(more);
             }
         }
-        println!("{v}");
+        out!("{v}");
         return;
     }
     let mode = if no_joint { "bridge alone (exact linear solution)" } else { "bridge with joint" };
-    println!("{} under {record}: {mode}", path.display());
-    println!(
-        "  w0 {:.4} rad/s, T {:.4} s, {:.2} s simulated",
-        r.omega,
-        2.0 * std::f64::consts::PI / r.omega,
-        r.duration
-    );
-    println!("  Sa   {:>12.5} m/s^2  at t = {:.3} s", r.sa, r.t_sa);
-    println!("  PSa  {:>12.5} m/s^2", r.psa);
-    println!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);
-    println!("  Sv   {:>12.5} m/s    at t = {:.3} s", r.sv, r.t_sv);
+    out!("{} under {record}: {mode}", path.display());
+    out!("  w0 {:.4} rad/s, T {:.4} s, {:.2} s simulated", r.omega, 2.0 * std::f64::consts::PI / r.omega, r.duration);
+    out!("  Sa   {:>12.5} m/s^2  at t = {:.3} s", r.sa, r.t_sa);
+    out!("  PSa  {:>12.5} m/s^2", r.psa);
+    out!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);
+    out!("  Sv   {:>12.5} m/s    at t = {:.3} s", r.sv, r.t_sv);
     if no_joint {
         return;
     }
-    println!("joint demands");
-    println!("  peak joint force on the deck  {:>12.1} N", r.peak_joint_force);
-    println!("  peak bushing force            {:>12.1} N", r.peak_bushing_force);
-    println!("  peak friction force           {:>12.1} N", r.peak_friction_force);
-    println!("  friction energy               {:>12.1} J", r.friction_energy);
+    out!("joint demands");
+    out!("  peak joint force on the deck  {:>12.1} N", r.peak_joint_force);
+    out!("  peak bushing force            {:>12.1} N", r.peak_bushing_force);
+    out!("  peak friction force           {:>12.1} N", r.peak_friction_force);
+    out!("  friction energy               {:>12.1} J", r.friction_energy);
     if let (Some(lo), Some(hi), Some(dev)) = (r.min_subgap, r.max_subgap, r.max_subgap_deviation) {
         let flag = if lo < 0.0 { "  COLLISION: a sub-gap closed" } else { "" };
-        println!(
+        out!(
             "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm){flag}",
             lo * 1e3,
             hi * 1e3,
             dev * 1e3
         );
     }
-    println!("quality");
-    println!("  energy balance error          {:>12.2e} of the earthquake work", r.energy_error);
-    println!(
+    out!("quality");
+    out!("  energy balance error          {:>12.2e} of the earthquake work", r.energy_error);
+    out!(
         "  constraint residuals          {:>12.2e} (|g|), {:.2e} (|G q'|)",
-        r.max_position_residual, r.max_velocity_residual
+        r.max_position_residual,
+        r.max_velocity_residual
     );
     let s = &r.stats;
-    println!(
+    out!(
         "  steps {} (rejected {}, failed {}), Newton iterations {}, Jacobians {}, factorisations {}, {:.2} s wall",
         s.steps,
         s.rejected,
@@ -175,15 +184,15 @@ pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
             "steps": r.stats.steps,
             "wall_time_s": r.wall_time_s,
         });
-        println!("{v}");
+        out!("{v}");
         return;
     }
-    println!("{}: service case, {} cycles of {:.3} s", path.display(), r.cycles, r.period);
-    println!("  friction work per cycle      {:>12.1} J (last cycle)", r.friction_work_per_cycle);
-    println!("  hand calculation             {:>12.1} J (sum of mu n_s F_N x sliding distance)", r.hand_calculation);
-    println!("  hysteresis loop area         {:>12.1} J (work of the deck on the joint)", r.loop_work_per_cycle);
-    println!("  peak joint force on the deck {:>12.1} N", r.peak_joint_force);
-    println!(
+    out!("{}: service case, {} cycles of {:.3} s", path.display(), r.cycles, r.period);
+    out!("  friction work per cycle      {:>12.1} J (last cycle)", r.friction_work_per_cycle);
+    out!("  hand calculation             {:>12.1} J (sum of mu n_s F_N x sliding distance)", r.hand_calculation);
+    out!("  hysteresis loop area         {:>12.1} J (work of the deck on the joint)", r.loop_work_per_cycle);
+    out!("  peak joint force on the deck {:>12.1} N", r.peak_joint_force);
+    out!(
         "  energy balance error {:.2e}, constraint residual {:.2e}, {} steps, {:.2} s wall",
         r.energy_error,
         r.max_position_residual.max(r.max_velocity_residual),
@@ -209,22 +218,22 @@ pub fn record_stats(record: &Record, s: &RecordStats, warnings: &[String], json:
             "scale": record.scale,
             "warnings": warnings,
         });
-        println!("{v}");
+        out!("{v}");
         return;
     }
     let g = quakejoint_motion::G;
-    println!("record {} ({})", record.name, record.source);
+    out!("record {} ({})", record.name, record.source);
     for h in record.header.iter().skip(1).take(1) {
-        println!("  {}", h.trim());
+        out!("  {}", h.trim());
     }
-    println!("  dt                {:>12.5} s", s.dt);
-    println!("  samples           {:>12}", s.samples);
-    println!("  duration          {:>12.3} s", s.duration);
-    println!("  PGA               {:>12.5} m/s^2 ({:.4} g) at t = {:.3} s", s.pga, s.pga / g, s.t_pga);
-    println!("  PGV               {:>12.5} m/s at t = {:.3} s", s.pgv, s.t_pgv);
-    println!("  PGD               {:>12.5} m at t = {:.3} s (raw integration, no baseline correction)", s.pgd, s.t_pgd);
-    println!("  Arias intensity   {:>12.5} m/s", s.arias);
-    println!("  D5-95             {:>12.3} s (from {:.3} s to {:.3} s)", s.d5_95, s.t5, s.t95);
+    out!("  dt                {:>12.5} s", s.dt);
+    out!("  samples           {:>12}", s.samples);
+    out!("  duration          {:>12.3} s", s.duration);
+    out!("  PGA               {:>12.5} m/s^2 ({:.4} g) at t = {:.3} s", s.pga, s.pga / g, s.t_pga);
+    out!("  PGV               {:>12.5} m/s at t = {:.3} s", s.pgv, s.t_pgv);
+    out!("  PGD               {:>12.5} m at t = {:.3} s (raw integration, no baseline correction)", s.pgd, s.t_pgd);
+    out!("  Arias intensity   {:>12.5} m/s", s.arias);
+    out!("  D5-95             {:>12.3} s (from {:.3} s to {:.3} s)", s.d5_95, s.t5, s.t95);
 }
 
 /// `quakejoint spectrum`: CSV (default) or JSON.
@@ -240,14 +249,58 @@ pub fn spectrum_rows(rows: &[SpectrumRow], json: bool) {
                 })
             })
             .collect();
-        println!("{}", serde_json::Value::Array(v));
+        out!("{}", serde_json::Value::Array(v));
         return;
     }
-    println!("damping,period,sa,psa,sd,sv");
+    out!("damping,period,sa,psa,sd,sv");
     for r in rows {
-        println!(
-            "{},{},{:.9e},{:.9e},{:.9e},{:.9e}",
-            r.damping, r.period, r.peaks.sa, r.peaks.psa, r.peaks.sd, r.peaks.sv
-        );
+        out!("{},{},{:.9e},{:.9e},{:.9e},{:.9e}", r.damping, r.period, r.peaks.sa, r.peaks.psa, r.peaks.sd, r.peaks.sv);
     }
+}
+
+/// `quakejoint sweep`.
+pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
+    if json {
+        let failures: Vec<_> = s
+            .failed
+            .iter()
+            .map(|(case, record, z, t, msg)| json!({"case": case, "record": record, "damping": z, "period": t, "message": msg}))
+            .collect();
+        let v = json!({
+            "output": s.output.display().to_string(),
+            "journal": s.journal.display().to_string(),
+            "jobs": s.jobs,
+            "resumed": s.resumed,
+            "ran": s.ran,
+            "failed": s.failed.len(),
+            "failures": failures,
+            "wall_time_s": s.wall_time_s,
+        });
+        out!("{v}");
+        return;
+    }
+    out!(
+        "sweep: {} jobs ({} from the journal, {} run now) in {:.1} s -> {}",
+        s.jobs,
+        s.resumed,
+        s.ran,
+        s.wall_time_s,
+        s.output.display()
+    );
+    if !s.failed.is_empty() {
+        out!("{} jobs failed:", s.failed.len());
+        for (case, record, z, t, msg) in &s.failed {
+            out!("  {case} / {record} / damping {z} / T {t} s: {msg}");
+        }
+    }
+}
+
+/// `quakejoint merge`.
+pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, json: bool) {
+    if json {
+        let v = json!({"output": s.output.display().to_string(), "jobs": s.jobs, "finished": s.finished, "failed": s.failed});
+        out!("{v}");
+        return;
+    }
+    out!("merged {} of {} jobs ({} failed) -> {}", s.finished, s.jobs, s.failed, s.output.display());
 }

@@ -22,13 +22,28 @@ use crate::error::ModelError;
 use crate::generator::{build, Bridge, Drive, JointModel};
 use crate::geometry::Geometry;
 
+/// Called with the simulated time as a run advances.
+pub type ProgressFn = Arc<dyn Fn(f64) + Send + Sync>;
+
 /// Options of one run.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Clone, Default)]
 pub struct RunOptions {
     /// Bridge circular frequency [rad/s] (the config's if None).
     pub omega: Option<f64>,
     /// Record time histories at every output time.
     pub histories: bool,
+    /// Reports the simulated time about every 0.1 s of it.
+    pub progress: Option<ProgressFn>,
+}
+
+impl std::fmt::Debug for RunOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RunOptions")
+            .field("omega", &self.omega)
+            .field("histories", &self.histories)
+            .field("progress", &self.progress.is_some())
+            .finish()
+    }
 }
 
 /// Time histories at the output times (the record's sample times).
@@ -178,6 +193,7 @@ pub fn simulate_records(
     let start = Instant::now();
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
     let mut obs = EarthquakeObserver::new(&model, &asm, gx, record_x.dt, options.histories)?;
+    obs.progress = options.progress.clone();
     obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), &asm, &mut asm.workspace());
     sim.run(duration, &mut obs)?;
     let wall = start.elapsed().as_secs_f64();
@@ -256,6 +272,8 @@ struct EarthquakeObserver {
     friction: f64,
     gaps: Option<Gaps>,
     histories: Option<Histories>,
+    progress: Option<ProgressFn>,
+    last_report: f64,
     q: Vec<f64>,
     v: Vec<f64>,
     l: Vec<f64>,
@@ -305,6 +323,8 @@ impl EarthquakeObserver {
             friction: 0.0,
             gaps,
             histories,
+            progress: None,
+            last_report: 0.0,
             q: vec![0.0; n],
             v: vec![0.0; n],
             l: vec![0.0; m],
@@ -363,6 +383,12 @@ impl EarthquakeObserver {
 
 impl Observer for EarthquakeObserver {
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        if let Some(p) = &self.progress {
+            if view.t >= self.last_report + 0.1 {
+                self.last_report = view.t;
+                p(view.t);
+            }
+        }
         loop {
             let j = self.next + 1;
             let tj = j as f64 * self.dt;

@@ -2,6 +2,8 @@
 
 use std::path::Path;
 
+use quakejoint_model::ModelError;
+use quakejoint_motion::RecordError;
 use thiserror::Error;
 
 /// Writing an output file failed.
@@ -21,4 +23,63 @@ impl OutputError {
     pub(crate) fn hdf5(path: &Path, e: hdf5::Error) -> Self {
         Self { path: path.display().to_string(), message: format!("HDF5: {e}") }
     }
+}
+
+/// Anything that stops a sweep (failed jobs do not: they are recorded).
+#[derive(Debug, Error)]
+pub enum SweepError {
+    /// The `[sweep]` table is wrong.
+    #[error("{field}: {message}")]
+    Config {
+        /// The key.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The base config is wrong.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// A record cannot be read.
+    #[error(transparent)]
+    Record(#[from] RecordError),
+    /// A file cannot be read or written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The operating system's message.
+        message: String,
+    },
+    /// The HDF5 output cannot be written.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// The journal cannot be used.
+    #[error("{path}: {message}")]
+    Journal {
+        /// The journal file.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Files to merge do not belong together.
+    #[error("merge: {0}")]
+    Merge(String),
+}
+
+impl SweepError {
+    /// Whether the error is caused by the input (exit code 2) rather than by
+    /// the machine (a full disk, say).
+    pub fn is_input_error(&self) -> bool {
+        match self {
+            SweepError::Config { .. } | SweepError::Record(_) | SweepError::Journal { .. } | SweepError::Merge(_) => {
+                true
+            }
+            SweepError::Model(m) => m.is_input_error(),
+            SweepError::Io { .. } | SweepError::Output(_) => false,
+        }
+    }
+}
+
+pub(crate) fn io_err(path: &Path, e: std::io::Error) -> SweepError {
+    SweepError::Io { path: path.display().to_string(), message: e.to_string() }
 }

@@ -75,8 +75,16 @@ pub fn root_attributes(file: &hdf5::File, kind: &str, config_text: &str) -> hdf5
 }
 
 /// Writes the time histories and scalar results of one earthquake run
-/// (`quakejoint simulate --output`); layout in `docs/hdf5-layout.md`.
-pub fn write_run(path: &Path, config_text: &str, record: &str, result: &RunResult) -> Result<(), OutputError> {
+/// (`quakejoint simulate --output`), with the exact response of the bridge
+/// alone at the same times (`without`, if given); layout in
+/// `docs/hdf5-layout.md`.
+pub fn write_run(
+    path: &Path,
+    config_text: &str,
+    record: &str,
+    result: &RunResult,
+    without: Option<&[f64]>,
+) -> Result<(), OutputError> {
     write_atomically(path, |file| {
         root_attributes(file, "simulate", config_text)?;
         attr_str(file, "record", record)?;
@@ -93,6 +101,11 @@ pub fn write_run(path: &Path, config_text: &str, record: &str, result: &RunResul
             dataset_1d(&g, "a_abs", &h.a_abs, "m/s^2")?;
             dataset_1d(&g, "joint_force", &h.joint_force, "N")?;
             dataset_1d(&g, "friction_power", &h.friction_power, "W")?;
+            if let Some(w) = without {
+                let mut w = w[..w.len().min(h.t.len())].to_vec();
+                w.resize(h.t.len(), f64::NAN);
+                dataset_1d(&g, "a_abs_without_joint", &w, "m/s^2")?;
+            }
             if !h.center_beam_dx.is_empty() {
                 dataset_2d(&g, "center_beam_dx", &h.center_beam_dx, "m")?;
             }
@@ -144,6 +157,37 @@ pub fn write_service(path: &Path, config_text: &str, result: &ServiceResult) -> 
         attr_f64(&g, "loop_work_per_cycle", result.loop_work_per_cycle)?;
         attr_f64(&g, "hand_calculation", result.hand_calculation)?;
         attr_f64(&g, "peak_joint_force", result.peak_joint_force)?;
+        Ok(())
+    })
+}
+
+/// Writes the sparsity pattern of a model's iteration matrix
+/// (`quakejoint model --sparsity`): `/sparsity/row`, `/sparsity/col` in
+/// natural numbering (coordinates, then constraint equations).
+pub fn write_sparsity(
+    path: &Path,
+    config_text: &str,
+    asm: &quakejoint_solver::Assembly,
+    body_names: &[String],
+) -> Result<(), OutputError> {
+    let pattern = asm.jacobian_pattern();
+    let rows: Vec<u32> = pattern.iter().map(|p| p.0).collect();
+    let cols: Vec<u32> = pattern.iter().map(|p| p.1).collect();
+    write_atomically(path, |file| {
+        root_attributes(file, "sparsity", config_text)?;
+        let g = file.create_group("sparsity")?;
+        g.new_dataset_builder().with_data(&rows[..]).create("row")?;
+        g.new_dataset_builder().with_data(&cols[..]).create("col")?;
+        g.new_dataset_builder().with_data(&asm.coordinate_bodies()[..]).create("coordinate_body")?;
+        let names: Vec<VarLenUnicode> = body_names
+            .iter()
+            .map(|n| n.parse())
+            .collect::<Result<_, _>>()
+            .map_err(|e| hdf5::Error::from(format!("{e}")))?;
+        g.new_dataset_builder().with_data(&names[..]).create("body_name")?;
+        g.new_attr::<u64>().create("coordinates")?.write_scalar(&(asm.coordinates() as u64))?;
+        g.new_attr::<u64>().create("equations")?.write_scalar(&(asm.equations() as u64))?;
+        g.new_attr::<u64>().create("nnz")?.write_scalar(&(pattern.len() as u64))?;
         Ok(())
     })
 }

@@ -356,6 +356,11 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
 
 /// Distinct positions written by any element or constraint.
 fn structural_nnz(asm: &Assembly) -> usize {
+    structural_positions(asm).len()
+}
+
+/// The positions written by any element or constraint, sorted.
+pub(super) fn structural_positions(asm: &Assembly) -> BTreeSet<u32> {
     let sink = asm.layout.sink();
     let mut set: BTreeSet<u32> = asm.mass_pos.iter().copied().collect();
     let maps = asm
@@ -376,7 +381,7 @@ fn structural_nnz(asm: &Assembly) -> usize {
         set.insert(e.pos);
         set.insert(e.pos_t);
     }
-    set.len()
+    set
 }
 
 /// Distinct (row, column, position) entries of the damping matrix.

@@ -283,6 +283,33 @@ impl Assembly {
         JacobianValues { k: vec![0.0; len], d: vec![0.0; len], g: vec![0.0; self.g_entries.len()] }
     }
 
+    /// Structural non-zeros of the iteration matrix as (row, column) pairs in
+    /// natural numbering: coordinates `0..n` in body order, then constraint
+    /// equations `n..n+m` (for plotting the sparsity pattern).
+    pub fn jacobian_pattern(&self) -> Vec<(u32, u32)> {
+        let lay = &self.layout;
+        let n = lay.n as u32;
+        let mut natural = vec![0u32; self.dim()];
+        for (c, &u) in lay.unknown_of_coord.iter().enumerate() {
+            natural[u as usize] = c as u32;
+        }
+        for (e, &u) in lay.unknown_of_eq.iter().enumerate() {
+            natural[u as usize] = n + e as u32;
+        }
+        let mut entries: Vec<(u32, u32)> = build::structural_positions(self)
+            .into_iter()
+            .filter_map(|p| self.position_unknowns(p as usize))
+            .map(|(r, c)| (natural[r], natural[c]))
+            .collect();
+        entries.sort_unstable();
+        entries
+    }
+
+    /// Body index of each coordinate (natural numbering).
+    pub fn coordinate_bodies(&self) -> Vec<u32> {
+        self.layout.coord_body.iter().map(|&(b, _)| b).collect()
+    }
+
     /// Row and column unknowns of a position in the Jacobian arrays.
     pub fn position_unknowns(&self, pos: usize) -> Option<(usize, usize)> {
         let sym = &self.layout.sym;

@@ -1,0 +1,339 @@
+//! Spectrum sweeps through the command line.
+//!
+//! - The HDF5 output holds every dataset of the documented layout with its
+//!   shape, and a job's numbers equal those of the same run through
+//!   `quakejoint simulate`.
+//! - Results are bit-identical for 1 and 2 threads and for 1 shard against
+//!   3 shards merged (each job runs single-threaded and deterministically).
+//! - A sweep killed with SIGKILL part way resumes from its journal to the
+//!   same numbers; resuming after a config change is refused.
+//! - A case that cannot work fails its jobs with a status and a message,
+//!   the others finish, and the exit code is 3.
+//! - The plotting scripts turn the outputs into PNG files.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+use quakejoint_sweep::results::{status, FIELDS, MACHINE_DEPENDENT};
+use quakejoint_sweep::sweep_h5::{read_sweep, SweepFile};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn bin() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_quakejoint"));
+    c.current_dir(root());
+    c
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("runs")
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("quakejoint-sweep-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The small model under the first `duration` s of Corralitos 090.
+fn config(dir: &Path, name: &str, sweep: &str, duration: f64) -> PathBuf {
+    let record = root().join("ground_motions/RSN753_LOMAP_CLS090-hor2.AT2");
+    let text = format!(
+        "[joint]\ncenter_beams = 3\n\
+         [[joint.support_beams]]\nkind = \"guide\"\ny = -7.2\n\
+         [[joint.support_beams]]\nkind = \"joist\"\ny = -1.0\nangle_deg = 13.0\n\
+         [[joint.support_beams]]\nkind = \"joist\"\ny = 5.0\nangle_deg = 17.0\n\
+         [record]\nfile = {record:?}\n\
+         [simulation]\nduration = {duration}\n\
+         {sweep}\n"
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+const GRID: &str = "[sweep]\nperiods = [0.3, 0.6, 1.0, 2.0]\ndamping = [0.02, 0.05]\nhistories = [1.0]\n";
+
+fn ok(out: &Output) {
+    assert!(out.status.success(), "exit {:?}: {}", out.status.code(), String::from_utf8_lossy(&out.stderr));
+}
+
+/// All numeric datasets equal bit for bit (machine-dependent wall times aside).
+fn assert_identical(a: &SweepFile, b: &SweepFile, what: &str) {
+    let (ra, rb) = (&a.results, &b.results);
+    assert_eq!(ra.status, rb.status, "{what}: status");
+    for (k, name) in FIELDS.iter().enumerate() {
+        if MACHINE_DEPENDENT.contains(name) {
+            continue;
+        }
+        for (j, (x, y)) in ra.values[k].iter().zip(&rb.values[k]).enumerate() {
+            assert_eq!(x.to_bits(), y.to_bits(), "{what}: {name}[{j}] {x} vs {y}");
+        }
+    }
+    for k in 0..4 {
+        assert!(ra.without[k].iter().zip(&rb.without[k]).all(|(x, y)| x.to_bits() == y.to_bits()), "{what}: without");
+    }
+    assert_eq!(ra.histories, rb.histories, "{what}: histories");
+    assert_eq!((&a.periods, &a.damping, &a.cases, &a.records), (&b.periods, &b.damping, &b.cases, &b.records));
+}
+
+#[test]
+fn sweep_layout_and_a_spot_value_against_simulate() {
+    let d = dir("layout");
+    let cfg = config(&d, "c.toml", GRID, 3.0);
+    let out = d.join("out.h5");
+    let res = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap(), "--json"]);
+    ok(&res);
+    let summary: serde_json::Value = serde_json::from_slice(&res.stdout).unwrap();
+    assert_eq!(summary["jobs"], 8);
+    assert_eq!(summary["failed"], 0);
+
+    let file = hdf5::File::open(&out).unwrap();
+    for attr in ["quakejoint_version", "schema_version", "config", "created"] {
+        assert!(file.attr(attr).is_ok(), "root attribute {attr}");
+    }
+    let shape = |name: &str| file.dataset(name).unwrap().shape();
+    assert_eq!(shape("spectrum/period"), vec![4]);
+    assert_eq!(shape("spectrum/damping"), vec![2]);
+    assert_eq!(shape("spectrum/record"), vec![1]);
+    assert_eq!(shape("spectrum/case"), vec![1]);
+    for name in ["sa", "psa", "sd", "sv"] {
+        assert_eq!(shape(&format!("spectrum/without_joint/{name}")), vec![1, 2, 4]);
+    }
+    for name in [
+        "sa",
+        "psa",
+        "sd",
+        "sv",
+        "t_sa",
+        "peak_joint_force",
+        "friction_energy",
+        "min_subgap",
+        "max_subgap",
+        "energy_error",
+        "max_constraint_residual",
+        "steps",
+        "wall_time_s",
+        "status",
+        "message",
+    ] {
+        assert_eq!(shape(&format!("spectrum/with_joint/{name}")), vec![1, 1, 2, 4], "{name}");
+    }
+    assert_eq!(shape("spectrum/reduction"), vec![1, 1, 2, 4]);
+    let acc = file.dataset("records/RSN753_LOMAP_CLS090-hor2/acceleration").unwrap();
+    assert_eq!(acc.shape(), vec![7999]);
+    for attr in ["dt", "source", "scale", "pga"] {
+        assert!(acc.attr(attr).is_ok(), "record attribute {attr}");
+    }
+    assert_eq!(file.member_names().unwrap().iter().filter(|n| *n == "histories").count(), 1);
+
+    // the job (damping 0.05, T = 1.0 s) through `quakejoint simulate`
+    let sweep = read_sweep(&out).unwrap();
+    let j = sweep.results.status.len() - 2; // damping index 1, period index 2
+    assert_eq!(sweep.periods[2], 1.0);
+    let sim = run(&["simulate", cfg.to_str().unwrap(), "--period", "1.0", "--json"]);
+    ok(&sim);
+    let v: serde_json::Value = serde_json::from_slice(&sim.stdout).unwrap();
+    let field = |name: &str| sweep.results.values[FIELDS.iter().position(|f| *f == name).unwrap()][j];
+    for name in ["sa", "psa", "sd", "sv", "t_sa", "peak_joint_force", "friction_energy", "min_subgap", "energy_error"] {
+        assert_eq!(field(name), v[name].as_f64().unwrap(), "{name}");
+    }
+    assert_eq!(field("steps"), v["steps"].as_f64().unwrap());
+    // reduction = 1 - with / without
+    let r = &sweep.results;
+    assert_eq!(r.reduction()[j], 1.0 - field("sa") / r.without[0][j % 8]);
+}
+
+#[test]
+fn threads_shards_and_resume_give_identical_numbers() {
+    let d = dir("determinism");
+    let cfg = config(&d, "c.toml", GRID, 3.0);
+    let cfgs = cfg.to_str().unwrap();
+    let path = |n: &str| d.join(n).to_str().unwrap().to_string();
+    ok(&run(&["sweep", cfgs, "--output", &path("two.h5"), "--threads", "2", "--json"]));
+    ok(&run(&["sweep", cfgs, "--output", &path("one.h5"), "--threads", "1", "--json"]));
+    let two = read_sweep(Path::new(&path("two.h5"))).unwrap();
+    let one = read_sweep(Path::new(&path("one.h5"))).unwrap();
+    assert_eq!(two.results.finished(), 8);
+    assert_identical(&one, &two, "1 thread vs 2 threads");
+
+    for k in 1..=3 {
+        ok(&run(&["sweep", cfgs, "--output", &path(&format!("s{k}.h5")), "--shard", &format!("{k}/3"), "--json"]));
+    }
+    let shard1 = read_sweep(Path::new(&path("s1.h5"))).unwrap();
+    let n1 = shard1.results.status.iter().filter(|&&s| s != status::NOT_RUN).count();
+    assert!(n1 > 0 && n1 < 8, "a shard runs part of the jobs ({n1})");
+    ok(&run(&["merge", &path("s1.h5"), &path("s2.h5"), &path("s3.h5"), "--output", &path("merged.h5"), "--json"]));
+    let merged = read_sweep(Path::new(&path("merged.h5"))).unwrap();
+    assert_identical(&merged, &two, "3 shards merged vs 1");
+    assert_eq!(merged.shard, "all");
+
+    // a second sweep into the same output without --resume is refused
+    let again = run(&["sweep", cfgs, "--output", &path("two.h5")]);
+    assert_eq!(again.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&again.stderr).contains("--resume"));
+
+    // resuming after a change of the config is refused, saying what changed
+    let changed =
+        config(&d, "c.toml", &format!("{GRID}\n[joint.friction]\nmu = 0.1\n").replace("[sweep]", "[sweep]"), 3.0);
+    let refused = run(&["sweep", changed.to_str().unwrap(), "--output", &path("two.h5"), "--resume"]);
+    assert_eq!(refused.status.code(), Some(2), "{}", String::from_utf8_lossy(&refused.stderr));
+    assert!(
+        String::from_utf8_lossy(&refused.stderr).contains("config changed"),
+        "{}",
+        String::from_utf8_lossy(&refused.stderr)
+    );
+}
+
+#[test]
+fn a_killed_sweep_resumes_to_the_same_numbers() {
+    let d = dir("resume");
+    let cfg = config(&d, "c.toml", GRID, 3.0);
+    let cfgs = cfg.to_str().unwrap();
+    let reference = d.join("reference.h5");
+    ok(&run(&["sweep", cfgs, "--output", reference.to_str().unwrap(), "--threads", "2", "--json"]));
+    let out = d.join("killed.h5");
+    let journal = d.join("killed.h5.journal");
+    let mut child =
+        bin().args(["sweep", cfgs, "--output", out.to_str().unwrap(), "--threads", "1", "--json"]).spawn().unwrap();
+    // wait until some but not all jobs are journalled, then SIGKILL
+    let start = Instant::now();
+    loop {
+        let done = quakejoint_sweep::journal::read(&journal).map(|(_, r)| r.len()).unwrap_or(0);
+        if done >= 2 {
+            break;
+        }
+        assert!(child.try_wait().unwrap().is_none(), "the sweep finished before it could be killed");
+        assert!(start.elapsed() < Duration::from_secs(300), "no progress");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let (_, partial) = quakejoint_sweep::journal::read(&journal).unwrap();
+    assert!(partial.len() < 8, "killed part way ({} jobs journalled)", partial.len());
+    let res = run(&["sweep", cfgs, "--output", out.to_str().unwrap(), "--resume", "--json"]);
+    ok(&res);
+    let v: serde_json::Value = serde_json::from_slice(&res.stdout).unwrap();
+    assert_eq!(v["resumed"].as_u64().unwrap() as usize, partial.len());
+    assert_identical(
+        &read_sweep(&out).unwrap(),
+        &read_sweep(&reference).unwrap(),
+        "killed and resumed vs uninterrupted",
+    );
+    // every job is in the journal exactly once
+    let (_, all) = quakejoint_sweep::journal::read(&journal).unwrap();
+    let mut jobs: Vec<u32> = all.iter().map(|r| r.job).collect();
+    jobs.sort_unstable();
+    assert_eq!(jobs, (0..8).collect::<Vec<u32>>());
+}
+
+#[test]
+fn an_impossible_case_fails_its_jobs_and_the_sweep_goes_on() {
+    let d = dir("failing");
+    let sweep = "[sweep]\nperiods = [0.5, 1.0]\ndamping = [0.05]\n\
+                 [[sweep.cases]]\nname = \"reference\"\n\
+                 [[sweep.cases]]\nname = \"beams too short\"\njoint.center_beam.length = 2.0\n\
+                 [[sweep.cases]]\nname = \"step limit\"\nsimulation.max_steps = 5\n";
+    let cfg = config(&d, "c.toml", sweep, 2.0);
+    let out = d.join("out.h5");
+    let res = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap(), "--json"]);
+    assert_eq!(res.status.code(), Some(3), "{}", String::from_utf8_lossy(&res.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&res.stdout).unwrap();
+    assert_eq!(v["failed"], 4);
+    let f = read_sweep(&out).unwrap();
+    assert_eq!(f.cases, vec!["reference", "beams too short", "step limit"]);
+    let r = &f.results;
+    assert_eq!(&r.status[0..2], &[status::OK, status::OK]);
+    assert_eq!(&r.status[2..4], &[status::INVALID, status::INVALID]);
+    assert!(r.messages[2].contains("outside the center beam"), "{}", r.messages[2]);
+    assert_eq!(&r.status[4..6], &[status::LIMIT, status::LIMIT]);
+    assert!(r.messages[4].contains("step limit"), "{}", r.messages[4]);
+    assert!(r.values[0][2].is_nan() && r.values[0][0] > 0.0);
+}
+
+#[test]
+fn bad_sweep_tables_name_the_key() {
+    let d = dir("bad");
+    for (sweep, expect) in [
+        ("[sweep]\nperiods = [0.0]\n", "sweep.periods[0]"),
+        ("[sweep]\nperiods = [1.0]\ndamping = [1.0]\n", "sweep.damping[0]"),
+        ("[sweep]\nperiods = { from = 0.1, to = 5.0, count = 10, spacing = \"cubic\" }\n", "sweep.periods.spacing"),
+        ("[sweep]\nperiods = [1.0]\nthreads = 4\n", "sweep.threads"),
+        ("[sweep]\nperiods = [1.0]\n[[sweep.cases]]\nname = \"a\"\nbridge.period = 2.0\n", "bridge.period"),
+        ("[sweep]\nperiods = [1.0]\n[[sweep.cases]]\nname = \"a\"\njoint.frictoin.mu = 0.1\n", "frictoin"),
+        (
+            "[sweep]\nperiods = [1.0]\n[[sweep.cases]]\nname = \"a\"\njoint.friction.mu = -0.1\n",
+            "joint.friction.mu = -0.1",
+        ),
+        ("[sweep]\nperiods = [1.0]\nrecords = []\n", "sweep.records"),
+    ] {
+        let cfg = config(&d, "bad.toml", sweep, 2.0);
+        let res = run(&["sweep", cfg.to_str().unwrap(), "--output", d.join("x.h5").to_str().unwrap()]);
+        assert_eq!(res.status.code(), Some(2), "{sweep}: {}", String::from_utf8_lossy(&res.stderr));
+        assert!(
+            String::from_utf8_lossy(&res.stderr).contains(expect),
+            "{sweep}: {}",
+            String::from_utf8_lossy(&res.stderr)
+        );
+    }
+    let res = run(&["sweep", "configs/quick.toml", "--output", "/nonexistent-dir/x.h5"]);
+    assert_eq!(res.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&res.stderr).contains("not writable"), "{}", String::from_utf8_lossy(&res.stderr));
+}
+
+#[test]
+fn plotting_scripts_write_png_files() {
+    let d = dir("plots");
+    let cfg = config(&d, "c.toml", "[sweep]\nperiods = [0.5, 1.0]\ndamping = [0.05]\nhistories = [1.0]\n", 2.0);
+    let out = d.join("out.h5");
+    ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap(), "--json"]));
+    let run_h5 = d.join("run.h5");
+    ok(&run(&["simulate", cfg.to_str().unwrap(), "--output", run_h5.to_str().unwrap(), "--json"]));
+    let sparsity = d.join("sparsity.h5");
+    ok(&run(&["model", "configs/small.toml", "--sparsity", sparsity.to_str().unwrap(), "--json"]));
+    let model_json = run(&["model", "configs/small.toml", "--json"]);
+    ok(&model_json);
+    std::fs::write(d.join("model.json"), &model_json.stdout).unwrap();
+    let script = |name: &str, args: &[&Path]| {
+        let png = d.join(format!("{name}.png"));
+        let mut cmd = Command::new("python3");
+        cmd.arg(root().join("scripts").join(format!("{name}.py")));
+        for a in args {
+            cmd.arg(a);
+        }
+        let res = cmd.arg(&png).output().expect("python3 runs");
+        assert!(res.status.success(), "{name}: {}", String::from_utf8_lossy(&res.stderr));
+        assert!(std::fs::metadata(&png).map(|m| m.len() > 1000).unwrap_or(false), "{name}: no PNG");
+    };
+    script("plot_spectrum", &[&out]);
+    script("plot_history", &[&out]);
+    script("plot_history", &[&run_h5]);
+    script("plot_sparsity", &[&sparsity]);
+    script("plot_geometry", &[&d.join("model.json")]);
+}
+
+#[test]
+fn slurm_script_runs_shards_locally_and_merges_them() {
+    let d = dir("slurm");
+    let cfg = config(&d, "job.toml", "[sweep]\nperiods = [0.4, 0.8, 1.6]\ndamping = [0.05]\n", 2.0);
+    let reference = d.join("reference.h5");
+    ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", reference.to_str().unwrap(), "--json"]));
+    let res = Command::new("bash")
+        .arg(root().join("scripts/slurm_array.sh"))
+        .args([cfg.to_str().unwrap(), "3", "--local"])
+        .env("QUAKEJOINT", env!("CARGO_BIN_EXE_quakejoint"))
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    ok(&res);
+    assert!(d.join("shards/job-2-of-3.h5").exists());
+    assert_identical(
+        &read_sweep(&d.join("job.h5")).unwrap(),
+        &read_sweep(&reference).unwrap(),
+        "script shards vs one run",
+    );
+}

@@ -1,0 +1,404 @@
+//! What a sweep computes: the `[sweep]` table of a config, its cases, the
+//! records and the job list.
+//!
+//! ```toml
+//! [sweep]
+//! periods = { from = 0.1, to = 5.0, count = 50, spacing = "log" }  # or a list
+//! damping = [0.05]
+//! records = [{ file = "../ground_motions/RSN753_LOMAP_CLS090-hor2.AT2" }]  # default: [record]
+//! histories = [1.0]          # time histories of the nearest swept periods
+//! checkpoint_seconds = 60.0  # HDF5 checkpoint interval
+//!
+//! [[sweep.cases]]            # optional: parameter sets that differ from the base
+//! name = "preload 40 kN"
+//! joint.friction.normal_force = 40e3
+//! ```
+//!
+//! A case overrides any `joint`, `bridge` or `simulation` parameter except
+//! the swept ones (`bridge.w0`, `bridge.period`, `bridge.damping`); the
+//! overrides are merged into the base config and checked like it, so an
+//! unknown key or a bad value is an error naming the case and the key.
+
+use std::path::Path;
+
+use quakejoint_model::{Config, ModelError};
+use quakejoint_motion::{load_record, period_range, Record, RecordSpec};
+use sha2::{Digest, Sha256};
+
+use crate::error::SweepError;
+
+/// One named parameter set.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// Name, unique within the sweep.
+    pub name: String,
+    /// The full config of this case.
+    pub config: Config,
+    /// Number of joint bodies (for the cost estimate).
+    pub bodies: usize,
+}
+
+/// A record of the sweep.
+#[derive(Debug, Clone)]
+pub struct SweepRecord {
+    /// How it was specified.
+    pub spec: RecordSpec,
+    /// The record (m/s^2).
+    pub record: Record,
+    /// SHA-256 of the file's bytes (hex).
+    pub sha256: String,
+    /// Warnings from reading it.
+    pub warnings: Vec<String>,
+}
+
+impl SweepRecord {
+    /// Reads a record and hashes its file.
+    pub fn load(spec: RecordSpec, base_dir: &Path) -> Result<Self, SweepError> {
+        let loaded = load_record(&spec, base_dir)?;
+        let path = spec.resolve_path(base_dir);
+        let bytes = std::fs::read(&path)
+            .map_err(|e| SweepError::Io { path: path.display().to_string(), message: e.to_string() })?;
+        Ok(Self { sha256: sha256_hex(&bytes), record: loaded.record, warnings: loaded.warnings, spec })
+    }
+}
+
+/// Everything a sweep computes.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Cases (at least one: "base").
+    pub cases: Vec<Case>,
+    /// Records (each acts along the bridge axis, x).
+    pub records: Vec<SweepRecord>,
+    /// The config's transverse record (`[record_y]`), applied in every job.
+    pub record_y: Option<SweepRecord>,
+    /// Damping ratios [-].
+    pub damping: Vec<f64>,
+    /// Bridge periods [s].
+    pub periods: Vec<f64>,
+    /// Indices into `periods` whose histories are stored.
+    pub history_periods: Vec<usize>,
+    /// Seconds between HDF5 checkpoints.
+    pub checkpoint_seconds: f64,
+    /// The config file's text.
+    pub config_text: String,
+    /// SHA-256 of the parsed config (independent of comments and layout).
+    pub config_sha256: String,
+}
+
+/// A job: one coupled run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Job {
+    /// Case index.
+    pub case: usize,
+    /// Record index.
+    pub record: usize,
+    /// Damping index.
+    pub damping: usize,
+    /// Period index.
+    pub period: usize,
+}
+
+fn sweep_err(field: &str, message: impl Into<String>) -> SweepError {
+    SweepError::Config { field: field.to_string(), message: message.into() }
+}
+
+fn f64_of(v: &toml::Value, field: &str) -> Result<f64, SweepError> {
+    match v {
+        toml::Value::Float(x) => Ok(*x),
+        toml::Value::Integer(i) => Ok(*i as f64),
+        other => Err(sweep_err(field, format!("expected a number, found {other}"))),
+    }
+}
+
+fn list_of_f64(v: &toml::Value, field: &str) -> Result<Vec<f64>, SweepError> {
+    match v {
+        toml::Value::Array(items) => items.iter().map(|x| f64_of(x, field)).collect(),
+        other => Ok(vec![f64_of(other, field)?]),
+    }
+}
+
+fn periods_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
+    let field = "sweep.periods";
+    let periods = match v {
+        toml::Value::Table(t) => {
+            for key in t.keys() {
+                if !["from", "to", "count", "spacing"].contains(&key.as_str()) {
+                    return Err(sweep_err(
+                        &format!("{field}.{key}"),
+                        "unknown key (expected from, to, count, spacing)",
+                    ));
+                }
+            }
+            let get = |k: &str| t.get(k).ok_or_else(|| sweep_err(&format!("{field}.{k}"), "missing"));
+            let from = f64_of(get("from")?, &format!("{field}.from"))?;
+            let to = f64_of(get("to")?, &format!("{field}.to"))?;
+            let count = match get("count")? {
+                toml::Value::Integer(n) if *n >= 1 => *n as usize,
+                other => {
+                    return Err(sweep_err(&format!("{field}.count"), format!("{other}: must be a whole number >= 1")))
+                }
+            };
+            let log = match t.get("spacing").map(|s| s.as_str()) {
+                None | Some(Some("log")) => true,
+                Some(Some("linear")) => false,
+                Some(other) => {
+                    return Err(sweep_err(
+                        &format!("{field}.spacing"),
+                        format!("{other:?}: expected \"log\" or \"linear\""),
+                    ))
+                }
+            };
+            period_range(from, to, count, log).map_err(|e| sweep_err(field, e.to_string()))?
+        }
+        other => list_of_f64(other, field)?,
+    };
+    if periods.is_empty() {
+        return Err(sweep_err(field, "no periods"));
+    }
+    for (i, &t) in periods.iter().enumerate() {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(sweep_err(&format!("{field}[{i}]"), format!("{t}: a period must be positive")));
+        }
+    }
+    Ok(periods)
+}
+
+/// Recursively merges `over` into `base` (tables merge, other values replace).
+fn merge(base: &mut toml::Table, over: &toml::Table) {
+    for (k, v) in over {
+        match (base.get_mut(k), v) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge(b, o),
+            _ => {
+                base.insert(k.clone(), v.clone());
+            }
+        }
+    }
+}
+
+/// SHA-256 of some bytes as hex.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+impl Plan {
+    /// Reads the sweep of a config file (`source` names it in messages;
+    /// record paths are resolved against `base_dir`).
+    pub fn new(config_text: &str, source: &str, base_dir: &Path) -> Result<Self, SweepError> {
+        let base_config = Config::from_toml(config_text, source)?;
+        let mut table: toml::Table = toml::from_str(config_text)
+            .map_err(|e| SweepError::from(ModelError::Parse { file: source.into(), message: e.to_string() }))?;
+        let sweep = match table.remove("sweep") {
+            Some(toml::Value::Table(t)) => t,
+            Some(_) => return Err(sweep_err("sweep", "must be a table")),
+            None => return Err(sweep_err("sweep", format!("{source} has no [sweep] table"))),
+        };
+        for key in sweep.keys() {
+            if !["periods", "damping", "records", "cases", "histories", "checkpoint_seconds"].contains(&key.as_str()) {
+                return Err(sweep_err(
+                    &format!("sweep.{key}"),
+                    "unknown key (expected periods, damping, records, cases, histories, checkpoint_seconds)",
+                ));
+            }
+        }
+        let periods = periods_of(sweep.get("periods").ok_or_else(|| sweep_err("sweep.periods", "missing"))?)?;
+        let damping = match sweep.get("damping") {
+            Some(v) => list_of_f64(v, "sweep.damping")?,
+            None => vec![base_config.bridge.damping],
+        };
+        if damping.is_empty() {
+            return Err(sweep_err("sweep.damping", "no damping ratio"));
+        }
+        for (i, &z) in damping.iter().enumerate() {
+            if !(z.is_finite() && (0.0..1.0).contains(&z)) {
+                return Err(sweep_err(&format!("sweep.damping[{i}]"), format!("{z}: must be at least 0 and below 1")));
+            }
+        }
+        // each requested period picks the nearest swept one (within 5 %)
+        let history_periods = match sweep.get("histories") {
+            Some(v) => {
+                let mut idx = Vec::new();
+                for t in list_of_f64(v, "sweep.histories")? {
+                    let (i, p) = periods
+                        .iter()
+                        .enumerate()
+                        .min_by(|a, b| (a.1 - t).abs().total_cmp(&(b.1 - t).abs()))
+                        .expect("periods not empty");
+                    // NaN fails the comparison and is refused too
+                    if (p - t).abs().partial_cmp(&(0.05 * t.abs())) != Some(std::cmp::Ordering::Less) {
+                        return Err(sweep_err(
+                            "sweep.histories",
+                            format!("{t} s: no swept period within 5 % (nearest {p} s)"),
+                        ));
+                    }
+                    if !idx.contains(&i) {
+                        idx.push(i);
+                    }
+                }
+                idx
+            }
+            None => Vec::new(),
+        };
+        let checkpoint_seconds = match sweep.get("checkpoint_seconds") {
+            Some(v) => f64_of(v, "sweep.checkpoint_seconds")?,
+            None => 60.0,
+        };
+        if !(checkpoint_seconds.is_finite() && checkpoint_seconds > 0.0) {
+            return Err(sweep_err("sweep.checkpoint_seconds", format!("{checkpoint_seconds}: must be positive")));
+        }
+        // records
+        let specs: Vec<RecordSpec> = match sweep.get("records") {
+            Some(toml::Value::Array(items)) => items
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    v.clone()
+                        .try_into()
+                        .map_err(|e: toml::de::Error| sweep_err(&format!("sweep.records[{i}]"), e.to_string()))
+                })
+                .collect::<Result<_, _>>()?,
+            Some(_) => return Err(sweep_err("sweep.records", "must be a list of tables")),
+            None => vec![base_config.record_x()?.clone()],
+        };
+        if specs.is_empty() {
+            return Err(sweep_err("sweep.records", "the list of records is empty"));
+        }
+        let records = specs.into_iter().map(|s| SweepRecord::load(s, base_dir)).collect::<Result<Vec<_>, _>>()?;
+        let record_y = base_config.record_y.clone().map(|s| SweepRecord::load(s, base_dir)).transpose()?;
+        for (i, r) in records.iter().enumerate() {
+            if records[..i].iter().any(|o| o.record.name == r.record.name) {
+                return Err(sweep_err(
+                    "sweep.records",
+                    format!("two records are named {:?}; give one a `name`", r.record.name),
+                ));
+            }
+        }
+        // cases
+        let case_tables: Vec<toml::Table> = match sweep.get("cases") {
+            Some(toml::Value::Array(items)) => items
+                .iter()
+                .enumerate()
+                .map(|(i, v)| match v {
+                    toml::Value::Table(t) => Ok(t.clone()),
+                    _ => Err(sweep_err(&format!("sweep.cases[{i}]"), "must be a table")),
+                })
+                .collect::<Result<_, _>>()?,
+            Some(_) => return Err(sweep_err("sweep.cases", "must be a list of tables ([[sweep.cases]])")),
+            None => Vec::new(),
+        };
+        let mut cases = Vec::new();
+        if case_tables.is_empty() {
+            cases.push(Case { name: "base".to_string(), bodies: bodies_of(&base_config), config: base_config.clone() });
+        }
+        for (i, mut ct) in case_tables.into_iter().enumerate() {
+            let key = format!("sweep.cases[{i}]");
+            let name = match ct.remove("name") {
+                Some(toml::Value::String(s)) if !s.trim().is_empty() => s,
+                _ => return Err(sweep_err(&format!("{key}.name"), "every case needs a non-empty name")),
+            };
+            if cases.iter().any(|c: &Case| c.name == name) {
+                return Err(sweep_err(&format!("{key}.name"), format!("{name:?} is used twice")));
+            }
+            for k in ct.keys() {
+                if !["joint", "bridge", "simulation"].contains(&k.as_str()) {
+                    return Err(sweep_err(
+                        &format!("{key}.{k}"),
+                        format!("case {name:?}: a case may change joint, bridge and simulation parameters only"),
+                    ));
+                }
+            }
+            if let Some(toml::Value::Table(b)) = ct.get("bridge") {
+                for swept in ["w0", "period", "damping"] {
+                    if b.contains_key(swept) {
+                        return Err(sweep_err(
+                            &format!("{key}.bridge.{swept}"),
+                            format!("case {name:?}: the bridge period and damping are swept, not set per case"),
+                        ));
+                    }
+                }
+            }
+            let mut merged = table.clone();
+            merge(&mut merged, &ct);
+            let config: Config = toml::Value::Table(merged)
+                .try_into()
+                .map_err(|e: toml::de::Error| sweep_err(&key, format!("case {name:?}: {}", e.message())))?;
+            config.validate().map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
+            cases.push(Case { name, bodies: bodies_of(&config), config });
+        }
+        let canonical = toml::to_string(&table).unwrap_or_default() + &toml::to_string(&sweep).unwrap_or_default();
+        Ok(Self {
+            cases,
+            records,
+            record_y,
+            damping,
+            periods,
+            history_periods,
+            checkpoint_seconds,
+            config_text: config_text.to_string(),
+            config_sha256: sha256_hex(canonical.as_bytes()),
+        })
+    }
+
+    /// Array dimensions (cases, records, dampings, periods).
+    pub fn dims(&self) -> [usize; 4] {
+        [self.cases.len(), self.records.len(), self.damping.len(), self.periods.len()]
+    }
+
+    /// Number of coupled runs.
+    pub fn job_count(&self) -> usize {
+        self.dims().iter().product()
+    }
+
+    /// Flat index of a job (case-major, then record, damping, period).
+    pub fn index(&self, job: Job) -> usize {
+        let [_, nr, nz, nt] = self.dims();
+        ((job.case * nr + job.record) * nz + job.damping) * nt + job.period
+    }
+
+    /// The job of a flat index.
+    pub fn job(&self, index: usize) -> Job {
+        let [_, nr, nz, nt] = self.dims();
+        Job {
+            case: index / (nr * nz * nt),
+            record: index / (nz * nt) % nr,
+            damping: index / nt % nz,
+            period: index % nt,
+        }
+    }
+
+    /// Relative cost estimate of a job: joint bodies times record duration
+    /// times a factor that grows for short periods (more steps).
+    pub fn cost(&self, job: Job) -> f64 {
+        let case = &self.cases[job.case];
+        let duration = case.config.simulation.duration.unwrap_or(self.records[job.record].record.duration());
+        (case.bodies.max(1) as f64) * duration * (1.0 + 0.5 / self.periods[job.period])
+    }
+
+    /// The jobs of shard `k` of `n` (1-based `k`): jobs sorted by decreasing
+    /// cost are dealt to the currently lightest shard (longest processing
+    /// time first), which balances cost and depends only on the plan.
+    pub fn shard(&self, k: usize, n: usize) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.job_count()).collect();
+        order.sort_by(|&a, &b| self.cost(self.job(b)).total_cmp(&self.cost(self.job(a))).then(a.cmp(&b)));
+        let mut load = vec![0.0f64; n];
+        let mut mine = Vec::new();
+        for i in order {
+            let s = (0..n).min_by(|&x, &y| load[x].total_cmp(&load[y]).then(x.cmp(&y))).unwrap_or(0);
+            load[s] += self.cost(self.job(i));
+            if s + 1 == k {
+                mine.push(i);
+            }
+        }
+        mine.sort_unstable();
+        mine
+    }
+}
+
+fn bodies_of(config: &Config) -> usize {
+    let j = &config.joint;
+    if j.enabled {
+        let (nc, ns) = (j.center_beams, j.support_beams.len());
+        nc + ns + nc * ns
+    } else {
+        0
+    }
+}

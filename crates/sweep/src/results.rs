@@ -1,0 +1,157 @@
+//! Results of a sweep: one record per job and the arrays they fill.
+
+use serde::{Deserialize, Serialize};
+
+/// Per-job values stored in `/spectrum/with_joint/<name>`, in this order.
+pub const FIELDS: [&str; 24] = [
+    "sa",
+    "psa",
+    "sd",
+    "sv",
+    "t_sa",
+    "t_sd",
+    "t_sv",
+    "peak_joint_force",
+    "peak_bushing_force",
+    "peak_friction_force",
+    "friction_energy",
+    "damping_energy",
+    "earthquake_work",
+    "min_subgap",
+    "max_subgap",
+    "max_subgap_deviation",
+    "energy_error",
+    "max_constraint_residual",
+    "steps",
+    "rejected_steps",
+    "failed_attempts",
+    "newton_iterations",
+    "factorizations",
+    "wall_time_s",
+];
+
+/// Units of [`FIELDS`].
+pub const UNITS: [&str; 24] = [
+    "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "-", "m", "-", "-", "-",
+    "-", "-", "s",
+];
+
+/// Fields that depend on the machine, not on the inputs (left out of
+/// determinism comparisons).
+pub const MACHINE_DEPENDENT: [&str; 1] = ["wall_time_s"];
+
+/// Job status codes in `/spectrum/with_joint/status`.
+pub mod status {
+    /// Finished.
+    pub const OK: i32 = 0;
+    /// The simulation failed (the message says why).
+    pub const FAILED: i32 = 1;
+    /// The job's parameters are invalid (a case that cannot be built).
+    pub const INVALID: i32 = 2;
+    /// Stopped by the per-job wall-clock or step limit.
+    pub const LIMIT: i32 = 3;
+    /// Not run (another shard's job, or not reached yet).
+    pub const NOT_RUN: i32 = -1;
+}
+
+/// Time histories of one job (periods listed in `sweep.histories`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobHistory {
+    /// Time [s].
+    pub t: Vec<f64>,
+    /// Ground acceleration [m/s^2].
+    pub ag: Vec<f64>,
+    /// Deck displacement [m].
+    pub u: Vec<f64>,
+    /// Deck absolute acceleration with the joint [m/s^2].
+    pub a_abs: Vec<f64>,
+    /// Deck absolute acceleration without the joint (exact) [m/s^2].
+    pub a_abs_without_joint: Vec<f64>,
+    /// Force of the joint on the deck [N].
+    pub joint_force: Vec<f64>,
+    /// Friction power [W].
+    pub friction_power: Vec<f64>,
+}
+
+/// The outcome of one job, as journalled.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobResult {
+    /// Flat job index.
+    pub job: u32,
+    /// Status code ([`status`]).
+    pub status: i32,
+    /// Why it failed (empty when it did not).
+    pub message: String,
+    /// Values in [`FIELDS`] order (NaN when failed).
+    pub values: Vec<f64>,
+    /// Histories, if requested for this period.
+    pub history: Option<JobHistory>,
+}
+
+/// The arrays of a sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Results {
+    /// (cases, records, dampings, periods).
+    pub dims: [usize; 4],
+    /// `values[field][job]`.
+    pub values: Vec<Vec<f64>>,
+    /// Status of each job.
+    pub status: Vec<i32>,
+    /// Message of each job.
+    pub messages: Vec<String>,
+    /// Histories by job.
+    pub histories: std::collections::BTreeMap<u32, JobHistory>,
+    /// Without the joint: `[sa, psa, sd, sv][(record, damping, period)]`.
+    pub without: [Vec<f64>; 4],
+}
+
+impl Results {
+    /// Empty arrays (every job not run).
+    pub fn new(dims: [usize; 4]) -> Self {
+        let n: usize = dims.iter().product();
+        let m = dims[1] * dims[2] * dims[3];
+        Self {
+            dims,
+            values: vec![vec![f64::NAN; n]; FIELDS.len()],
+            status: vec![status::NOT_RUN; n],
+            messages: vec![String::new(); n],
+            histories: Default::default(),
+            without: [vec![f64::NAN; m], vec![f64::NAN; m], vec![f64::NAN; m], vec![f64::NAN; m]],
+        }
+    }
+
+    /// Stores one job's outcome.
+    pub fn insert(&mut self, r: JobResult) {
+        let j = r.job as usize;
+        for (f, v) in self.values.iter_mut().zip(&r.values) {
+            f[j] = *v;
+        }
+        self.status[j] = r.status;
+        self.messages[j] = r.message;
+        if let Some(h) = r.history {
+            self.histories.insert(r.job, h);
+        }
+    }
+
+    /// Jobs finished (any status but not run).
+    pub fn finished(&self) -> usize {
+        self.status.iter().filter(|&&s| s != status::NOT_RUN).count()
+    }
+
+    /// Jobs that failed.
+    pub fn failed(&self) -> usize {
+        self.status.iter().filter(|&&s| s != status::NOT_RUN && s != status::OK).count()
+    }
+
+    /// Index of a field in [`FIELDS`].
+    pub fn field(name: &str) -> usize {
+        FIELDS.iter().position(|&f| f == name).expect("known field")
+    }
+
+    /// `1 - sa_with / sa_without` for every job.
+    pub fn reduction(&self) -> Vec<f64> {
+        let sa = &self.values[Self::field("sa")];
+        let m = self.dims[1] * self.dims[2] * self.dims[3];
+        sa.iter().enumerate().map(|(j, &s)| 1.0 - s / self.without[0][j % m]).collect()
+    }
+}
