@@ -52,6 +52,8 @@ pub struct BlockSymbolic {
     cols: Vec<u32>,
     /// Offset of each sub-block in the value array.
     offs: Vec<u32>,
+    /// Offset of each diagonal block.
+    diag: Vec<u32>,
     /// Whether the sub-block is fill (absent from the original pattern).
     fill: Vec<bool>,
     /// Number of stored values.
@@ -160,6 +162,7 @@ impl BlockSymbolic {
             row_ptr,
             cols,
             offs,
+            diag: Vec::new(),
             fill,
             nnz: nnz as usize,
             later_ptr: vec![0],
@@ -170,6 +173,7 @@ impl BlockSymbolic {
             update_off: Vec::new(),
             flops: 0,
         };
+        sym.diag = (0..nb).map(|k| sym.block_offset(k, k).expect("diagonal")).collect();
         for (k, l) in later_p.iter().enumerate() {
             let nk = sym.sizes[k] as u64;
             sym.flops += nk * nk * nk;
@@ -289,36 +293,42 @@ impl<T: Scalar> BlockLu<T> {
     }
 
     /// Factorises in place. `describe` names a position in error messages.
+    ///
+    /// Each diagonal block is factorised with partial pivoting (which decides
+    /// whether it is singular) and then replaced by its inverse, so that
+    /// `X_kj = D_kk^-1 A_kj` and the solves are small matrix products.
     pub fn factor(&mut self, sym: &BlockSymbolic, describe: &dyn Fn(usize) -> String) -> Result<(), LinalgError> {
         let values = &mut self.values;
+        let mut lu = [T::ZERO; MAX_BLOCK * MAX_BLOCK];
+        let mut piv = [0u8; MAX_BLOCK];
+        let mut tmp = [T::ZERO; MAX_BLOCK * MAX_BLOCK];
         for k in 0..sym.sizes.len() {
             let nk = sym.sizes[k] as usize;
-            let dk = sym.block_offset(k, k).expect("diagonal") as usize;
-            let pk = sym.starts[k] as usize;
-            {
-                let d = &mut values[dk..dk + nk * nk];
-                dense_lu(d, nk, &mut self.piv[pk..pk + nk]).map_err(|(pivot, scale)| LinalgError::Singular {
-                    location: describe(k),
-                    pivot,
-                    scale,
-                })?;
-            }
+            let dk = sym.diag[k] as usize;
+            lu[..nk * nk].copy_from_slice(&values[dk..dk + nk * nk]);
+            dense_lu(&mut lu[..nk * nk], nk, &mut piv[..nk]).map_err(|(pivot, scale)| LinalgError::Singular {
+                location: describe(k),
+                pivot,
+                scale,
+            })?;
+            let dinv = &mut values[dk..dk + nk * nk];
+            dense_inverse(&lu[..nk * nk], nk, &piv[..nk], dinv);
             let (l0, l1) = (sym.later_ptr[k] as usize, sym.later_ptr[k + 1] as usize);
             if l0 == l1 {
                 continue;
             }
-            // X_kj = D_kk^{-1} A_kj, stored in place of A_kj; copy rows and columns.
-            self.scratch_col.clear();
-            self.scratch_row.clear();
             let mut dcopy = [T::ZERO; MAX_BLOCK * MAX_BLOCK];
             dcopy[..nk * nk].copy_from_slice(&values[dk..dk + nk * nk]);
-            let piv = &self.piv[pk..pk + nk];
+            // X_kj = D_kk^-1 A_kj in place of A_kj; keep copies of row and column k
+            self.scratch_col.clear();
+            self.scratch_row.clear();
             for t in l0..l1 {
                 let j = sym.later_pos[t] as usize;
                 let nj = sym.sizes[j] as usize;
                 let okj = sym.off_kj[t] as usize;
                 let x = &mut values[okj..okj + nk * nj];
-                dense_solve_cols(&dcopy[..nk * nk], nk, piv, x, nj);
+                tmp[..nk * nj].copy_from_slice(x);
+                gemm_set(x, &dcopy[..nk * nk], &tmp[..nk * nj], nk, nk, nj);
                 self.scratch_row.extend_from_slice(x);
                 let ojk = sym.off_jk[t] as usize;
                 self.scratch_col.extend_from_slice(&values[ojk..ojk + nj * nk]);
@@ -351,10 +361,16 @@ impl<T: Scalar> BlockLu<T> {
         for k in 0..nb {
             let nk = sym.sizes[k] as usize;
             let pk = sym.starts[k] as usize;
-            let dk = sym.block_offset(k, k).expect("diagonal") as usize;
+            let dk = sym.diag[k] as usize;
             let mut y = [T::ZERO; MAX_BLOCK];
-            y[..nk].copy_from_slice(&b[pk..pk + nk]);
-            dense_solve_cols(&values[dk..dk + nk * nk], nk, &self.piv[pk..pk + nk], &mut y[..nk], 1);
+            let d = &values[dk..dk + nk * nk];
+            for r in 0..nk {
+                let mut s = T::ZERO;
+                for (c, &bc) in b[pk..pk + nk].iter().enumerate() {
+                    s += d[r * nk + c] * bc;
+                }
+                y[r] = s;
+            }
             b[pk..pk + nk].copy_from_slice(&y[..nk]);
             for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
                 let i = sym.later_pos[t] as usize;
@@ -362,10 +378,10 @@ impl<T: Scalar> BlockLu<T> {
                 let pi = sym.starts[i] as usize;
                 let o = sym.off_jk[t] as usize;
                 let a = &values[o..o + ni * nk];
-                for r in 0..ni {
+                for (r, row) in a.chunks_exact(nk).enumerate() {
                     let mut s = T::ZERO;
-                    for c in 0..nk {
-                        s += a[r * nk + c] * y[c];
+                    for (&arc, &yc) in row.iter().zip(&y[..nk]) {
+                        s += arc * yc;
                     }
                     b[pi + r] -= s;
                 }
@@ -380,12 +396,17 @@ impl<T: Scalar> BlockLu<T> {
                 let pj = sym.starts[j] as usize;
                 let o = sym.off_kj[t] as usize;
                 let x = &values[o..o + nk * nj];
-                for r in 0..nk {
+                let bj = &b[pj..pj + nj];
+                let mut acc = [T::ZERO; MAX_BLOCK];
+                for (r, row) in x.chunks_exact(nj).enumerate() {
                     let mut s = T::ZERO;
-                    for c in 0..nj {
-                        s += x[r * nj + c] * b[pj + c];
+                    for (&xrc, &bc) in row.iter().zip(bj) {
+                        s += xrc * bc;
                     }
-                    b[pk + r] -= s;
+                    acc[r] = s;
+                }
+                for r in 0..nk {
+                    b[pk + r] -= acc[r];
                 }
             }
         }
@@ -432,39 +453,53 @@ fn dense_lu<T: Scalar>(a: &mut [T], n: usize, piv: &mut [u8]) -> Result<(), (f64
     Ok(())
 }
 
-/// Solves `LU X = P B` in place for a row-major `n x m` right-hand side.
-fn dense_solve_cols<T: Scalar>(lu: &[T], n: usize, piv: &[u8], x: &mut [T], m: usize) {
+/// The inverse of `P^T L U` (row-major `n x n` LU with pivots) into `inv`.
+fn dense_inverse<T: Scalar>(lu: &[T], n: usize, piv: &[u8], inv: &mut [T]) {
+    // solve LU X = P I column by column: start from the permuted identity
+    inv.iter_mut().for_each(|x| *x = T::ZERO);
+    let mut perm = [0usize; MAX_BLOCK];
+    for (i, p) in perm.iter_mut().enumerate().take(n) {
+        *p = i;
+    }
     for k in 0..n {
-        let p = piv[k] as usize;
-        if p != k {
-            for c in 0..m {
-                x.swap(k * m + c, p * m + c);
-            }
-        }
+        perm.swap(k, piv[k] as usize);
+    }
+    for (r, &p) in perm.iter().enumerate().take(n) {
+        inv[r * n + p] = T::ONE;
     }
     for k in 0..n {
         for r in k + 1..n {
             let f = lu[r * n + k];
-            if f != T::ZERO {
-                for c in 0..m {
-                    let v = x[k * m + c];
-                    x[r * m + c] -= f * v;
-                }
+            for c in 0..n {
+                let v = inv[k * n + c];
+                inv[r * n + c] -= f * v;
             }
         }
     }
     for k in (0..n).rev() {
-        let inv = T::ONE / lu[k * n + k];
-        for c in 0..m {
-            x[k * m + c] *= inv;
+        let d = T::ONE / lu[k * n + k];
+        for c in 0..n {
+            inv[k * n + c] *= d;
         }
         for r in 0..k {
             let f = lu[r * n + k];
-            if f != T::ZERO {
-                for c in 0..m {
-                    let v = x[k * m + c];
-                    x[r * m + c] -= f * v;
-                }
+            for c in 0..n {
+                let v = inv[k * n + c];
+                inv[r * n + c] -= f * v;
+            }
+        }
+    }
+}
+
+/// `c = a b` for row-major `a (n x k)`, `b (k x m)`, `c (n x m)`.
+#[inline]
+fn gemm_set<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usize) {
+    c.iter_mut().for_each(|x| *x = T::ZERO);
+    for r in 0..n {
+        let cr = &mut c[r * m..r * m + m];
+        for (p, &arp) in a[r * k..r * k + k].iter().enumerate() {
+            for (cv, &bv) in cr.iter_mut().zip(&b[p * m..p * m + m]) {
+                *cv += arp * bv;
             }
         }
     }
@@ -477,6 +512,7 @@ fn gemm_sub<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usi
         let ar = &a[r * k..r * k + k];
         let cr = &mut c[r * m..r * m + m];
         for (p, &arp) in ar.iter().enumerate() {
+            // constraint blocks carry many structural zeros
             if arp == T::ZERO {
                 continue;
             }
