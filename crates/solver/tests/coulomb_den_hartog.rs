@@ -103,3 +103,57 @@ fn amplitude_drops_by_two_friction_displacements_per_half_cycle() {
         assert!((friction_work - lost).abs() / lost < 1e-3, "friction work {friction_work} vs {lost}");
     }
 }
+
+/// The same oscillator, but the mass is a free body held on the x axis by a
+/// prismatic joint, so its friction is solved locally at every Newton
+/// iteration ([`IntegratorOptions::local_friction`]); with and without the
+/// local solve the turning points must follow Den Hartog, and the local
+/// solve must not need a single failed Newton attempt.
+#[test]
+fn prismatic_slider_with_local_friction_solve_follows_den_hartog() {
+    let (m, k, f, x0, v_eps) = (1.0, 100.0, 1.0, 0.105, 1e-3);
+    let mut sys = System::new();
+    let body = sys.add_body(Body::new("slider", m, 0.01, [x0, 0.0, 0.0]));
+    sys.add_constraint(Constraint::Prismatic(Prismatic {
+        slider: body,
+        point: [0.0, 0.0],
+        base: BodyId::GROUND,
+        axis_point: [0.0, 0.0],
+        axis_direction: [1.0, 0.0],
+    }));
+    sys.add_force(ForceElement::CoordinateSpring(CoordinateSpring {
+        body,
+        coord: Coord::X,
+        stiffness: k,
+        damping: 0.0,
+        rest: 0.0,
+    }));
+    sys.add_force(ForceElement::Friction(Friction {
+        slider: body,
+        point: [0.0, 0.0],
+        base: BodyId::GROUND,
+        mu: 1.0,
+        normal_force: f,
+        surfaces: 1.0,
+        v_eps,
+        law: FrictionLaw::Linear,
+    }));
+    let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
+    let x = asm.coordinate(body, Coord::X).unwrap();
+    let expected = den_hartog(x0, f / k);
+    let mut failed = Vec::new();
+    for local_friction in [true, false] {
+        let opts = IntegratorOptions { local_friction, ..IntegratorOptions::default().scaled_tolerances(1e-2) };
+        let mut sim = Radau5::new(asm.clone(), opts).unwrap();
+        let mut obs = TurningPoints { x, last_v: -1.0, extremes: Vec::new() };
+        sim.run(1.6, &mut obs).unwrap();
+        assert!(obs.extremes.len() >= 5, "turning points {:?}", obs.extremes);
+        let worst = expected.iter().zip(&obs.extremes).map(|(e, got)| (got.1 - e).abs()).fold(0.0, f64::max);
+        let allowed = 2.0 * v_eps * v_eps / (k * 0.025 - f) * m + 1e-6 * v_eps.sqrt();
+        assert!(worst < allowed, "local {local_friction}: error {worst:e} > {allowed:e}; got {:?}", obs.extremes);
+        assert!(sim.energy().relative_error() < 1e-5, "energy balance {:e}", sim.energy().relative_error());
+        eprintln!("local friction solve {local_friction}: worst turning-point error {worst:.2e} m, {:?}", sim.stats());
+        failed.push(sim.stats().failed_attempts);
+    }
+    assert_eq!(failed[0], 0, "failed Newton attempts with the local solve (without: {})", failed[1]);
+}

@@ -116,6 +116,26 @@ fn step_and_wall_clock_limits_are_typed_errors() {
 }
 
 #[test]
+fn out_of_range_integrator_options_are_named() {
+    let (sys, _) = pendulum(1.0, 1.0, 9.81, 1.0);
+    let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
+    let cases: [(IntegratorOptions, &str); 6] = [
+        (IntegratorOptions { rtol: -1e-6, ..Default::default() }, "rtol"),
+        (IntegratorOptions { rtol: 1.5, ..Default::default() }, "rtol"),
+        (IntegratorOptions { atol_velocity: f64::NAN, ..Default::default() }, "atol_velocity"),
+        (IntegratorOptions { h_max: 0.0, ..Default::default() }, "h_max"),
+        (IntegratorOptions { newton_tolerance: Some(2.0), ..Default::default() }, "newton_tolerance"),
+        (IntegratorOptions { max_newton: 1, ..Default::default() }, "max_newton"),
+    ];
+    for (opts, name) in cases {
+        match Radau5::new(asm.clone(), opts) {
+            Err(SolverError::Build(BuildError::InvalidParameter { name: got, .. })) => assert_eq!(got, name),
+            other => panic!("{name}: expected InvalidParameter, got {:?}", other.err()),
+        }
+    }
+}
+
+#[test]
 fn inconsistent_initial_positions_and_bad_parameters_are_named() {
     let (mut sys, b) = pinned_body();
     sys.body_mut(b).pose = [1.1, 0.0, 0.0];

@@ -4,7 +4,7 @@ use std::collections::BTreeSet;
 
 use super::constraints::{AngleK, DriverK, LineK, PointK};
 use super::forces::{BushingK, CoordSpringK, CustomK, FrictionK, LoadK, SpringK};
-use super::kin::V2;
+use super::kin::{Rot, V2};
 use super::layout::{EquationSpec, Layout, NONE};
 use super::{Assembly, BodyStatic, GEntry, PairMap, PrimMap, PrimRef};
 use crate::error::BuildError;
@@ -174,8 +174,9 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
     let n = layout.n as u32;
     let sink = layout.sink();
 
-    let body_static: Vec<BodyStatic> =
-        (0..nb).map(|b| BodyStatic { coord: layout.body_coord[b], pose0: bodies[b].pose }).collect();
+    let body_static: Vec<BodyStatic> = (0..nb)
+        .map(|b| BodyStatic { coord: layout.body_coord[b], pose0: bodies[b].pose, rot0: Rot::new(bodies[b].pose[2]) })
+        .collect();
     let slots_of = |a: u32, b: u32| -> [u32; 6] {
         let mut f = [n; 6];
         for s in 0..3 {

@@ -156,8 +156,42 @@ struct FrictionEval {
 }
 
 impl FrictionK {
+    /// phi(v) of the regularised law (the force is `-force phi`).
+    #[inline]
+    pub(crate) fn phi(&self, v: V2) -> V2 {
+        let speed = v.norm();
+        match self.law {
+            FrictionLaw::Linear => v.scale(1.0 / speed.max(self.v_eps)),
+            FrictionLaw::Smooth => v.scale(1.0 / (speed * speed + self.v_eps * self.v_eps).sqrt()),
+        }
+    }
+
+    /// For a relative velocity with components `a` along a unit direction
+    /// and `b` across it: the component of `phi` along the direction and
+    /// its derivative with respect to `a`.
+    #[inline]
+    pub(crate) fn law_along(&self, a: f64, b: f64) -> (f64, f64) {
+        let speed2 = a * a + b * b;
+        match self.law {
+            FrictionLaw::Linear => {
+                let speed = speed2.sqrt();
+                if speed < self.v_eps {
+                    (a / self.v_eps, 1.0 / self.v_eps)
+                } else {
+                    let s = 1.0 / speed;
+                    (a * s, b * b * s * s * s)
+                }
+            }
+            FrictionLaw::Smooth => {
+                let e2 = self.v_eps * self.v_eps;
+                let s = 1.0 / (speed2 + e2).sqrt();
+                (a * s, (b * b + e2) * s * s * s)
+            }
+        }
+    }
+
     /// phi(v) and d phi / dv for the regularised law.
-    fn law(&self, v: V2) -> (V2, [[f64; 2]; 2]) {
+    pub(crate) fn law(&self, v: V2) -> (V2, [[f64; 2]; 2]) {
         let speed = v.norm();
         match self.law {
             FrictionLaw::Linear if speed < self.v_eps => {
@@ -178,24 +212,42 @@ impl FrictionK {
         }
     }
 
-    fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> (FrictionEval, [[f64; 2]; 2]) {
+    /// Contact point, relative velocity and force, without the law's slope.
+    #[inline]
+    fn kinematics(&self, ka: &BodyKin, kb: &BodyKin) -> (V2, V2, V2) {
         let rho = ka.rot.apply(self.pa);
         let e = ka.r + rho - kb.r;
         let v = (ka.v + ka.w * rho.perp()) - (kb.v + kb.w * e.perp());
+        (rho, e, v)
+    }
+
+    fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> (FrictionEval, [[f64; 2]; 2]) {
+        let (rho, e, v) = self.kinematics(ka, kb);
         let (phi, dphi) = self.law(v);
         (FrictionEval { rho, e, v, f: -(self.force * phi) }, dphi)
     }
 
     pub fn force(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
-        let (e, _) = self.eval(ka, kb);
+        let (rho, e, v) = self.kinematics(ka, kb);
+        let e = FrictionEval { rho, e, v, f: -(self.force * self.phi(v)) };
         let mut q = [0.0; 6];
         put(&mut q, 0, point_force(e.f, e.rho));
         put(&mut q, 3, point_force(-e.f, e.e));
         q
     }
 
-    pub fn jacobian(&self, ka: &BodyKin, kb: &BodyKin, km: &mut Mat6, dm: &mut Mat6) {
+    /// Relative sliding velocity (slider contact point minus base).
+    pub(crate) fn rel_velocity(&self, ka: &BodyKin, kb: &BodyKin) -> V2 {
+        self.kinematics(ka, kb).2
+    }
+
+    /// Derivatives of the friction force. With `zone_slope`, `d phi / dv` is
+    /// replaced by the slope of the law inside its regularisation zone,
+    /// `I / v_eps`, whatever the state (the iteration matrix of the
+    /// integrator; see [`crate::integrator::radau5`]).
+    pub fn jacobian(&self, ka: &BodyKin, kb: &BodyKin, km: &mut Mat6, dm: &mut Mat6, zone_slope: bool) {
         let (e, dphi) = self.eval(ka, kb);
+        let dphi = if zone_slope { [[1.0 / self.v_eps, 0.0], [0.0, 1.0 / self.v_eps]] } else { dphi };
         let cf =
             [[self.force * dphi[0][0], self.force * dphi[0][1]], [self.force * dphi[1][0], self.force * dphi[1][1]]];
         let ex = V2::new(1.0, 0.0);
@@ -436,6 +488,35 @@ impl CustomK {
                 for i in 0..6 {
                     out[i][j] -= (fp[i] - fm[i]) / (2.0 * h);
                 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The scalar law along a direction (the local friction solve) agrees
+    /// with the vector law: `t . phi(v)` and `t^T (d phi/dv) t`.
+    #[test]
+    fn law_along_a_direction_matches_the_vector_law() {
+        for law in [FrictionLaw::Linear, FrictionLaw::Smooth] {
+            let k = FrictionK { a: 1, b: 0, pa: V2::default(), force: 1.0, v_eps: 1e-3, law };
+            let t = V2::new(0.8, -0.6);
+            let n = t.perp();
+            for (a, b) in [(0.0, 0.0), (2e-4, 1e-5), (-5e-4, 3e-4), (0.3, 1e-4), (-0.02, -1e-3), (1e-3, 0.0)] {
+                let v = t.scale(a) + n.scale(b);
+                let (phi, dphi) = k.law(v);
+                let expect_slope =
+                    t.x * (dphi[0][0] * t.x + dphi[0][1] * t.y) + t.y * (dphi[1][0] * t.x + dphi[1][1] * t.y);
+                // across = v x t (only its square enters)
+                let (p, s) = k.law_along(v.dot(t), v.cross(t));
+                assert!((p - phi.dot(t)).abs() < 1e-12, "{law:?} {a} {b}: phi {p} vs {}", phi.dot(t));
+                assert!(
+                    (s - expect_slope).abs() <= 1e-9 * expect_slope.abs().max(1.0),
+                    "{law:?} {a} {b}: slope {s} vs {expect_slope}"
+                );
             }
         }
     }

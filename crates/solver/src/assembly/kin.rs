@@ -30,9 +30,11 @@ impl V2 {
     pub fn cross(self, o: V2) -> f64 {
         self.x * o.y - self.y * o.x
     }
+    /// Euclidean length (`sqrt`, not `hypot`: lengths and speeds here are
+    /// far from overflow, and `hypot` costs several times more).
     #[inline]
     pub fn norm(self) -> f64 {
-        self.x.hypot(self.y)
+        (self.x * self.x + self.y * self.y).sqrt()
     }
     #[inline]
     pub fn scale(self, s: f64) -> V2 {
@@ -81,7 +83,7 @@ pub(crate) struct Rot {
 
 impl Rot {
     pub fn new(phi: f64) -> Self {
-        let (s, c) = phi.sin_cos();
+        let (s, c) = sin_cos(phi);
         Self { c, s }
     }
     /// `A v`.
@@ -141,5 +143,68 @@ pub(crate) fn add_btcp(out: &mut Mat6, b: &[V2; 6], c: [[f64; 2]; 2], p: &[V2; 6
         for j in 0..6 {
             out[i][j] += b[i].dot(cp[j]);
         }
+    }
+}
+
+/// Taylor coefficients of `sin(x) / x` in `x^2` (`(-1)^k / (2k+1)!`).
+const SIN_COEFFS: [f64; 9] = [
+    1.0,
+    -0.16666666666666666,
+    0.008333333333333333,
+    -0.0001984126984126984,
+    2.7557319223985893e-06,
+    -2.505210838544172e-08,
+    1.6059043836821613e-10,
+    -7.647163731819816e-13,
+    2.8114572543455206e-15,
+];
+
+/// Taylor coefficients of `cos(x)` in `x^2` (`(-1)^k / (2k)!`).
+const COS_COEFFS: [f64; 10] = [
+    1.0,
+    -0.5,
+    0.041666666666666664,
+    -0.001388888888888889,
+    2.48015873015873e-05,
+    -2.755731922398589e-07,
+    2.08767569878681e-09,
+    -1.1470745597729725e-11,
+    4.779477332387385e-14,
+    -1.5619206968586225e-16,
+];
+
+/// `(sin x, cos x)`. The angles of a planar mechanism are mostly small, so
+/// for `|x| <= pi/4` the Taylor series are summed directly (truncation below
+/// 1e-19, a few ulp of rounding; several times cheaper than the C library's
+/// `sincos`, the largest single cost of loading the kinematics), and the
+/// library is used beyond.
+#[inline]
+pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
+    if x.abs() > std::f64::consts::FRAC_PI_4 {
+        return x.sin_cos();
+    }
+    let x2 = x * x;
+    let s = SIN_COEFFS.iter().rev().fold(0.0, |acc, &c| acc * x2 + c);
+    let c = COS_COEFFS.iter().rev().fold(0.0, |acc, &c| acc * x2 + c);
+    (x * s, c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sin_cos;
+
+    #[test]
+    fn series_sin_cos_agrees_with_the_library_to_a_few_ulp() {
+        let mut worst = 0.0f64;
+        let n = 200_000;
+        for i in 0..=n {
+            let x = -1.0 + 2.0 * i as f64 / n as f64; // beyond pi/4 on both sides
+            let (s, c) = sin_cos(x);
+            let (s0, c0) = x.sin_cos();
+            worst = worst.max((s - s0).abs()).max((c - c0).abs());
+        }
+        assert!(worst <= 4.0 * f64::EPSILON, "largest difference {worst:e}");
+        assert_eq!(sin_cos(0.0), (0.0, 1.0));
+        assert_eq!(sin_cos(2.0), 2.0f64.sin_cos());
     }
 }

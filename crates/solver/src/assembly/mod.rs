@@ -74,6 +74,36 @@ pub(crate) struct GEntry {
 pub(crate) struct BodyStatic {
     pub coord: [u32; 3],
     pub pose0: [f64; 3],
+    /// Rotation at `pose0[2]` (used while the angle is not a coordinate).
+    pub rot0: Rot,
+}
+
+/// A friction element whose slider runs on a line of its base, for the
+/// integrator's local solve ([`Assembly::line_sliders`]).
+#[derive(Debug, Clone)]
+pub(crate) struct SliderInfo {
+    /// Index of the friction element.
+    pub friction: u32,
+    /// Index of the line primitive.
+    line: u32,
+    /// The slider's x and y coordinates.
+    pub coords: [u32; 2],
+    /// Positions of the slider's x-y block (xx, xy, yx, yy) in the Jacobian arrays.
+    pub jac: [u32; 4],
+    /// `mu n F_N` [N].
+    pub force: f64,
+    /// Regularisation velocity [m/s].
+    pub v_eps: f64,
+    kernel: FrictionK,
+}
+
+impl SliderInfo {
+    /// The law's `phi` along a unit direction and its slope, for a relative
+    /// velocity with components `a` along the direction and `b` across it.
+    #[inline]
+    pub fn law_along(&self, a: f64, b: f64) -> (f64, f64) {
+        self.kernel.law_along(a, b)
+    }
 }
 
 /// Which primitive a user constraint consists of.
@@ -365,7 +395,8 @@ impl Assembly {
                 w[s] = v[c as usize];
             }
         }
-        ws.kin[b] = BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot: Rot::new(p[2]), v: V2::new(w[0], w[1]), w: w[2] };
+        let rot = if st.coord[2] == NONE { st.rot0 } else { Rot::new(p[2]) };
+        ws.kin[b] = BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot, v: V2::new(w[0], w[1]), w: w[2] };
     }
 
     fn prim_rows(&self, ws: &Workspace, t: f64, prim: PrimRef) -> (Rows, &PrimMap) {
@@ -396,6 +427,20 @@ impl Assembly {
         self.load_kin(ws, q, v);
         ws.f.iter_mut().for_each(|x| *x = 0.0);
         self.applied_forces(ws, t, v);
+        self.constraint_rows(ws, t, v, Some(lam));
+    }
+
+    /// Evaluates only `g(q, t)` and the velocity constraint `G(q) q' + g_t(t)`
+    /// ([`Workspace::constraints`], [`Workspace::velocity_constraints`]);
+    /// [`Workspace::forces`] is left as it was.
+    pub fn constraint_residuals(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
+        self.load_kin(ws, q, v);
+        self.constraint_rows(ws, t, v, None);
+    }
+
+    /// Constraint rows at the loaded kinematics: `g`, `G q' + g_t` and, with
+    /// multipliers, `-G^T lambda` added into the forces.
+    fn constraint_rows(&self, ws: &mut Workspace, t: f64, v: &[f64], lam: Option<&[f64]>) {
         let Workspace { kin, f, g, w, rows, vx, .. } = ws;
         vx[..v.len()].copy_from_slice(v);
         vx[v.len()] = 0.0;
@@ -407,7 +452,7 @@ impl Assembly {
         }
         for (k, map) in &self.angles {
             rows[i] = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
-            apply_rows(f, g, w, vx, map, &rows[i], lam);
+            apply_rows_in(f, g, w, vx, map, &rows[i], lam, &ANGLE_SLOTS);
             i += 1;
         }
         for (k, map) in &self.lines {
@@ -468,6 +513,38 @@ impl Assembly {
 
     /// Evaluates the Jacobian arrays at a state (the constraint Hessian uses `lam`).
     pub fn jacobian(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64], jac: &mut JacobianValues) {
+        self.jacobian_impl(ws, t, q, v, lam, jac, None);
+    }
+
+    /// The Jacobian arrays for the integrator's iteration matrices: as
+    /// [`Assembly::jacobian`], except that each friction element `e` with
+    /// `zone[e]` enters with the slope of its regularisation zone (see
+    /// [`forces::FrictionK::jacobian`]).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn iteration_jacobian(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        lam: &[f64],
+        zone: &[bool],
+        jac: &mut JacobianValues,
+    ) {
+        self.jacobian_impl(ws, t, q, v, lam, jac, Some(zone));
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn jacobian_impl(
+        &self,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        lam: &[f64],
+        jac: &mut JacobianValues,
+        zone: Option<&[bool]>,
+    ) {
         self.load_kin(ws, q, v);
         jac.k.iter_mut().for_each(|x| *x = 0.0);
         jac.d.iter_mut().for_each(|x| *x = 0.0);
@@ -479,10 +556,11 @@ impl Assembly {
             scatter36(&mut jac.k, &map.jac, km);
             scatter36(&mut jac.d, &map.jac, dm);
         }
-        for (k, map) in &self.frictions {
+        for (i, (k, map)) in self.frictions.iter().enumerate() {
             zero6(km);
             zero6(dm);
-            k.jacobian(&kin[k.a as usize], &kin[k.b as usize], km, dm);
+            let zone_slope = zone.is_some_and(|z| z[i]);
+            k.jacobian(&kin[k.a as usize], &kin[k.b as usize], km, dm, zone_slope);
             scatter36(&mut jac.k, &map.jac, km);
             scatter36(&mut jac.d, &map.jac, dm);
         }
@@ -532,6 +610,44 @@ impl Assembly {
             let r = k.rows(&kin[k.a as usize], t);
             store_grad(&mut jac.g, &self.g_entries, map, &r);
         }
+    }
+
+    /// Number of friction elements.
+    pub(crate) fn friction_count(&self) -> usize {
+        self.frictions.len()
+    }
+
+    /// The friction elements whose slider runs on a line of its base (of a
+    /// prismatic joint or a point-on-line constraint) and moves freely in x
+    /// and y: those the integrator solves locally.
+    pub(crate) fn line_sliders(&self) -> Vec<SliderInfo> {
+        let n = self.coordinates() as u32;
+        self.frictions
+            .iter()
+            .enumerate()
+            .filter_map(|(e, (k, map))| {
+                let line = self.lines.iter().position(|(l, _)| l.a == k.a && l.b == k.b)?;
+                let coords = [map.f[0], map.f[1]];
+                (coords[0] < n && coords[1] < n).then(|| SliderInfo {
+                    friction: e as u32,
+                    line: line as u32,
+                    coords,
+                    jac: [map.jac[0], map.jac[1], map.jac[6], map.jac[7]],
+                    force: k.force,
+                    v_eps: k.v_eps,
+                    kernel: k.clone(),
+                })
+            })
+            .collect()
+    }
+
+    /// A slider's relative sliding velocity and the unit direction of its
+    /// line, from the kinematics loaded by the last evaluation (e.g.
+    /// [`Assembly::residual`]).
+    pub(crate) fn slider_state(&self, ws: &Workspace, s: &SliderInfo) -> (V2, V2) {
+        let k = &s.kernel;
+        let (ka, kb) = (&ws.kin[k.a as usize], &ws.kin[k.b as usize]);
+        (k.rel_velocity(ka, kb), kb.rot.apply(self.lines[s.line as usize].0.ub))
     }
 
     /// The acceleration-free part of `d^2 g/dt^2` (for consistent accelerations),
@@ -773,19 +889,48 @@ impl Assembly {
 /// Writes `g` and `G v` values and subtracts `G^T lambda` from `F` for one
 /// primitive (`vx` is `v` with a zero sink entry).
 #[inline]
-fn apply_rows(f: &mut [f64], g: &mut [f64], w: &mut [f64], vx: &[f64], map: &PrimMap, rows: &Rows, lam: &[f64]) {
+fn apply_rows(
+    f: &mut [f64],
+    g: &mut [f64],
+    w: &mut [f64],
+    vx: &[f64],
+    map: &PrimMap,
+    rows: &Rows,
+    lam: Option<&[f64]>,
+) {
+    apply_rows_in(f, g, w, vx, map, rows, lam, &ALL_SLOTS);
+}
+
+/// All six slots (x, y, phi of body a, then of body b) of a constraint row.
+const ALL_SLOTS: [usize; 6] = [0, 1, 2, 3, 4, 5];
+/// The slots an angle constraint's row depends on (the two angles).
+const ANGLE_SLOTS: [usize; 2] = [2, 5];
+
+/// [`apply_rows`] over the given slots only (the others are zero).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn apply_rows_in(
+    f: &mut [f64],
+    g: &mut [f64],
+    w: &mut [f64],
+    vx: &[f64],
+    map: &PrimMap,
+    rows: &Rows,
+    lam: Option<&[f64]>,
+    slots: &[usize],
+) {
     let e0 = map.eq as usize;
     for r in 0..map.rows as usize {
         g[e0 + r] = rows.g[r];
         let grad = &rows.grad[r];
         let mut gv = 0.0;
-        for s in 0..6 {
+        for &s in slots {
             gv += grad[s] * vx[map.f[s] as usize];
         }
         w[e0 + r] = gv;
-        let l = lam[e0 + r];
+        let l = lam.map_or(0.0, |lam| lam[e0 + r]);
         if l != 0.0 {
-            for s in 0..6 {
+            for &s in slots {
                 f[map.f[s] as usize] -= grad[s] * l;
             }
         }

@@ -267,11 +267,11 @@ pub fn block_matvec<T: Scalar>(sym: &BlockSymbolic, values: &[T], x: &[T], y: &m
     }
 }
 
-/// A numeric block LU factorisation (values plus pivots) for one scalar type.
+/// A numeric block LU factorisation for one scalar type (diagonal blocks
+/// stored inverted).
 #[derive(Debug, Clone)]
 pub struct BlockLu<T: Scalar> {
     values: Vec<T>,
-    piv: Vec<u8>,
     scratch_col: Vec<T>,
     scratch_row: Vec<T>,
 }
@@ -281,7 +281,6 @@ impl<T: Scalar> BlockLu<T> {
     pub fn new(sym: &BlockSymbolic) -> Self {
         Self {
             values: vec![T::ZERO; sym.nnz],
-            piv: vec![0; sym.n],
             scratch_col: Vec::with_capacity(sym.n * MAX_BLOCK),
             scratch_row: Vec::with_capacity(sym.n * MAX_BLOCK),
         }
@@ -362,54 +361,75 @@ impl<T: Scalar> BlockLu<T> {
             let nk = sym.sizes[k] as usize;
             let pk = sym.starts[k] as usize;
             let dk = sym.diag[k] as usize;
+            // y = D_kk^-1 b_k (as -(0 - D b), exact)
             let mut y = [T::ZERO; MAX_BLOCK];
-            let d = &values[dk..dk + nk * nk];
-            for r in 0..nk {
-                let mut s = T::ZERO;
-                for (c, &bc) in b[pk..pk + nk].iter().enumerate() {
-                    s += d[r * nk + c] * bc;
-                }
-                y[r] = s;
+            gemv_sub(&mut y[..nk], &values[dk..dk + nk * nk], &b[pk..pk + nk]);
+            for (bk, yk) in b[pk..pk + nk].iter_mut().zip(y.iter_mut()) {
+                *yk = -*yk;
+                *bk = *yk;
             }
-            b[pk..pk + nk].copy_from_slice(&y[..nk]);
             for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
                 let i = sym.later_pos[t] as usize;
                 let ni = sym.sizes[i] as usize;
                 let pi = sym.starts[i] as usize;
                 let o = sym.off_jk[t] as usize;
-                let a = &values[o..o + ni * nk];
-                for (r, row) in a.chunks_exact(nk).enumerate() {
-                    let mut s = T::ZERO;
-                    for (&arc, &yc) in row.iter().zip(&y[..nk]) {
-                        s += arc * yc;
-                    }
-                    b[pi + r] -= s;
-                }
+                gemv_sub(&mut b[pi..pi + ni], &values[o..o + ni * nk], &y[..nk]);
             }
         }
         for k in (0..nb).rev() {
             let nk = sym.sizes[k] as usize;
             let pk = sym.starts[k] as usize;
+            let mut acc = [T::ZERO; MAX_BLOCK];
             for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
                 let j = sym.later_pos[t] as usize;
                 let nj = sym.sizes[j] as usize;
                 let pj = sym.starts[j] as usize;
                 let o = sym.off_kj[t] as usize;
-                let x = &values[o..o + nk * nj];
-                let bj = &b[pj..pj + nj];
-                let mut acc = [T::ZERO; MAX_BLOCK];
-                for (r, row) in x.chunks_exact(nj).enumerate() {
-                    let mut s = T::ZERO;
-                    for (&xrc, &bc) in row.iter().zip(bj) {
-                        s += xrc * bc;
-                    }
-                    acc[r] = s;
-                }
-                for r in 0..nk {
-                    b[pk + r] -= acc[r];
-                }
+                gemv_sub(&mut acc[..nk], &values[o..o + nk * nj], &b[pj..pj + nj]);
+            }
+            for r in 0..nk {
+                b[pk + r] += acc[r];
             }
         }
+    }
+}
+
+/// `y -= A x` for a row-major `A (y.len() x x.len())`; the block shapes of the
+/// expansion joint go to kernels with the sizes fixed at compile time.
+#[inline]
+fn gemv_sub<T: Scalar>(y: &mut [T], a: &[T], x: &[T]) {
+    match (y.len(), x.len()) {
+        (6, 3) => gemv_sub_fixed::<T, 6, 3>(y, a, x),
+        (3, 3) => gemv_sub_fixed::<T, 3, 3>(y, a, x),
+        (5, 5) => gemv_sub_fixed::<T, 5, 5>(y, a, x),
+        (3, 6) => gemv_sub_fixed::<T, 3, 6>(y, a, x),
+        (6, 6) => gemv_sub_fixed::<T, 6, 6>(y, a, x),
+        (6, 5) => gemv_sub_fixed::<T, 6, 5>(y, a, x),
+        (5, 6) => gemv_sub_fixed::<T, 5, 6>(y, a, x),
+        (3, 5) => gemv_sub_fixed::<T, 3, 5>(y, a, x),
+        (5, 3) => gemv_sub_fixed::<T, 5, 3>(y, a, x),
+        (ny, nx) => {
+            for (r, row) in a.chunks_exact(nx).take(ny).enumerate() {
+                let mut s = T::ZERO;
+                for (&arc, &xc) in row.iter().zip(x) {
+                    s += arc * xc;
+                }
+                y[r] -= s;
+            }
+        }
+    }
+}
+
+/// [`gemv_sub`] with the sizes known at compile time.
+#[inline(always)]
+fn gemv_sub_fixed<T: Scalar, const R: usize, const C: usize>(y: &mut [T], a: &[T], x: &[T]) {
+    let (y, a, x) = (&mut y[..R], &a[..R * C], &x[..C]);
+    for r in 0..R {
+        let mut s = T::ZERO;
+        for c in 0..C {
+            s += a[r * C + c] * x[c];
+        }
+        y[r] -= s;
     }
 }
 
@@ -506,8 +526,48 @@ fn gemm_set<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usi
 }
 
 /// `c -= a b` for row-major `a (n x k)`, `b (k x m)`, `c (n x m)`.
+///
+/// The shapes of the expansion joint's updates (center beam on support beam
+/// pairs, bearings on their neighbours) go to kernels with the sizes fixed at
+/// compile time, which the compiler unrolls and vectorises; the others to a
+/// loop that skips the structural zeros of constraint blocks.
 #[inline]
 fn gemm_sub<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usize) {
+    match (n, k, m) {
+        (6, 3, 6) => gemm_sub_fixed::<T, 6, 3, 6>(c, a, b),
+        (6, 6, 6) => gemm_sub_fixed::<T, 6, 6, 6>(c, a, b),
+        (6, 5, 6) => gemm_sub_fixed::<T, 6, 5, 6>(c, a, b),
+        (3, 5, 6) => gemm_sub_fixed::<T, 3, 5, 6>(c, a, b),
+        (6, 5, 3) => gemm_sub_fixed::<T, 6, 5, 3>(c, a, b),
+        (5, 3, 6) => gemm_sub_fixed::<T, 5, 3, 6>(c, a, b),
+        (6, 3, 5) => gemm_sub_fixed::<T, 6, 3, 5>(c, a, b),
+        (3, 5, 3) => gemm_sub_fixed::<T, 3, 5, 3>(c, a, b),
+        _ => gemm_sub_any(c, a, b, n, k, m),
+    }
+}
+
+/// [`gemm_sub`] with the sizes known at compile time.
+#[inline(always)]
+fn gemm_sub_fixed<T: Scalar, const N: usize, const K: usize, const M: usize>(c: &mut [T], a: &[T], b: &[T]) {
+    let (c, a, b) = (&mut c[..N * M], &a[..N * K], &b[..K * M]);
+    for r in 0..N {
+        let mut acc = [T::ZERO; M];
+        acc.copy_from_slice(&c[r * M..r * M + M]);
+        for p in 0..K {
+            let arp = a[r * K + p];
+            if arp == T::ZERO {
+                continue;
+            }
+            for (x, &bv) in acc.iter_mut().zip(&b[p * M..p * M + M]) {
+                *x -= arp * bv;
+            }
+        }
+        c[r * M..r * M + M].copy_from_slice(&acc);
+    }
+}
+
+/// [`gemm_sub`] for any sizes.
+fn gemm_sub_any<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usize) {
     for r in 0..n {
         let ar = &a[r * k..r * k + k];
         let cr = &mut c[r * m..r * m + m];

@@ -1,0 +1,187 @@
+//! Whole earthquake runs of the reference (paper) model, single thread
+//! unless stated (results: docs/performance.md):
+//!
+//! - `full`: Corralitos 090, w0 = 6.3 rad/s, 5 % damping, the whole record,
+//!   default tolerances: wall time, solver counters, peak memory of the
+//!   process.
+//! - `scaling`: the same run for Nc = 3, 9, 27, 81 center beams (the ten
+//!   support beams of the reference joint): cost per step and per Newton
+//!   iteration against the number of coordinates. At Nc = 81 the gap is
+//!   10.66 m and the outer joists reach y = 9.5 m, so the center beams are
+//!   lengthened to 20 m (their mass and inertia unchanged) to keep every
+//!   bearing on its beam.
+//! - `accuracy`: Sa at default tolerances against runs at 100 times tighter
+//!   tolerances (rtol, atol, atol_rotation / 100) for 10 log-spaced periods
+//!   from 0.1 s to 5 s, on the rayon pool (`RAYON_NUM_THREADS`).
+//!
+//! `cargo bench -p quakejoint-model --bench runs [-- full|scaling|accuracy]`
+//! (all three without an argument). Each part also writes its table as JSON
+//! to `target/bench-runs/<part>.json` (`scripts/plot_scaling.py` plots the
+//! scaling).
+
+use std::path::PathBuf;
+
+use quakejoint_model::run::{load_records, simulate_records, RunOptions, RunResult};
+use quakejoint_model::Config;
+use rayon::prelude::*;
+
+fn configs() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../configs")
+}
+
+fn out_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../target/bench-runs")
+}
+
+fn paper() -> Config {
+    Config::from_file(&configs().join("paper.toml")).expect("configs/paper.toml")
+}
+
+fn run(config: &Config, omega: Option<f64>) -> RunResult {
+    let (x, y) = load_records(config, &configs()).expect("record");
+    simulate_records(config, &x, y.as_ref(), &RunOptions { omega, ..RunOptions::default() }).expect("run")
+}
+
+/// Peak resident memory of this process so far [MB] (Linux `VmHWM`).
+fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
+fn write_json(name: &str, text: &str) {
+    let dir = out_dir();
+    if std::fs::create_dir_all(&dir).is_ok() && std::fs::write(dir.join(name), text).is_ok() {
+        println!("(written to {})", dir.join(name).display());
+    }
+}
+
+fn full() {
+    let config = paper();
+    let r = run(&config, None);
+    let s = &r.stats;
+    println!("## full run: paper model, Corralitos 090, w0 = 6.3 rad/s, 5 % damping, {:.2} s", r.duration);
+    println!("wall time            {:.2} s", r.wall_time_s);
+    println!("steps                {}", s.steps);
+    println!("rejected steps       {}", s.rejected);
+    println!("failed Newton        {}", s.failed_attempts);
+    println!("Newton iterations    {}", s.newton_iterations);
+    println!("residual evaluations {}", s.residual_evaluations);
+    println!("Jacobians            {}", s.jacobian_evaluations);
+    println!("factorisations       {}", s.factorizations);
+    println!("linear solves        {}", s.linear_solves);
+    println!("Sa                   {:.6} m/s^2", r.sa);
+    println!("friction energy      {:.1} J", r.friction_energy);
+    println!("energy error         {:.1e}", r.energy_error);
+    if let Some(mb) = peak_memory_mb() {
+        println!("peak memory          {mb:.1} MB (whole process)");
+    }
+    write_json(
+        "full.json",
+        &format!(
+            "{{\"wall_time_s\": {}, \"steps\": {}, \"rejected\": {}, \"failed_attempts\": {}, \"newton_iterations\": {}, \
+             \"jacobians\": {}, \"factorizations\": {}, \"sa\": {}, \"peak_memory_mb\": {}}}\n",
+            r.wall_time_s,
+            s.steps,
+            s.rejected,
+            s.failed_attempts,
+            s.newton_iterations,
+            s.jacobian_evaluations,
+            s.factorizations,
+            r.sa,
+            peak_memory_mb().unwrap_or(f64::NAN)
+        ),
+    );
+}
+
+fn scaling() {
+    println!("## scaling: cost per step against the number of coordinates");
+    println!("| Nc | bodies | coordinates | equations | steps | Newton it. | factorisations | wall [s] | per step [us] | per Newton it. [us] | per step / coordinate [ns] |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut rows = Vec::new();
+    for nc in [3usize, 9, 27, 81] {
+        let mut config = paper();
+        config.joint.center_beams = nc;
+        if nc == 81 {
+            config.joint.center_beam.length = 20.0;
+        }
+        let model =
+            quakejoint_model::generator::build(&config, None, quakejoint_model::generator::Drive::None).expect("model");
+        let (bodies, coords, eqs) = counts(&model.system);
+        let r = run(&config, None);
+        let s = &r.stats;
+        let per_step = r.wall_time_s / s.steps as f64 * 1e6;
+        let per_newton = r.wall_time_s / s.newton_iterations as f64 * 1e6;
+        println!(
+            "| {nc} | {bodies} | {coords} | {eqs} | {} | {} | {} | {:.2} | {per_step:.0} | {per_newton:.0} | {:.0} |",
+            s.steps,
+            s.newton_iterations,
+            s.factorizations,
+            r.wall_time_s,
+            per_step / coords as f64 * 1e3
+        );
+        rows.push(format!(
+            "{{\"nc\": {nc}, \"bodies\": {bodies}, \"coordinates\": {coords}, \"equations\": {eqs}, \"steps\": {}, \
+             \"newton_iterations\": {}, \"factorizations\": {}, \"wall_time_s\": {}}}",
+            s.steps, s.newton_iterations, s.factorizations, r.wall_time_s
+        ));
+    }
+    write_json("scaling.json", &format!("[\n  {}\n]\n", rows.join(",\n  ")));
+}
+
+/// Bodies, coordinates and constraint equations of a system.
+fn counts(system: &quakejoint_solver::System) -> (usize, usize, usize) {
+    let asm =
+        quakejoint_solver::Assembly::new(system, &quakejoint_solver::AssemblyOptions::default()).expect("assembly");
+    (system.bodies().len(), asm.coordinates(), asm.equations())
+}
+
+fn accuracy() {
+    let base = paper();
+    let mut tight = base.clone();
+    tight.simulation.rtol /= 100.0;
+    tight.simulation.atol /= 100.0;
+    tight.simulation.atol_rotation /= 100.0;
+    let periods: Vec<f64> = (0..10).map(|i| 0.1 * 50f64.powf(i as f64 / 9.0)).collect();
+    let jobs: Vec<(usize, bool)> = (0..10).flat_map(|i| [(i, false), (i, true)]).collect();
+    let results: Vec<RunResult> = jobs
+        .par_iter()
+        .map(|&(i, is_tight)| {
+            let omega = 2.0 * std::f64::consts::PI / periods[i];
+            run(if is_tight { &tight } else { &base }, Some(omega))
+        })
+        .collect();
+    println!("## accuracy: Sa at default tolerances against 100 times tighter ones");
+    println!("| T [s] | Sa default [m/s^2] | Sa tight [m/s^2] | difference | wall default [s] | wall tight [s] |");
+    println!("|---|---|---|---|---|---|");
+    let mut worst = 0.0f64;
+    let mut rows = Vec::new();
+    for (i, t) in periods.iter().enumerate() {
+        let (d, g) = (&results[2 * i], &results[2 * i + 1]);
+        let rel = (d.sa - g.sa) / g.sa;
+        worst = worst.max(rel.abs());
+        println!("| {t:.3} | {:.6} | {:.6} | {:+.1e} | {:.2} | {:.2} |", d.sa, g.sa, rel, d.wall_time_s, g.wall_time_s);
+        rows.push(format!(
+            "{{\"period\": {t}, \"sa\": {}, \"sa_tight\": {}, \"wall_time_s\": {}, \"wall_time_tight_s\": {}}}",
+            d.sa, g.sa, d.wall_time_s, g.wall_time_s
+        ));
+    }
+    println!("largest |difference| {worst:.1e} (target 5e-3)");
+    write_json("accuracy.json", &format!("[\n  {}\n]\n", rows.join(",\n  ")));
+}
+
+fn main() {
+    // cargo passes `--bench`; the parts to run are the other arguments
+    let parts: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    let want = |p: &str| parts.is_empty() || parts.iter().any(|a| a == p);
+    if want("full") {
+        full();
+    }
+    if want("scaling") {
+        scaling();
+    }
+    if want("accuracy") {
+        accuracy();
+    }
+}

@@ -1,0 +1,290 @@
+//! Local solve of sliding friction inside the Radau IIA Newton iteration.
+//!
+//! Regularised Coulomb friction (`F = -F_c v / max(|v|, v_eps)`) makes the
+//! stage equations of a slider piecewise smooth with slopes from 0 (sliding,
+//! along the motion) to `F_c / v_eps` (inside the regularisation zone). One
+//! iteration matrix cannot match both: with the sliding slope, Newton jumps
+//! across the zone and cycles; with the zone slope, it contracts at
+//! `~F_c/v_eps / (F_c/v_eps + m gamma/h)` on a sliding slider; and a step in
+//! which a slider sticks at one stage and slides at another defeats any
+//! single slope unless `h < ~m gamma v_eps / F_c`. So, for every friction
+//! element whose slider runs on a line of its base (a prismatic joint or a
+//! point-on-line constraint):
+//! - the iteration matrix holds the zone slope `F_c / v_eps` (the regime of
+//!   a reversal), whatever the state, so it no longer changes with the
+//!   sliding direction and is kept over many steps
+//!   ([`crate::Assembly`]'s iteration Jacobian);
+//! - at every Newton iteration, before the global correction, the three
+//!   stage values of the slider's velocity along its line are solved locally
+//!   with everything else held at the iterate: the slider's stage equations
+//!   along the line with the exact law, linear inertia, stiffness and damping
+//!   (3 unknowns, damped semismooth Newton with a residual monotonicity
+//!   test). This is nonlinear elimination (P. J. Lanzkron, D. J. Rose and
+//!   J. T. Wilkes, "An analysis of approximate nonlinear elimination", SIAM
+//!   J. Sci. Comput. 17 (1996) 538-559): the stiff non-smooth unknowns are
+//!   eliminated by a local solve, and the simplified Newton iteration sees a
+//!   system whose coupling to the slider hardly depends on its regime (the
+//!   bushing to a slider of mass `m` differs from a bushing to a fixed point
+//!   by `k / (m (gamma/h)^2)`).
+//!
+//! The zone slope also enters the filter `(gamma/h M + D + K/(gamma/h))^-1`
+//! of the error estimate, which damps the sliders' own velocity errors; the
+//! joint's results (peak deck acceleration, friction energy, peak joint force,
+//! sub-gaps) were checked against runs at 100 times tighter tolerances on the
+//! small, medium and reference expansion-joint models (docs/performance.md).
+
+use super::radau5::A;
+use crate::assembly::kin::V2;
+use crate::assembly::{Assembly, JacobianValues, SliderInfo, Workspace};
+
+/// `A^-1` of the Butcher matrix of Radau IIA (s = 3).
+pub(super) const AINV: [[f64; 3]; 3] = [
+    [3.224_744_871_391_589, 1.167_840_084_690_405_5, -0.253_197_264_742_180_9],
+    [-3.567_840_084_690_405_5, 0.775_255_128_608_411, 1.053_197_264_742_181],
+    [5.531_972_647_421_808, -7.531_972_647_421_808, 5.0],
+];
+
+/// Relative residual at which a local solve stops.
+const LOCAL_TOL: f64 = 1e-10;
+/// Iterations of one local solve.
+const LOCAL_ITERATIONS: usize = 40;
+
+/// The sliders solved locally and their state at the three stages.
+#[derive(Debug, Clone, Default)]
+pub(super) struct LocalFriction {
+    sliders: Vec<SliderInfo>,
+    /// Per stage and slider: relative sliding velocity and the unit
+    /// direction of the line, at the last residual evaluation.
+    stage: [Vec<(V2, V2)>; 3],
+}
+
+/// One slider's local problem at one Newton iteration.
+struct Local<'a> {
+    info: &'a SliderInfo,
+    /// Stage velocities along the line (`v_i . t_i`) and across it.
+    along: [f64; 3],
+    across: [f64; 3],
+    /// `L = m/h A^-1 + h k_t A + c_t I`.
+    lmat: [[f64; 3]; 3],
+    /// Stage residuals along the line at `d = 0`.
+    r0: [f64; 3],
+    /// `t_i . phi(v_i)`.
+    phi0: [f64; 3],
+}
+
+impl Local<'_> {
+    /// `t . phi(v + d t)` at stage `i` and its slope along `t` times the
+    /// force scale.
+    #[inline]
+    fn law(&self, i: usize, d: f64) -> (f64, f64) {
+        let (phi, slope) = self.info.law_along(self.along[i] + d, self.across[i]);
+        (phi, self.info.force * slope)
+    }
+
+    /// Residual and slopes at `d`.
+    fn eval(&self, d: &[f64; 3]) -> ([f64; 3], [f64; 3]) {
+        let mut r = [0.0; 3];
+        let mut slope = [0.0; 3];
+        for i in 0..3 {
+            let (phi, s) = self.law(i, d[i]);
+            let ld = self.lmat[i][0] * d[0] + self.lmat[i][1] * d[1] + self.lmat[i][2] * d[2];
+            r[i] = self.r0[i] - ld - self.info.force * (phi - self.phi0[i]);
+            slope[i] = s;
+        }
+        (r, slope)
+    }
+
+    /// Damped semismooth Newton from `d = 0` with the slopes there.
+    fn solve(&self, slope0: [f64; 3]) -> [f64; 3] {
+        let tol = LOCAL_TOL * (self.info.force + norm3(&self.r0));
+        let mut d = [0.0; 3];
+        let (mut r, mut slope) = (self.r0, slope0);
+        let mut rn = norm3(&r);
+        for _ in 0..LOCAL_ITERATIONS {
+            if rn <= tol {
+                break;
+            }
+            let mut jm = self.lmat;
+            for i in 0..3 {
+                jm[i][i] += slope[i];
+            }
+            let Some(step) = solve3(jm, r) else { break };
+            // damped: the residual must fall (a full step can jump across the zone)
+            let mut lambda = 1.0;
+            loop {
+                let trial = [d[0] + lambda * step[0], d[1] + lambda * step[1], d[2] + lambda * step[2]];
+                let (rt, st) = self.eval(&trial);
+                let rtn = norm3(&rt);
+                if rtn <= (1.0 - 0.25 * lambda) * rn || lambda < 1e-6 {
+                    (d, r, slope, rn) = (trial, rt, st, rtn);
+                    break;
+                }
+                lambda *= 0.5;
+            }
+        }
+        d
+    }
+}
+
+impl LocalFriction {
+    /// The friction elements of `asm` whose slider runs on a line of its
+    /// base (none when `enabled` is false).
+    pub(super) fn new(asm: &Assembly, enabled: bool) -> Self {
+        let sliders = if enabled { asm.line_sliders() } else { Vec::new() };
+        let n = sliders.len();
+        Self { sliders, stage: [Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n)] }
+    }
+
+    /// Whether no slider is solved locally.
+    pub(super) fn is_empty(&self) -> bool {
+        self.sliders.is_empty()
+    }
+
+    /// Per friction element of the assembly, whether it is solved locally
+    /// (it then enters the iteration matrix with its zone slope).
+    pub(super) fn zone_mask(&self, frictions: usize) -> Vec<bool> {
+        let mut mask = vec![false; frictions];
+        for s in &self.sliders {
+            mask[s.friction as usize] = true;
+        }
+        mask
+    }
+
+    /// Records the sliders' state at stage `i` from the kinematics just
+    /// loaded into `ws` by the stage's residual evaluation.
+    pub(super) fn record_stage(&mut self, asm: &Assembly, ws: &Workspace, i: usize) {
+        let out = &mut self.stage[i];
+        out.clear();
+        out.extend(self.sliders.iter().map(|s| asm.slider_state(ws, s)));
+    }
+
+    /// Solves every slider locally (see the module documentation): the stage
+    /// values `d_i` added to the slider's velocity along its line `t_i` solve
+    /// `r_i(d) = r_i(0) - sum_j L_ij d_j - F_c (t_i . phi(v_i + d_i t_i) - t_i . phi(v_i)) = 0`
+    /// with `r_i(0)` the stage residual along the line at the iterate (`fv`
+    /// the stage forces, `zv` the stage velocity increments) and
+    /// `L = m/h A^-1 + h k_t A + c_t I` (`k_t`, `c_t`: the slider's other
+    /// stiffness and damping along the line, from the Jacobian `jac`).
+    /// Everything else is held at the iterate. Adds the solutions to `zv`
+    /// and returns whether anything changed (the stage residuals must then
+    /// be evaluated again).
+    pub(super) fn solve(
+        &self,
+        h: f64,
+        mass: &[f64],
+        jac: &JacobianValues,
+        fv: &[Vec<f64>; 3],
+        zv: &mut [Vec<f64>; 3],
+    ) -> bool {
+        let mut changed = false;
+        for (k, info) in self.sliders.iter().enumerate() {
+            let (cx, cy) = (info.coords[0] as usize, info.coords[1] as usize);
+            let st = [self.stage[0][k], self.stage[1][k], self.stage[2][k]];
+            let m = mass[cx];
+            // the slider's stiffness and damping along the line, less the
+            // friction element's own zone slope (its stiffness part is skew)
+            let block = |vals: &[f64]| {
+                let [xx, xy, yx, yy] = info.jac.map(|p| vals[p as usize]);
+                [[xx, xy], [yx, yy]]
+            };
+            let t3 = st[2].1;
+            let kt = along(t3, block(&jac.k));
+            let ct = along(t3, block(&jac.d)) - info.force / info.v_eps;
+            let along_line = st.map(|(v, t)| v.dot(t));
+            let across_line = st.map(|(v, t)| v.cross(t));
+            let mut local = Local {
+                info,
+                along: along_line,
+                across: across_line,
+                lmat: [[0.0; 3]; 3],
+                r0: [0.0; 3],
+                phi0: [0.0; 3],
+            };
+            let mut slope0 = [0.0; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    local.lmat[i][j] = m / h * AINV[i][j] + h * kt * A[i][j];
+                }
+                local.lmat[i][i] += ct;
+                let t = st[i].1;
+                let res = |c: usize| {
+                    fv[i][c] - m / h * (AINV[i][0] * zv[0][c] + AINV[i][1] * zv[1][c] + AINV[i][2] * zv[2][c])
+                };
+                local.r0[i] = t.x * res(cx) + t.y * res(cy);
+                (local.phi0[i], slope0[i]) = local.law(i, 0.0);
+            }
+            let d = local.solve(slope0);
+            if d.iter().all(|x| x.is_finite()) && d.iter().any(|x| *x != 0.0) {
+                for i in 0..3 {
+                    let t = st[i].1;
+                    zv[i][cx] += d[i] * t.x;
+                    zv[i][cy] += d[i] * t.y;
+                }
+                changed = true;
+            }
+        }
+        changed
+    }
+}
+
+/// `t^T a t` for a 2x2 matrix.
+#[inline]
+fn along(t: V2, a: [[f64; 2]; 2]) -> f64 {
+    t.x * (a[0][0] * t.x + a[0][1] * t.y) + t.y * (a[1][0] * t.x + a[1][1] * t.y)
+}
+
+fn norm3(r: &[f64; 3]) -> f64 {
+    (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt()
+}
+
+/// Solves a 3x3 system by Gaussian elimination with partial pivoting
+/// (None if singular).
+fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
+    for k in 0..3 {
+        let p = (k..3).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
+        if a[p][k] == 0.0 || !a[p][k].is_finite() {
+            return None;
+        }
+        a.swap(k, p);
+        b.swap(k, p);
+        for i in k + 1..3 {
+            let f = a[i][k] / a[k][k];
+            let pivot_row = a[k];
+            for (x, p) in a[i].iter_mut().zip(pivot_row).skip(k) {
+                *x -= f * p;
+            }
+            b[i] -= f * b[k];
+        }
+    }
+    let mut x = [0.0; 3];
+    for k in (0..3).rev() {
+        let s: f64 = (k + 1..3).map(|j| a[k][j] * x[j]).sum();
+        x[k] = (b[k] - s) / a[k][k];
+    }
+    Some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stored_inverse_of_the_butcher_matrix() {
+        for i in 0..3 {
+            for j in 0..3 {
+                let p: f64 = (0..3).map(|k| AINV[i][k] * A[k][j]).sum();
+                let expect = if i == j { 1.0 } else { 0.0 };
+                assert!((p - expect).abs() < 1e-13, "A^-1 A [{i}][{j}] = {p}");
+            }
+        }
+    }
+
+    #[test]
+    fn solve3_pivots_and_refuses_singular_systems() {
+        let x = solve3([[0.0, 2.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 3.0]], [3.0, 1.0, 4.0]).unwrap();
+        for (got, want) in x.iter().zip([1.0, 1.0, 1.0]) {
+            assert!((got - want).abs() < 1e-14, "{x:?}");
+        }
+        assert!(solve3([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]], [1.0, 2.0, 3.0]).is_none());
+    }
+}
