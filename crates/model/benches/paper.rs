@@ -104,13 +104,21 @@ fn benches(c: &mut Criterion) {
                 cplx.factor(sym, &mut cache, &|o: &mut [Complex64]| asm.form_complex(gc, &jac, o), &desc).unwrap()
             })
         });
-        let mut rhs = vec![1.0; sym.dim()];
+        // the right-hand side is restored before every solve (solving in
+        // place repeatedly would shrink it into subnormal numbers)
+        let (rhs0, mut rhs) = (vec![1.0; sym.dim()], vec![0.0; sym.dim()]);
         g.bench_function(format!("solve_real_{label}"), |b| {
-            b.iter(|| real.solve(sym, &mut cache, black_box(&mut rhs)).unwrap())
+            b.iter(|| {
+                rhs.copy_from_slice(&rhs0);
+                real.solve(sym, &mut cache, black_box(&mut rhs)).unwrap()
+            })
         });
-        let mut rhs_c = vec![Complex64::new(1.0, 0.5); sym.dim()];
+        let (rhs0_c, mut rhs_c) = (vec![Complex64::new(1.0, 0.5); sym.dim()], vec![Complex64::default(); sym.dim()]);
         g.bench_function(format!("solve_complex_{label}"), |b| {
-            b.iter(|| cplx.solve(sym, &mut cache, black_box(&mut rhs_c)).unwrap())
+            b.iter(|| {
+                rhs_c.copy_from_slice(&rhs0_c);
+                cplx.solve(sym, &mut cache, black_box(&mut rhs_c)).unwrap()
+            })
         });
     }
     g.finish();

@@ -8,8 +8,9 @@
 //!
 //! with the Radau IIA method of order 5 ([`radau5`]), variable step size
 //! driven by a local error estimate, the stages satisfying the constraints at
-//! acceleration level, and every accepted state projected onto `g = 0` and
-//! `G v + g_t = 0`.
+//! velocity level, every accepted state projected onto `g = 0` and
+//! `G v + g_t = 0`, and sliding friction solved locally inside the Newton
+//! iteration (`local_friction`).
 
 mod local_friction;
 pub mod radau5;

@@ -770,12 +770,15 @@ impl Radau5 {
 
     /// `Zq_i = h sum_j a_ij (v_n + Zv_j)`.
     fn derive_zq(&mut self, h: f64) {
-        for j in 0..self.n {
-            let v = self.v[j];
-            let (z0, z1, z2) = (v + self.zv[0][j], v + self.zv[1][j], v + self.zv[2][j]);
-            for i in 0..3 {
-                self.zq[i][j] = h * (A[i][0] * z0 + A[i][1] * z1 + A[i][2] * z2);
-            }
+        let n = self.n;
+        let [q0, q1, q2] = &mut self.zq;
+        let (q0, q1, q2) = (&mut q0[..n], &mut q1[..n], &mut q2[..n]);
+        let (v, v0, v1, v2) = (&self.v[..n], &self.zv[0][..n], &self.zv[1][..n], &self.zv[2][..n]);
+        for j in 0..n {
+            let (z0, z1, z2) = (v[j] + v0[j], v[j] + v1[j], v[j] + v2[j]);
+            q0[j] = h * (A[0][0] * z0 + A[0][1] * z1 + A[0][2] * z2);
+            q1[j] = h * (A[1][0] * z0 + A[1][1] * z1 + A[1][2] * z2);
+            q2[j] = h * (A[2][0] * z0 + A[2][1] * z1 + A[2][2] * z2);
         }
     }
 
@@ -789,24 +792,21 @@ impl Radau5 {
     }
 
     /// Evaluates the residual at the three stages.
-    fn stage_residuals(&mut self, h: f64) -> bool {
+    fn stage_residuals(&mut self, h: f64, record_sliders: bool) -> bool {
         let mut finite = true;
         for i in 0..3 {
-            for c in 0..self.n {
-                self.bq[c] = self.q[c] + self.zq[i][c];
-                self.bv[c] = self.v[c] + self.zv[i][c];
-            }
-            for e in 0..self.m {
-                self.bl[e] = self.lam[e] + self.zl[i][e];
-            }
+            add_into(&mut self.bq, &self.q, &self.zq[i]);
+            add_into(&mut self.bv, &self.v, &self.zv[i]);
+            add_into(&mut self.bl, &self.lam, &self.zl[i]);
             let ti = self.stage_time(i, h);
             self.asm.residual(&mut self.ws, ti, &self.bq, &self.bv, &self.bl);
-            if !self.local.is_empty() {
+            if record_sliders {
                 self.local.record_stage(&self.asm, &self.ws, i);
             }
             self.fv[i].copy_from_slice(self.ws.forces());
             self.fg[i].copy_from_slice(self.ws.velocity_constraints());
-            finite &= self.fv[i].iter().chain(&self.fg[i]).all(|x| x.is_finite());
+            // (no early exit, so that the test vectorises)
+            finite &= self.fv[i].iter().chain(&self.fg[i]).fold(true, |ok, x| ok & x.is_finite());
         }
         self.stats.residual_evaluations += 3;
         finite
@@ -827,7 +827,9 @@ impl Radau5 {
             if newt >= nit {
                 return Ok(Newton::Retry { factor: 0.5, cause: StepFailure::Newton { rate: self.theta } });
             }
-            if !self.stage_residuals(h) || (self.solve_frictions_locally(h) && !self.stage_residuals(h)) {
+            let record = !self.local.is_empty();
+            if !self.stage_residuals(h, record) || (self.solve_frictions_locally(h) && !self.stage_residuals(h, false))
+            {
                 return Ok(Newton::Retry { factor: 0.5, cause: StepFailure::NonFinite });
             }
             // transformed right-hand sides: force rows, then the velocity
@@ -1096,6 +1098,14 @@ impl Radau5 {
     }
 }
 
+/// `out = a + b` elementwise.
+#[inline]
+fn add_into(out: &mut [f64], a: &[f64], b: &[f64]) {
+    for ((o, &x), &y) in out.iter_mut().zip(a).zip(b) {
+        *o = x + y;
+    }
+}
+
 /// `y = M x` for a 3x3 matrix and a 3-vector.
 #[inline]
 fn tmul(mat: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
@@ -1108,11 +1118,15 @@ fn tmul(mat: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
 
 /// Applies a 3x3 matrix across three stage vectors.
 fn transform(mat: &[[f64; 3]; 3], src: &Stages, dst: &mut Stages) {
-    for j in 0..src[0].len() {
-        let y = tmul(mat, [src[0][j], src[1][j], src[2][j]]);
-        dst[0][j] = y[0];
-        dst[1][j] = y[1];
-        dst[2][j] = y[2];
+    let n = src[0].len();
+    let (s0, s1, s2) = (&src[0][..n], &src[1][..n], &src[2][..n]);
+    let [d0, d1, d2] = dst;
+    let (d0, d1, d2) = (&mut d0[..n], &mut d1[..n], &mut d2[..n]);
+    for j in 0..n {
+        let y = tmul(mat, [s0[j], s1[j], s2[j]]);
+        d0[j] = y[0];
+        d1[j] = y[1];
+        d2[j] = y[2];
     }
 }
 
