@@ -314,6 +314,15 @@ fn plotting_scripts_write_png_files() {
     script("plot_history", &[&run_h5]);
     script("plot_sparsity", &[&sparsity]);
     script("plot_geometry", &[&d.join("model.json")]);
+    // the runs bench's table (format of crates/model/benches/runs.rs)
+    let scaling = d.join("scaling.json");
+    std::fs::write(
+        &scaling,
+        r#"[{"nc": 3, "bodies": 45, "coordinates": 130, "equations": 90, "steps": 100, "newton_iterations": 150, "factorizations": 10, "wall_time_s": 0.01},
+            {"nc": 27, "bodies": 309, "coordinates": 922, "equations": 570, "steps": 100, "newton_iterations": 150, "factorizations": 10, "wall_time_s": 0.07}]"#,
+    )
+    .unwrap();
+    script("plot_scaling", &[&scaling]);
 }
 
 #[test]
