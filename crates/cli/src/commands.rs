@@ -294,7 +294,8 @@ pub fn exit_code(err: &anyhow::Error) -> u8 {
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<ExitCode> {
-    match cli.command {
+    let config = cli.command.config().map(Path::to_path_buf);
+    let result = match cli.command {
         Command::Model(a) => model(a),
         Command::Simulate(a) => simulate(a),
         Command::Service(a) => service_cmd(a),
@@ -302,7 +303,36 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Command::Spectrum(a) => spectrum_cmd(a),
         Command::Sweep(a) => sweep_cmd(a),
         Command::Merge(a) => merge_cmd(a),
+    };
+    result.map_err(|e| match config {
+        Some(path) => name_the_config(e, &path),
+        None => e,
+    })
+}
+
+impl Command {
+    /// The config file the command reads, if any.
+    fn config(&self) -> Option<&Path> {
+        match self {
+            Command::Model(a) => Some(&a.config),
+            Command::Simulate(a) => Some(&a.config),
+            Command::Service(a) => Some(&a.config),
+            Command::Sweep(a) => Some(&a.config),
+            Command::Record(_) | Command::Spectrum(_) | Command::Merge(_) => None,
+        }
     }
+}
+
+/// Puts the config's name in front of an input error that does not name it
+/// yet (a value out of range, a geometry that cannot work, a record the
+/// config points to), so that the message says which file to fix.
+fn name_the_config(err: anyhow::Error, config: &Path) -> anyhow::Error {
+    let name = config.display().to_string();
+    let about_a_flag = err.to_string().starts_with("--");
+    if about_a_flag || exit_code(&err) != 2 || err.chain().any(|c| c.to_string().contains(&name)) {
+        return err;
+    }
+    err.context(name)
 }
 
 fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {

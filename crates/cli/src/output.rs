@@ -275,6 +275,7 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
             "failed": s.failed.len(),
             "failures": failures,
             "wall_time_s": s.wall_time_s,
+            "peak_memory_mb": s.peak_memory_mb,
         });
         out!("{v}");
         return;
@@ -287,6 +288,9 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
         s.wall_time_s,
         s.output.display()
     );
+    if let Some(mb) = s.peak_memory_mb {
+        out!("peak memory: {mb:.0} MB");
+    }
     if !s.failed.is_empty() {
         out!("{} jobs failed:", s.failed.len());
         for (case, record, z, t, msg) in &s.failed {

@@ -3,83 +3,26 @@
 //! - The HDF5 output holds every dataset of the documented layout with its
 //!   shape, and a job's numbers equal those of the same run through
 //!   `quakejoint simulate`.
-//! - Results are bit-identical for 1 and 2 threads and for 1 shard against
-//!   3 shards merged (each job runs single-threaded and deterministically).
 //! - A sweep killed with SIGKILL part way resumes from its journal to the
-//!   same numbers; resuming after a config change is refused.
-//! - A case that cannot work fails its jobs with a status and a message,
-//!   the others finish, and the exit code is 3.
+//!   same numbers; a second sweep into the same output (finished, or still
+//!   running), or resuming after a config change, is refused. (Thread counts and shards:
+//!   `determinism.rs`; kills at many moments: `crash_safety.rs`.)
+//! - A case that cannot work (a geometry, a step limit, an absurd
+//!   stiffness, a per-job wall-clock limit) fails its jobs with a status and
+//!   a message, the others finish, and the exit code is 3.
 //! - The plotting scripts turn the outputs into PNG files.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use std::path::Path;
+use std::process::Command;
 use std::time::{Duration, Instant};
 
-use quakejoint_sweep::results::{status, FIELDS, MACHINE_DEPENDENT};
-use quakejoint_sweep::sweep_h5::{read_sweep, SweepFile};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn bin() -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_quakejoint"));
-    c.current_dir(root());
-    c
-}
-
-fn run(args: &[&str]) -> Output {
-    bin().args(args).output().expect("runs")
-}
-
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("quakejoint-sweep-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// The small model under the first `duration` s of Corralitos 090.
-fn config(dir: &Path, name: &str, sweep: &str, duration: f64) -> PathBuf {
-    let record = root().join("ground_motions/RSN753_LOMAP_CLS090-hor2.AT2");
-    let text = format!(
-        "[joint]\ncenter_beams = 3\n\
-         [[joint.support_beams]]\nkind = \"guide\"\ny = -7.2\n\
-         [[joint.support_beams]]\nkind = \"joist\"\ny = -1.0\nangle_deg = 13.0\n\
-         [[joint.support_beams]]\nkind = \"joist\"\ny = 5.0\nangle_deg = 17.0\n\
-         [record]\nfile = {record:?}\n\
-         [simulation]\nduration = {duration}\n\
-         {sweep}\n"
-    );
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
+use common::{assert_identical, bin, config, dir, ok, root, run};
+use quakejoint_sweep::results::{status, FIELDS};
+use quakejoint_sweep::sweep_h5::read_sweep;
 
 const GRID: &str = "[sweep]\nperiods = [0.3, 0.6, 1.0, 2.0]\ndamping = [0.02, 0.05]\nhistories = [1.0]\n";
-
-fn ok(out: &Output) {
-    assert!(out.status.success(), "exit {:?}: {}", out.status.code(), String::from_utf8_lossy(&out.stderr));
-}
-
-/// All numeric datasets equal bit for bit (machine-dependent wall times aside).
-fn assert_identical(a: &SweepFile, b: &SweepFile, what: &str) {
-    let (ra, rb) = (&a.results, &b.results);
-    assert_eq!(ra.status, rb.status, "{what}: status");
-    for (k, name) in FIELDS.iter().enumerate() {
-        if MACHINE_DEPENDENT.contains(name) {
-            continue;
-        }
-        for (j, (x, y)) in ra.values[k].iter().zip(&rb.values[k]).enumerate() {
-            assert_eq!(x.to_bits(), y.to_bits(), "{what}: {name}[{j}] {x} vs {y}");
-        }
-    }
-    for k in 0..4 {
-        assert!(ra.without[k].iter().zip(&rb.without[k]).all(|(x, y)| x.to_bits() == y.to_bits()), "{what}: without");
-    }
-    assert_eq!(ra.histories, rb.histories, "{what}: histories");
-    assert_eq!((&a.periods, &a.damping, &a.cases, &a.records), (&b.periods, &b.damping, &b.cases, &b.records));
-}
 
 #[test]
 fn sweep_layout_and_a_spot_value_against_simulate() {
@@ -149,44 +92,59 @@ fn sweep_layout_and_a_spot_value_against_simulate() {
 }
 
 #[test]
-fn threads_shards_and_resume_give_identical_numbers() {
-    let d = dir("determinism");
-    let cfg = config(&d, "c.toml", GRID, 3.0);
+fn a_second_sweep_or_a_changed_config_is_refused() {
+    let d = dir("refusals");
+    let cfg = config(&d, "c.toml", GRID, 2.0);
     let cfgs = cfg.to_str().unwrap();
-    let path = |n: &str| d.join(n).to_str().unwrap().to_string();
-    ok(&run(&["sweep", cfgs, "--output", &path("two.h5"), "--threads", "2", "--json"]));
-    ok(&run(&["sweep", cfgs, "--output", &path("one.h5"), "--threads", "1", "--json"]));
-    let two = read_sweep(Path::new(&path("two.h5"))).unwrap();
-    let one = read_sweep(Path::new(&path("one.h5"))).unwrap();
-    assert_eq!(two.results.finished(), 8);
-    assert_identical(&one, &two, "1 thread vs 2 threads");
-
-    for k in 1..=3 {
-        ok(&run(&["sweep", cfgs, "--output", &path(&format!("s{k}.h5")), "--shard", &format!("{k}/3"), "--json"]));
-    }
-    let shard1 = read_sweep(Path::new(&path("s1.h5"))).unwrap();
-    let n1 = shard1.results.status.iter().filter(|&&s| s != status::NOT_RUN).count();
-    assert!(n1 > 0 && n1 < 8, "a shard runs part of the jobs ({n1})");
-    ok(&run(&["merge", &path("s1.h5"), &path("s2.h5"), &path("s3.h5"), "--output", &path("merged.h5"), "--json"]));
-    let merged = read_sweep(Path::new(&path("merged.h5"))).unwrap();
-    assert_identical(&merged, &two, "3 shards merged vs 1");
-    assert_eq!(merged.shard, "all");
-
+    let out = d.join("out.h5");
+    let outs = out.to_str().unwrap();
+    ok(&run(&["sweep", cfgs, "--output", outs, "--json"]));
     // a second sweep into the same output without --resume is refused
-    let again = run(&["sweep", cfgs, "--output", &path("two.h5")]);
+    let again = run(&["sweep", cfgs, "--output", outs]);
     assert_eq!(again.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&again.stderr).contains("--resume"));
 
     // resuming after a change of the config is refused, saying what changed
-    let changed =
-        config(&d, "c.toml", &format!("{GRID}\n[joint.friction]\nmu = 0.1\n").replace("[sweep]", "[sweep]"), 3.0);
-    let refused = run(&["sweep", changed.to_str().unwrap(), "--output", &path("two.h5"), "--resume"]);
+    let changed = config(&d, "c.toml", &format!("{GRID}\n[joint.friction]\nmu = 0.1\n"), 2.0);
+    let refused = run(&["sweep", changed.to_str().unwrap(), "--output", outs, "--resume"]);
     assert_eq!(refused.status.code(), Some(2), "{}", String::from_utf8_lossy(&refused.stderr));
     assert!(
         String::from_utf8_lossy(&refused.stderr).contains("config changed"),
         "{}",
         String::from_utf8_lossy(&refused.stderr)
     );
+}
+
+#[test]
+fn a_second_sweep_into_a_running_output_is_refused() {
+    let d = dir("concurrent");
+    let cfg = config(&d, "c.toml", GRID, 2.0);
+    let cfgs = cfg.to_str().unwrap();
+    let out = d.join("out.h5");
+    // the first sweep stops in its first checkpoint, holding the journal
+    let mut first = bin()
+        .args(["sweep", cfgs, "--output", out.to_str().unwrap(), "--json"])
+        .env("QUAKEJOINT_TEST_PAUSE", "checkpoint:1")
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let marker = quakejoint_sweep::fault::marker(&out);
+    let start = Instant::now();
+    while !marker.exists() {
+        assert!(start.elapsed() < Duration::from_secs(60), "the first sweep never paused");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let second = run(&["sweep", cfgs, "--output", out.to_str().unwrap(), "--resume"]);
+    first.kill().unwrap();
+    first.wait().unwrap();
+    assert_eq!(second.status.code(), Some(2), "{}", String::from_utf8_lossy(&second.stderr));
+    assert!(
+        String::from_utf8_lossy(&second.stderr).contains("another quakejoint sweep is writing this output"),
+        "{}",
+        String::from_utf8_lossy(&second.stderr)
+    );
+    // once the first is gone, the journal is free
+    ok(&run(&["sweep", cfgs, "--output", out.to_str().unwrap(), "--resume", "--json"]));
 }
 
 #[test]
@@ -237,22 +195,35 @@ fn an_impossible_case_fails_its_jobs_and_the_sweep_goes_on() {
     let sweep = "[sweep]\nperiods = [0.5, 1.0]\ndamping = [0.05]\n\
                  [[sweep.cases]]\nname = \"reference\"\n\
                  [[sweep.cases]]\nname = \"beams too short\"\njoint.center_beam.length = 2.0\n\
-                 [[sweep.cases]]\nname = \"step limit\"\nsimulation.max_steps = 5\n";
+                 [[sweep.cases]]\nname = \"step limit\"\nsimulation.max_steps = 5\n\
+                 [[sweep.cases]]\nname = \"absurd stiffness\"\njoint.bushing.kx = 1e25\njoint.bushing.ky = 1e25\n\
+                 [[sweep.cases]]\nname = \"time limit\"\nsimulation.h_max = 1e-7\nsimulation.max_wall_time = 0.5\n";
     let cfg = config(&d, "c.toml", sweep, 2.0);
     let out = d.join("out.h5");
-    let res = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap(), "--json"]);
+    let start = Instant::now();
+    let res = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap(), "--threads", "2", "--json"]);
+    let wall = start.elapsed();
     assert_eq!(res.status.code(), Some(3), "{}", String::from_utf8_lossy(&res.stderr));
     let v: serde_json::Value = serde_json::from_slice(&res.stdout).unwrap();
-    assert_eq!(v["failed"], 4);
+    assert_eq!(v["failed"], 8);
     let f = read_sweep(&out).unwrap();
-    assert_eq!(f.cases, vec!["reference", "beams too short", "step limit"]);
+    assert_eq!(f.cases, vec!["reference", "beams too short", "step limit", "absurd stiffness", "time limit"]);
     let r = &f.results;
     assert_eq!(&r.status[0..2], &[status::OK, status::OK]);
     assert_eq!(&r.status[2..4], &[status::INVALID, status::INVALID]);
     assert!(r.messages[2].contains("outside the center beam"), "{}", r.messages[2]);
     assert_eq!(&r.status[4..6], &[status::LIMIT, status::LIMIT]);
     assert!(r.messages[4].contains("step limit"), "{}", r.messages[4]);
+    // a bushing stiffer than any steel: the iteration matrix is singular to
+    // working precision at the first steps; the job fails with the cause
+    assert_eq!(&r.status[6..8], &[status::FAILED, status::FAILED]);
+    assert!(r.messages[6].contains("integration failed at t ="), "{}", r.messages[6]);
+    // ten million steps would be needed: the per-job limit ends each job
+    assert_eq!(&r.status[8..10], &[status::LIMIT, status::LIMIT]);
+    assert!(r.messages[8].contains("time limit of 0.5 s wall clock"), "{}", r.messages[8]);
     assert!(r.values[0][2].is_nan() && r.values[0][0] > 0.0);
+    // the time-limited jobs (2 x 0.5 s on 2 threads) bound the sweep
+    assert!(wall.as_secs_f64() < 30.0, "the sweep took {wall:?}");
 }
 
 #[test]

@@ -22,6 +22,7 @@
 
 use std::path::PathBuf;
 
+use quakejoint_model::resources::peak_memory_mb;
 use quakejoint_model::run::{load_records, simulate_records, RunOptions, RunResult};
 use quakejoint_model::Config;
 use rayon::prelude::*;
@@ -41,14 +42,6 @@ fn paper() -> Config {
 fn run(config: &Config, omega: Option<f64>) -> RunResult {
     let (x, y) = load_records(config, &configs()).expect("record");
     simulate_records(config, &x, y.as_ref(), &RunOptions { omega, ..RunOptions::default() }).expect("run")
-}
-
-/// Peak resident memory of this process so far [MB] (Linux `VmHWM`).
-fn peak_memory_mb() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb / 1024.0)
 }
 
 fn write_json(name: &str, text: &str) {

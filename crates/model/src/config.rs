@@ -334,6 +334,10 @@ impl Default for ServiceConfig {
     }
 }
 
+/// The most center beams a joint may have (built joints have up to about
+/// 30; the bound keeps a typo from exhausting memory).
+pub const MAX_CENTER_BEAMS: usize = 1000;
+
 impl Config {
     /// Parses TOML text; `source` names the file in messages.
     pub fn from_toml(text: &str, source: &str) -> Result<Self, ModelError> {
@@ -356,6 +360,13 @@ impl Config {
         if j.enabled {
             if j.center_beams == 0 {
                 return Err(invalid("joint.center_beams", 0.0, "must be at least 1"));
+            }
+            if j.center_beams > MAX_CENTER_BEAMS {
+                return Err(ModelError::Invalid {
+                    field: "joint.center_beams".to_string(),
+                    value: j.center_beams.to_string(),
+                    reason: format!("must be at most {MAX_CENTER_BEAMS}"),
+                });
             }
             positive("joint.pitch", j.pitch)?;
             positive("joint.center_beam.length", j.center_beam.length)?;

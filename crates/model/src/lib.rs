@@ -15,6 +15,7 @@ pub mod error;
 pub mod generator;
 pub mod geometry;
 pub mod linear;
+pub mod resources;
 pub mod run;
 pub mod service;
 

@@ -129,7 +129,9 @@ pub fn parse_at2(text: &str, file: &str) -> Result<RawRecord, RecordError> {
         return Err(RecordError::BadDt { file: file.into(), line: 4, dt });
     }
 
-    let mut values = Vec::with_capacity(npts);
+    // the header's NPTS is not trusted for the allocation: a value needs at
+    // least two bytes (a digit and a separator), so the text bounds the count
+    let mut values = Vec::with_capacity(npts.min(text.len() / 2 + 1));
     for (i, line) in lines.iter().enumerate().skip(HEADER_LINES) {
         let line_no = i + 1;
         for token in line.split(|c: char| c.is_whitespace() || c == ',').filter(|s| !s.is_empty()) {

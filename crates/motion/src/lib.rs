@@ -58,7 +58,7 @@ pub use record::{load_record, load_record_from_str, LoadedRecord, RawRecord, Rec
 pub use spec::{Format, RecordSpec, Units};
 pub use spectrum::{
     history, peaks, period_range, spectrum, spectrum_samples, History, Peaks, SpectrumOptions, SpectrumRow,
-    MAX_SUBDIVISIONS,
+    MAX_PERIODS, MAX_SUBDIVISIONS,
 };
 pub use stats::RecordStats;
 pub use text::{parse_number, parse_one_column, parse_two_column};

@@ -135,12 +135,18 @@ fn from_raw(spec: &RecordSpec, raw: RawRecord) -> Result<LoadedRecord, RecordErr
     let mut warnings = Vec::new();
     if let (Some(header_units), Some(given)) = (raw.header_units, spec.units) {
         if header_units != given {
-            warnings.push(format!(
-                "{file}: the header says units of {} but the spec says `{}`; using `{}`",
-                header_units.name(),
-                given.name(),
-                given.name()
-            ));
+            // one of the two is wrong, and guessing which would scale the
+            // whole spectrum by a constant factor: refuse
+            return Err(RecordError::Spec {
+                file,
+                field: "units",
+                message: format!(
+                    "the file's header says units of {} but the spec says `{}`: remove `units` (the header is \
+                     authoritative) or fix the file",
+                    header_units.name(),
+                    given.name()
+                ),
+            });
         }
     }
     if let Some(t0) = raw.first_time {

@@ -250,10 +250,14 @@ pub fn spectrum_samples(
     Ok(rows)
 }
 
+/// The most periods a range may have (a million periods is far finer than
+/// any record resolves; the bound keeps a typo from exhausting memory).
+pub const MAX_PERIODS: usize = 1_000_000;
+
 /// `count` periods \[s\] from `from` to `to` (both included), spaced
 /// logarithmically (`log`, needs from > 0) or linearly (needs from >= 0).
-/// Needs finite bounds, to >= from and count >= 1 (count = 1 gives
-/// `[from]`, and then to must equal from).
+/// Needs finite bounds, to >= from and 1 <= count <= [`MAX_PERIODS`]
+/// (count = 1 gives `[from]`, and then to must equal from).
 pub fn period_range(from: f64, to: f64, count: usize, log: bool) -> Result<Vec<f64>, SpectrumError> {
     let bad = |m: String| Err(SpectrumError::Range(m));
     if !(from.is_finite() && to.is_finite()) {
@@ -270,6 +274,9 @@ pub fn period_range(from: f64, to: f64, count: usize, log: bool) -> Result<Vec<f
     }
     if count == 0 {
         return bad("count must be at least 1".into());
+    }
+    if count > MAX_PERIODS {
+        return bad(format!("count = {count} is more than {MAX_PERIODS} periods"));
     }
     if count == 1 {
         if to != from {

@@ -117,13 +117,15 @@ fn units_conversion() {
         let spec: RecordSpec = toml::from_str(&format!("file = \"u.txt\"\nunits = \"{name}\"\n")).unwrap();
         assert_eq!(spec.units, Some(units));
     }
-    // an AT2 file read with units other than its header's: warning
+    // an AT2 file read with units other than its header's: refused, naming the field
     let mut spec = RecordSpec::new("x.at2");
     spec.units = Some(Units::CentimetersPerSecond2);
     let text = format!("{H123}NPTS= 2, DT= .01\n0 1\n");
-    let loaded = load_record_from_str(&spec, &text).unwrap();
-    assert_eq!(loaded.record.acceleration, vec![0.0, 0.01]);
-    assert!(loaded.warnings[0].contains("header says units of g"), "{:?}", loaded.warnings);
+    let err = load_record_from_str(&spec, &text).unwrap_err().to_string();
+    assert!(err.starts_with("x.at2: field `units`") && err.contains("header says units of g"), "{err}");
+    // the header's own units given explicitly are fine
+    spec.units = Some(Units::G);
+    assert!(load_record_from_str(&spec, &text).unwrap().warnings.is_empty());
 }
 
 #[test]

@@ -64,6 +64,18 @@ pub enum SweepError {
     /// Files to merge do not belong together.
     #[error("merge: {0}")]
     Merge(String),
+    /// Writing failed while jobs were running: the sweep stopped, the
+    /// journal keeps every finished job.
+    #[error(
+        "{cause}; the sweep stopped, and the journal {journal} keeps every finished job: run the same command with \
+         --resume once the problem is fixed"
+    )]
+    Stopped {
+        /// What failed.
+        cause: Box<SweepError>,
+        /// The journal.
+        journal: String,
+    },
 }
 
 impl SweepError {
@@ -76,6 +88,7 @@ impl SweepError {
             }
             SweepError::Model(m) => m.is_input_error(),
             SweepError::Io { .. } | SweepError::Output(_) => false,
+            SweepError::Stopped { cause, .. } => cause.is_input_error(),
         }
     }
 }

@@ -24,7 +24,15 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&hdf5::File) -> hdf5::Re
         file.close()
     })();
     match result {
-        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| OutputError::io(path, e)),
+        Ok(()) => {
+            // on disk before it takes the name: a power cut after the
+            // rename must not leave a file that cannot be opened
+            let synced = std::fs::File::open(&tmp).and_then(|f| f.sync_all());
+            synced.and_then(|_| std::fs::rename(&tmp, path)).map_err(|e| {
+                let _ = std::fs::remove_file(&tmp);
+                OutputError::io(path, e)
+            })
+        }
         Err(e) => {
             let _ = std::fs::remove_file(&tmp);
             Err(OutputError::hdf5(path, e))

@@ -6,7 +6,10 @@
 //! job. Every frame is written with one `write_all`, flushed and fsynced
 //! before the next job is acknowledged. A torn or corrupt last frame (a
 //! crash during an append) is ignored on reading and cut off before new
-//! frames are appended.
+//! frames are appended; a journal without a complete header (a crash while
+//! it was being created, before any job finished) is started afresh. The
+//! open journal is locked ([`File::try_lock`]), so that a second sweep into
+//! the same output is refused while the first runs.
 
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
@@ -87,6 +90,11 @@ fn jerr(path: &Path, message: impl Into<String>) -> SweepError {
     SweepError::Journal { path: path.display().to_string(), message: message.into() }
 }
 
+/// A failure of the machine (disk full, permissions), not of the input.
+fn io_error(path: &Path, message: String) -> SweepError {
+    SweepError::Io { path: path.display().to_string(), message }
+}
+
 fn encode<T: Serialize>(value: &T) -> Vec<u8> {
     bincode::serde::encode_to_vec(value, bincode::config::standard()).expect("plain data encodes")
 }
@@ -120,6 +128,20 @@ fn read_frames(bytes: &[u8]) -> (Vec<&[u8]>, usize) {
     (frames, at)
 }
 
+/// Takes the journal's advisory lock, held until the file is closed (the
+/// process ends, killed or not): one sweep writes an output at a time. Where
+/// the file system cannot lock, the sweep goes on unlocked.
+fn lock(file: &File, path: &Path) -> Result<(), SweepError> {
+    match file.try_lock() {
+        Ok(()) | Err(std::fs::TryLockError::Error(_)) => Ok(()),
+        Err(std::fs::TryLockError::WouldBlock) => Err(jerr(
+            path,
+            "another quakejoint sweep is writing this output (its journal is locked): let it finish or stop it \
+             first",
+        )),
+    }
+}
+
 impl Journal {
     /// Creates a new journal (the file must not exist).
     pub fn create(path: &Path, header: &Header) -> Result<Self, SweepError> {
@@ -127,10 +149,13 @@ impl Journal {
             .write(true)
             .create_new(true)
             .open(path)
-            .map_err(|e| jerr(path, format!("cannot create the journal: {e}")))?;
+            .map_err(|e| io_error(path, format!("cannot create the journal: {e}")))?;
+        lock(&file, path)?;
         let mut bytes = MAGIC.to_vec();
         bytes.extend(frame(&encode(header)));
-        file.write_all(&bytes).and_then(|_| file.sync_all()).map_err(|e| jerr(path, e.to_string()))?;
+        file.write_all(&bytes)
+            .and_then(|_| file.sync_all())
+            .map_err(|e| io_error(path, format!("cannot write the journal: {e}")))?;
         Ok(Self { path: path.to_path_buf(), file })
     }
 
@@ -143,14 +168,19 @@ impl Journal {
             .write(true)
             .open(path)
             .map_err(|e| jerr(path, format!("cannot open the journal to resume: {e}")))?;
+        lock(&file, path)?;
         let mut bytes = Vec::new();
         file.read_to_end(&mut bytes).map_err(|e| jerr(path, e.to_string()))?;
-        if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
+        let torn_magic = bytes.len() < MAGIC.len() && MAGIC.starts_with(&bytes);
+        if !torn_magic && (bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC) {
             return Err(jerr(path, "not a quakejoint journal"));
         }
-        let (frames, valid) = read_frames(&bytes);
+        let (frames, valid) = if torn_magic { (Vec::new(), 0) } else { read_frames(&bytes) };
         let Some(first) = frames.first() else {
-            return Err(jerr(path, "the journal has no header (the first run was interrupted at once); delete it"));
+            // killed while the journal was being created: nothing finished yet
+            drop(file);
+            std::fs::remove_file(path).map_err(|e| jerr(path, e.to_string()))?;
+            return Ok((Self::create(path, expected)?, Vec::new()));
         };
         let header: Header = bincode::serde::decode_from_slice(first, bincode::config::standard())
             .map_err(|e| jerr(path, format!("unreadable header: {e}")))?
@@ -182,14 +212,18 @@ impl Journal {
         Ok((Self { path: path.to_path_buf(), file }, results))
     }
 
-    /// Appends one result, durably.
+    /// Appends one result, durably (the frame is written in two halves, with
+    /// a fault-injection point between them, [`crate::fault`]).
     pub fn append(&mut self, result: &JobResult) -> Result<(), SweepError> {
         let bytes = frame(&encode(result));
-        self.file
-            .write_all(&bytes)
-            .and_then(|_| self.file.flush())
-            .and_then(|_| self.file.sync_data())
-            .map_err(|e| jerr(&self.path, format!("cannot append to the journal: {e}")))
+        let (first, second) = bytes.split_at(bytes.len() / 2);
+        let write = |file: &mut File, part: &[u8]| file.write_all(part).and_then(|_| file.sync_data());
+        write(&mut self.file, first)
+            .and_then(|_| {
+                crate::fault::point(crate::fault::Point::Journal, &self.path);
+                write(&mut self.file, second)
+            })
+            .map_err(|e| io_error(&self.path, format!("cannot append to the journal: {e}")))
     }
 
     /// The journal's path.
@@ -258,6 +292,7 @@ mod tests {
         assert_eq!(got, vec![result(3), result(7)]);
         assert_eq!(std::fs::metadata(&path).unwrap().len(), full.len() as u64);
         j.append(&result(9)).unwrap();
+        drop(j);
         let (_, all) = read(&path).unwrap();
         assert_eq!(all.len(), 3);
         // a flipped byte in the payload of the last frame
@@ -267,6 +302,42 @@ mod tests {
         std::fs::write(&path, &bad).unwrap();
         let (_, got) = Journal::resume(&path, &header()).unwrap();
         assert_eq!(got.len(), 2);
+    }
+
+    #[test]
+    fn a_journal_torn_while_being_created_starts_afresh() {
+        let dir = std::env::temp_dir().join(format!("qj-journal-new-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("new.journal");
+        let mut whole = MAGIC.to_vec();
+        whole.extend(frame(&encode(&header())));
+        for cut in [0, 3, MAGIC.len(), MAGIC.len() + 5, whole.len() - 1] {
+            std::fs::write(&path, &whole[..cut]).unwrap();
+            let (mut j, got) = Journal::resume(&path, &header()).unwrap();
+            assert!(got.is_empty(), "cut at {cut}");
+            j.append(&result(4)).unwrap();
+            drop(j);
+            let (h, all) = read(&path).unwrap();
+            assert_eq!((h, all), (header(), vec![result(4)]), "cut at {cut}");
+        }
+        // not a journal at all: refused, not overwritten
+        std::fs::write(&path, b"something else entirely").unwrap();
+        assert!(Journal::resume(&path, &header()).unwrap_err().to_string().contains("not a quakejoint journal"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_second_writer_is_refused_while_the_first_holds_the_journal() {
+        let dir = std::env::temp_dir().join(format!("qj-journal-lock-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("locked.journal");
+        let _ = std::fs::remove_file(&path);
+        let first = Journal::create(&path, &header()).unwrap();
+        let err = Journal::resume(&path, &header()).unwrap_err().to_string();
+        assert!(err.contains("another quakejoint sweep is writing this output"), "{err}");
+        drop(first);
+        assert!(Journal::resume(&path, &header()).is_ok(), "the lock ends with the first writer");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

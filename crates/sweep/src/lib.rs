@@ -6,6 +6,7 @@
 #![deny(missing_docs)]
 
 pub mod error;
+pub mod fault;
 pub mod h5;
 pub mod journal;
 pub mod merge;

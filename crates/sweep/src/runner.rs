@@ -59,6 +59,9 @@ pub struct Summary {
     pub output: PathBuf,
     /// The journal.
     pub journal: PathBuf,
+    /// Peak resident memory of the process [MB] (Linux; for cluster job
+    /// requests).
+    pub peak_memory_mb: Option<f64>,
 }
 
 /// `<output>.journal`.
@@ -328,10 +331,13 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     for bar in &workers {
         bar.finish_and_clear();
     }
-    let file = writer.join().map_err(|_| SweepError::Io {
-        path: opts.output.display().to_string(),
-        message: "the writer thread panicked".into(),
-    })??;
+    let file = writer
+        .join()
+        .map_err(|_| SweepError::Io {
+            path: opts.output.display().to_string(),
+            message: "the writer thread panicked".into(),
+        })?
+        .map_err(|e| SweepError::Stopped { cause: Box::new(e), journal: jpath.display().to_string() })?;
     overall.finish_and_clear();
     let mut failed = Vec::new();
     for &j in &scope {
@@ -355,6 +361,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         wall_time_s: start.elapsed().as_secs_f64(),
         output: opts.output.clone(),
         journal: jpath,
+        peak_memory_mb: quakejoint_model::resources::peak_memory_mb(),
     })
 }
 

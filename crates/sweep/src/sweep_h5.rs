@@ -106,6 +106,7 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
             ArrayView4::from_shape((d[0], d[1], d[2], d[3]), &msgs).map_err(|e| hdf5::Error::from(e.to_string()))?;
         with.new_dataset_builder().with_data(msgs).create("message")?;
         ds4(&spec, "reduction", d, &r.reduction(), "-")?;
+        crate::fault::point(crate::fault::Point::Checkpoint, path);
 
         let recs = file.create_group("records")?;
         for rec in &f.records {

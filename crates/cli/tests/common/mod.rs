@@ -1,0 +1,78 @@
+//! Helpers shared by the command-line tests: the binary, scratch
+//! directories, the small-model config and bit-for-bit comparison of sweep
+//! outputs.
+#![allow(dead_code)] // each test file uses a different subset
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use quakejoint_sweep::results::{FIELDS, MACHINE_DEPENDENT};
+use quakejoint_sweep::sweep_h5::SweepFile;
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The `quakejoint` binary, run from the repository root.
+pub fn bin() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_quakejoint"));
+    c.current_dir(root());
+    c
+}
+
+/// Runs `quakejoint` with `args` to completion.
+pub fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("runs")
+}
+
+/// A fresh, empty scratch directory for the test `name`.
+pub fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("quakejoint-sweep-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Writes `dir/name`: the small model under the first `duration` s of
+/// Corralitos 090, followed by `sweep` (a `[sweep]` table).
+pub fn config(dir: &Path, name: &str, sweep: &str, duration: f64) -> PathBuf {
+    let record = root().join("ground_motions/RSN753_LOMAP_CLS090-hor2.AT2");
+    let text = format!(
+        "[joint]\ncenter_beams = 3\n\
+         [[joint.support_beams]]\nkind = \"guide\"\ny = -7.2\n\
+         [[joint.support_beams]]\nkind = \"joist\"\ny = -1.0\nangle_deg = 13.0\n\
+         [[joint.support_beams]]\nkind = \"joist\"\ny = 5.0\nangle_deg = 17.0\n\
+         [record]\nfile = {record:?}\n\
+         [simulation]\nduration = {duration}\n\
+         {sweep}\n"
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Asserts a zero exit code, showing stderr otherwise.
+pub fn ok(out: &Output) {
+    assert!(out.status.success(), "exit {:?}: {}", out.status.code(), String::from_utf8_lossy(&out.stderr));
+}
+
+/// All numeric datasets equal bit for bit (machine-dependent wall times aside).
+pub fn assert_identical(a: &SweepFile, b: &SweepFile, what: &str) {
+    let (ra, rb) = (&a.results, &b.results);
+    assert_eq!(ra.status, rb.status, "{what}: status");
+    assert_eq!(ra.messages, rb.messages, "{what}: messages");
+    for (k, name) in FIELDS.iter().enumerate() {
+        if MACHINE_DEPENDENT.contains(name) {
+            continue;
+        }
+        for (j, (x, y)) in ra.values[k].iter().zip(&rb.values[k]).enumerate() {
+            assert_eq!(x.to_bits(), y.to_bits(), "{what}: {name}[{j}] {x} vs {y}");
+        }
+    }
+    for k in 0..4 {
+        assert!(ra.without[k].iter().zip(&rb.without[k]).all(|(x, y)| x.to_bits() == y.to_bits()), "{what}: without");
+    }
+    assert_eq!(ra.histories, rb.histories, "{what}: histories");
+    assert_eq!((&a.periods, &a.damping, &a.cases, &a.records), (&b.periods, &b.damping, &b.cases, &b.records));
+}

@@ -1,0 +1,90 @@
+//! Disk faults: a write that fails part way through a sweep stops it
+//! cleanly, and `--resume` on a healthy disk finishes the work.
+//!
+//! The fault is real, not mocked: the sweep runs under a file-size limit
+//! (`ulimit -f`, with SIGXFSZ ignored so that the write returns EFBIG, as
+//! on a full disk or an exceeded quota). Two placements:
+//! - the HDF5 checkpoint fails (a checkpoint after every job, the limit
+//!   smaller than the output file);
+//! - the journal append fails (no checkpoint before the end, the limit
+//!   smaller than the journal, which grows by a time history per history
+//!   job).
+//!
+//! Each must exit with code 1, name the file and the cause, point to
+//! `--resume`, leave the output name either empty or holding a complete
+//! file, and leave a journal that reads; resuming without the limit must
+//! end with the numbers of an uninterrupted run. (An unwritable output
+//! directory is refused before any job runs: `sweep.rs`.)
+
+mod common;
+
+use std::process::Command;
+
+use common::{assert_identical, config, dir, ok, run};
+use quakejoint_sweep::journal;
+use quakejoint_sweep::runner::journal_path;
+use quakejoint_sweep::sweep_h5::read_sweep;
+
+/// 2 cases x 2 dampings x 6 periods, histories at one period; `checkpoint`
+/// seconds between HDF5 checkpoints.
+fn sweep_table(checkpoint: f64) -> String {
+    format!(
+        "[sweep]\n\
+         periods = {{ from = 0.2, to = 3.0, count = 6, spacing = \"log\" }}\n\
+         damping = [0.02, 0.05]\n\
+         histories = [1.02]\n\
+         checkpoint_seconds = {checkpoint}\n\
+         [[sweep.cases]]\nname = \"reference\"\n\
+         [[sweep.cases]]\nname = \"mu 0.1\"\njoint.friction.mu = 0.1\n"
+    )
+}
+
+#[test]
+fn a_failing_write_stops_the_sweep_and_resume_finishes_it() {
+    let d = dir("disk");
+    let reference = d.join("reference.h5");
+    let cfg = config(&d, "reference.toml", &sweep_table(60.0), 20.0);
+    ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", reference.to_str().unwrap(), "--json"]));
+    let reference = read_sweep(&reference).unwrap();
+
+    for (name, checkpoint, failing) in
+        [("checkpoint", 0.001, "checkpoint.h5: HDF5"), ("journal", 3600.0, "cannot append to the journal")]
+    {
+        let cfg = config(&d, &format!("{name}.toml"), &sweep_table(checkpoint), 20.0);
+        let out = d.join(format!("{name}.h5"));
+        let args = format!("sweep {} --output {} --threads 2 --json", cfg.display(), out.display());
+        // 300 KiB: a few jobs fit, the output (about 600 KiB) and the journal do not
+        let limited = Command::new("bash")
+            .arg("-c")
+            .arg(format!("trap '' XFSZ; ulimit -f 300; exec {} {args}", env!("CARGO_BIN_EXE_quakejoint")))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&limited.stderr);
+        assert_eq!(limited.status.code(), Some(1), "{name}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{name}: {stderr}");
+        eprintln!("{name} fault: {stderr}");
+        for fragment in [failing, "File too large", "the sweep stopped", "--resume"] {
+            assert!(stderr.contains(fragment), "{name}: `{fragment}` missing from: {stderr}");
+        }
+        if out.exists() {
+            read_sweep(&out).unwrap_or_else(|e| panic!("{name}: the output name holds a broken file: {e}"));
+        }
+        let (_, done) = journal::read(&journal_path(&out)).unwrap();
+        assert!(!done.is_empty() && done.len() < 24, "{name}: {} jobs journalled", done.len());
+
+        let resumed = run(&[
+            "sweep",
+            cfg.to_str().unwrap(),
+            "--output",
+            out.to_str().unwrap(),
+            "--threads",
+            "2",
+            "--resume",
+            "--json",
+        ]);
+        ok(&resumed);
+        let v: serde_json::Value = serde_json::from_slice(&resumed.stdout).unwrap();
+        assert_eq!(v["resumed"].as_u64().unwrap() as usize, done.len(), "{name}");
+        assert_identical(&read_sweep(&out).unwrap(), &reference, &format!("{name} fault, resumed"));
+    }
+}

@@ -1,0 +1,60 @@
+//! Fault-injection points for the crash-safety tests.
+//!
+//! With `QUAKEJOINT_TEST_PAUSE=<point>:<n>` in the environment (`point` one
+//! of `journal` or `checkpoint`), the process stops in the middle of its
+//! `n`-th journal append (half of the frame written and synced) or of its
+//! `n`-th HDF5 checkpoint (the temporary file half written, not yet renamed),
+//! creates the file `<file>.paused` beside the file it is writing (the
+//! journal or the HDF5 output) and sleeps until it is killed. The
+//! tests (`crates/cli/tests/crash_safety.rs`) then send SIGKILL at exactly
+//! that moment. Without the variable the points cost one relaxed atomic load.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
+use std::time::Duration;
+
+/// Where a pause can be requested.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Point {
+    /// Half-way through a journal append.
+    Journal,
+    /// Half-way through an HDF5 checkpoint.
+    Checkpoint,
+}
+
+/// The requested pause, parsed once.
+fn requested() -> Option<(Point, usize)> {
+    static REQUEST: OnceLock<Option<(Point, usize)>> = OnceLock::new();
+    *REQUEST.get_or_init(|| {
+        let text = std::env::var("QUAKEJOINT_TEST_PAUSE").ok()?;
+        let (point, n) = text.split_once(':')?;
+        let point = match point {
+            "journal" => Point::Journal,
+            "checkpoint" => Point::Checkpoint,
+            _ => return None,
+        };
+        Some((point, n.parse().ok()?))
+    })
+}
+
+/// `<file>.paused`: created when the process has stopped while writing `file`.
+pub fn marker(file: &Path) -> PathBuf {
+    let mut s = file.as_os_str().to_owned();
+    s.push(".paused");
+    PathBuf::from(s)
+}
+
+/// Counts the passes through `point`; at the requested one, creates the
+/// marker beside `file` and sleeps for ever.
+pub(crate) fn point(point: Point, file: &Path) {
+    static COUNTS: [AtomicUsize; 2] = [AtomicUsize::new(0), AtomicUsize::new(0)];
+    let Some((wanted, n)) = requested() else { return };
+    let count = COUNTS[point as usize].fetch_add(1, Ordering::Relaxed) + 1;
+    if wanted == point && count == n {
+        let _ = std::fs::write(marker(file), b"paused");
+        loop {
+            std::thread::sleep(Duration::from_secs(3600));
+        }
+    }
+}
