@@ -142,6 +142,39 @@ fn lock(file: &File, path: &Path) -> Result<(), SweepError> {
     }
 }
 
+/// A journal's contents: its header, its results, and the byte offset after
+/// the last valid frame (a torn last frame lies beyond it).
+struct Contents {
+    header: Header,
+    results: Vec<JobResult>,
+    valid: usize,
+}
+
+/// Decodes a journal's bytes; `None` for a journal cut while it was being
+/// created (only part of the magic, or no complete header: no job finished).
+fn parse(bytes: &[u8], path: &Path) -> Result<Option<Contents>, SweepError> {
+    if bytes.len() < MAGIC.len() && MAGIC.starts_with(bytes) {
+        return Ok(None);
+    }
+    if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
+        return Err(jerr(path, "not a quakejoint journal"));
+    }
+    let (frames, valid) = read_frames(bytes);
+    let Some((first, rest)) = frames.split_first() else { return Ok(None) };
+    let header: Header = bincode::serde::decode_from_slice(first, bincode::config::standard())
+        .map_err(|e| jerr(path, format!("unreadable header: {e}")))?
+        .0;
+    let results = rest
+        .iter()
+        .map(|payload| {
+            bincode::serde::decode_from_slice(payload, bincode::config::standard())
+                .map(|r| r.0)
+                .map_err(|e| jerr(path, format!("unreadable job record: {e}")))
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(Some(Contents { header, results, valid }))
+}
+
 impl Journal {
     /// Creates a new journal (the file must not exist).
     pub fn create(path: &Path, header: &Header) -> Result<Self, SweepError> {
@@ -171,20 +204,12 @@ impl Journal {
         lock(&file, path)?;
         let mut bytes = Vec::new();
         file.read_to_end(&mut bytes).map_err(|e| jerr(path, e.to_string()))?;
-        let torn_magic = bytes.len() < MAGIC.len() && MAGIC.starts_with(&bytes);
-        if !torn_magic && (bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC) {
-            return Err(jerr(path, "not a quakejoint journal"));
-        }
-        let (frames, valid) = if torn_magic { (Vec::new(), 0) } else { read_frames(&bytes) };
-        let Some(first) = frames.first() else {
+        let Some(Contents { header, results, valid }) = parse(&bytes, path)? else {
             // killed while the journal was being created: nothing finished yet
             drop(file);
             std::fs::remove_file(path).map_err(|e| jerr(path, e.to_string()))?;
             return Ok((Self::create(path, expected)?, Vec::new()));
         };
-        let header: Header = bincode::serde::decode_from_slice(first, bincode::config::standard())
-            .map_err(|e| jerr(path, format!("unreadable header: {e}")))?
-            .0;
         let diffs = header.differences(expected);
         if !diffs.is_empty() {
             return Err(jerr(
@@ -195,15 +220,8 @@ impl Journal {
                 ),
             ));
         }
-        let mut results = Vec::with_capacity(frames.len() - 1);
-        for payload in &frames[1..] {
-            let r: JobResult = bincode::serde::decode_from_slice(payload, bincode::config::standard())
-                .map_err(|e| jerr(path, format!("unreadable job record: {e}")))?
-                .0;
-            if r.job as u64 >= expected.jobs {
-                return Err(jerr(path, format!("job {} does not exist in this sweep", r.job)));
-            }
-            results.push(r);
+        if let Some(r) = results.iter().find(|r| r.job as u64 >= expected.jobs) {
+            return Err(jerr(path, format!("job {} does not exist in this sweep", r.job)));
         }
         if valid < bytes.len() {
             file.set_len(valid as u64).map_err(|e| jerr(path, e.to_string()))?;
@@ -236,22 +254,9 @@ impl Journal {
 /// inspection and tests).
 pub fn read(path: &Path) -> Result<(Header, Vec<JobResult>), SweepError> {
     let bytes = std::fs::read(path).map_err(|e| jerr(path, e.to_string()))?;
-    if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
-        return Err(jerr(path, "not a quakejoint journal"));
-    }
-    let (frames, _) = read_frames(&bytes);
-    let first = frames.first().ok_or_else(|| jerr(path, "no header"))?;
-    let header: Header =
-        bincode::serde::decode_from_slice(first, bincode::config::standard()).map_err(|e| jerr(path, e.to_string()))?.0;
-    let results = frames[1..]
-        .iter()
-        .map(|p| {
-            bincode::serde::decode_from_slice(p, bincode::config::standard())
-                .map(|r| r.0)
-                .map_err(|e| jerr(path, e.to_string()))
-        })
-        .collect::<Result<_, _>>()?;
-    Ok((header, results))
+    let contents =
+        parse(&bytes, path)?.ok_or_else(|| jerr(path, "no header: the journal was cut while it was being created"))?;
+    Ok((contents.header, contents.results))
 }
 
 #[cfg(test)]
