@@ -3,16 +3,11 @@
 //! Exit code 0 on success, 2 on bad input with a message naming the file,
 //! field or value; `--json` prints one object with the documented keys.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use std::process::Output;
 
-fn quakejoint(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_quakejoint")).args(args).current_dir(root()).output().expect("runs")
-}
+use common::{dir, run as quakejoint};
 
 fn json(out: &Output) -> serde_json::Value {
     assert!(out.status.success(), "failed: {}", String::from_utf8_lossy(&out.stderr));
@@ -21,12 +16,6 @@ fn json(out: &Output) -> serde_json::Value {
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).to_string()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("quakejoint-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
 }
 
 #[test]
@@ -41,7 +30,7 @@ fn model_json_reports_the_reference_counts() {
 
 #[test]
 fn simulate_json_has_every_documented_key_and_writes_histories() {
-    let out = tmp("small.h5");
+    let out = dir("cli-histories").join("small.h5");
     let v = json(&quakejoint(&["simulate", "configs/small.toml", "--json", "--output", out.to_str().unwrap()]));
     for key in [
         "sa",
@@ -153,7 +142,7 @@ fn bad_input_exits_with_code_2_and_names_the_problem() {
         assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
         assert!(stderr(&out).contains(expect), "{args:?}: {}", stderr(&out));
     }
-    let bad = tmp("bad.toml");
+    let bad = dir("cli-bad").join("bad.toml");
     std::fs::write(&bad, "[joint]\npitch = -0.13\n").unwrap();
     let out = quakejoint(&["model", bad.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
