@@ -56,34 +56,67 @@ pub fn sdof(mass: f64, period: f64, zeta: f64, ground: TimeSeries) -> (System, B
 
 /// Mass on a spring with regularised Coulomb friction against the ground,
 /// released from rest at `x0` [m] (free vibration).
-pub fn friction_oscillator(
-    mass: f64,
-    stiffness: f64,
-    friction_force: f64,
-    v_eps: f64,
-    law: FrictionLaw,
-    x0: f64,
-) -> (System, BodyId) {
-    let mut sys = System::new();
-    let body = sys.add_body(Body::new("mass", mass, 1.0, [x0, 0.0, 0.0]).only(&[Coord::X]));
-    sys.add_force(ForceElement::CoordinateSpring(CoordinateSpring {
-        body,
-        coord: Coord::X,
-        stiffness,
-        damping: 0.0,
-        rest: 0.0,
-    }));
-    sys.add_force(ForceElement::Friction(Friction {
-        slider: body,
-        point: [0.0, 0.0],
-        base: BodyId::GROUND,
-        mu: 1.0,
-        normal_force: friction_force,
-        surfaces: 1.0,
-        v_eps,
-        law,
-    }));
-    (sys, body)
+#[derive(Debug, Clone, Copy)]
+pub struct FrictionOscillator {
+    /// Mass [kg].
+    pub mass: f64,
+    /// Spring stiffness [N/m].
+    pub stiffness: f64,
+    /// Coulomb friction force mu N [N].
+    pub friction_force: f64,
+    /// Regularisation velocity [m/s].
+    pub v_eps: f64,
+    /// Friction law.
+    pub law: FrictionLaw,
+    /// Initial position [m].
+    pub x0: f64,
+}
+
+impl FrictionOscillator {
+    /// The mass as a body restricted to its x coordinate.
+    pub fn on_coordinate(&self) -> (System, BodyId) {
+        let mut sys = System::new();
+        let body = sys.add_body(Body::new("mass", self.mass, 1.0, [self.x0, 0.0, 0.0]).only(&[Coord::X]));
+        self.add_spring_and_friction(&mut sys, body);
+        (sys, body)
+    }
+
+    /// The mass as a free planar body held on the x axis by a prismatic
+    /// joint to the ground (the friction then acts on a slider, which the
+    /// integrator's local friction solve handles).
+    pub fn on_prismatic(&self) -> (System, BodyId) {
+        let mut sys = System::new();
+        let body = sys.add_body(Body::new("slider", self.mass, 0.01, [self.x0, 0.0, 0.0]));
+        sys.add_constraint(Constraint::Prismatic(Prismatic {
+            slider: body,
+            point: [0.0, 0.0],
+            base: BodyId::GROUND,
+            axis_point: [0.0, 0.0],
+            axis_direction: [1.0, 0.0],
+        }));
+        self.add_spring_and_friction(&mut sys, body);
+        (sys, body)
+    }
+
+    fn add_spring_and_friction(&self, sys: &mut System, body: BodyId) {
+        sys.add_force(ForceElement::CoordinateSpring(CoordinateSpring {
+            body,
+            coord: Coord::X,
+            stiffness: self.stiffness,
+            damping: 0.0,
+            rest: 0.0,
+        }));
+        sys.add_force(ForceElement::Friction(Friction {
+            slider: body,
+            point: [0.0, 0.0],
+            base: BodyId::GROUND,
+            mu: 1.0,
+            normal_force: self.friction_force,
+            surfaces: 1.0,
+            v_eps: self.v_eps,
+            law: self.law,
+        }));
+    }
 }
 
 /// A frictionless bead (a small body sliding in a prismatic joint) on a rod

@@ -13,7 +13,7 @@
 
 use std::sync::Arc;
 
-use quakejoint_solver::reference::friction_oscillator;
+use quakejoint_solver::reference::FrictionOscillator;
 use quakejoint_solver::*;
 
 /// Positions at the turning points (velocity sign changes), on the dense output.
@@ -66,7 +66,9 @@ fn den_hartog(x0: f64, f_over_k: f64) -> Vec<f64> {
 
 fn turning_point_errors(v_eps: f64) -> (f64, f64) {
     let (m, k, f, x0) = (1.0, 100.0, 1.0, 0.105);
-    let (sys, body) = friction_oscillator(m, k, f, v_eps, FrictionLaw::Linear, x0);
+    let oscillator =
+        FrictionOscillator { mass: m, stiffness: k, friction_force: f, v_eps, law: FrictionLaw::Linear, x0 };
+    let (sys, body) = oscillator.on_coordinate();
     let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
     let x = asm.coordinate(body, Coord::X).unwrap();
     let mut sim = Radau5::new(asm, IntegratorOptions::default().scaled_tolerances(1e-2)).unwrap();
@@ -112,32 +114,9 @@ fn amplitude_drops_by_two_friction_displacements_per_half_cycle() {
 #[test]
 fn prismatic_slider_with_local_friction_solve_follows_den_hartog() {
     let (m, k, f, x0, v_eps) = (1.0, 100.0, 1.0, 0.105, 1e-3);
-    let mut sys = System::new();
-    let body = sys.add_body(Body::new("slider", m, 0.01, [x0, 0.0, 0.0]));
-    sys.add_constraint(Constraint::Prismatic(Prismatic {
-        slider: body,
-        point: [0.0, 0.0],
-        base: BodyId::GROUND,
-        axis_point: [0.0, 0.0],
-        axis_direction: [1.0, 0.0],
-    }));
-    sys.add_force(ForceElement::CoordinateSpring(CoordinateSpring {
-        body,
-        coord: Coord::X,
-        stiffness: k,
-        damping: 0.0,
-        rest: 0.0,
-    }));
-    sys.add_force(ForceElement::Friction(Friction {
-        slider: body,
-        point: [0.0, 0.0],
-        base: BodyId::GROUND,
-        mu: 1.0,
-        normal_force: f,
-        surfaces: 1.0,
-        v_eps,
-        law: FrictionLaw::Linear,
-    }));
+    let oscillator =
+        FrictionOscillator { mass: m, stiffness: k, friction_force: f, v_eps, law: FrictionLaw::Linear, x0 };
+    let (sys, body) = oscillator.on_prismatic();
     let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
     let x = asm.coordinate(body, Coord::X).unwrap();
     let expected = den_hartog(x0, f / k);
