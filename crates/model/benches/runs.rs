@@ -26,6 +26,7 @@ use quakejoint_model::resources::peak_memory_mb;
 use quakejoint_model::run::{load_records, simulate_records, RunOptions, RunResult};
 use quakejoint_model::Config;
 use rayon::prelude::*;
+use serde_json::json;
 
 fn configs() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../configs")
@@ -44,8 +45,9 @@ fn run(config: &Config, omega: Option<f64>) -> RunResult {
     simulate_records(config, &x, y.as_ref(), &RunOptions { omega, ..RunOptions::default() }).expect("run")
 }
 
-fn write_json(name: &str, text: &str) {
+fn write_json(name: &str, value: &serde_json::Value) {
     let dir = out_dir();
+    let text = serde_json::to_string_pretty(value).expect("plain data") + "\n";
     if std::fs::create_dir_all(&dir).is_ok() && std::fs::write(dir.join(name), text).is_ok() {
         println!("(written to {})", dir.join(name).display());
     }
@@ -73,19 +75,17 @@ fn full() {
     }
     write_json(
         "full.json",
-        &format!(
-            "{{\"wall_time_s\": {}, \"steps\": {}, \"rejected\": {}, \"failed_attempts\": {}, \"newton_iterations\": {}, \
-             \"jacobians\": {}, \"factorizations\": {}, \"sa\": {}, \"peak_memory_mb\": {}}}\n",
-            r.wall_time_s,
-            s.steps,
-            s.rejected,
-            s.failed_attempts,
-            s.newton_iterations,
-            s.jacobian_evaluations,
-            s.factorizations,
-            r.sa,
-            peak_memory_mb().unwrap_or(f64::NAN)
-        ),
+        &json!({
+            "wall_time_s": r.wall_time_s,
+            "steps": s.steps,
+            "rejected": s.rejected,
+            "failed_attempts": s.failed_attempts,
+            "newton_iterations": s.newton_iterations,
+            "jacobians": s.jacobian_evaluations,
+            "factorizations": s.factorizations,
+            "sa": r.sa,
+            "peak_memory_mb": peak_memory_mb(),
+        }),
     );
 }
 
@@ -115,13 +115,18 @@ fn scaling() {
             r.wall_time_s,
             per_step / coords as f64 * 1e3
         );
-        rows.push(format!(
-            "{{\"nc\": {nc}, \"bodies\": {bodies}, \"coordinates\": {coords}, \"equations\": {eqs}, \"steps\": {}, \
-             \"newton_iterations\": {}, \"factorizations\": {}, \"wall_time_s\": {}}}",
-            s.steps, s.newton_iterations, s.factorizations, r.wall_time_s
-        ));
+        rows.push(json!({
+            "nc": nc,
+            "bodies": bodies,
+            "coordinates": coords,
+            "equations": eqs,
+            "steps": s.steps,
+            "newton_iterations": s.newton_iterations,
+            "factorizations": s.factorizations,
+            "wall_time_s": r.wall_time_s,
+        }));
     }
-    write_json("scaling.json", &format!("[\n  {}\n]\n", rows.join(",\n  ")));
+    write_json("scaling.json", &rows.into());
 }
 
 /// Bodies, coordinates and constraint equations of a system.
@@ -163,21 +168,20 @@ fn accuracy() {
             "| {t:.3} | {:.6} | {:.6} | {rel:+.1e} | {ef:+.1e} | {fj:+.1e} | {:.2} | {:.2} |",
             d.sa, g.sa, d.wall_time_s, g.wall_time_s
         );
-        rows.push(format!(
-            "{{\"period\": {t}, \"sa\": {}, \"sa_tight\": {}, \"friction_energy\": {}, \"friction_energy_tight\": {}, \
-             \"peak_joint_force\": {}, \"peak_joint_force_tight\": {}, \"wall_time_s\": {}, \"wall_time_tight_s\": {}}}",
-            d.sa,
-            g.sa,
-            d.friction_energy,
-            g.friction_energy,
-            d.peak_joint_force,
-            g.peak_joint_force,
-            d.wall_time_s,
-            g.wall_time_s
-        ));
+        rows.push(json!({
+            "period": t,
+            "sa": d.sa,
+            "sa_tight": g.sa,
+            "friction_energy": d.friction_energy,
+            "friction_energy_tight": g.friction_energy,
+            "peak_joint_force": d.peak_joint_force,
+            "peak_joint_force_tight": g.peak_joint_force,
+            "wall_time_s": d.wall_time_s,
+            "wall_time_tight_s": g.wall_time_s,
+        }));
     }
     println!("largest |difference| {worst:.1e} (target 5e-3)");
-    write_json("accuracy.json", &format!("[\n  {}\n]\n", rows.join(",\n  ")));
+    write_json("accuracy.json", &rows.into());
 }
 
 fn main() {
