@@ -1,7 +1,10 @@
 //! Argument definitions and the command implementations.
 
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
@@ -41,6 +44,10 @@ enum Command {
     Sweep(SweepArgs),
     /// Combine the outputs of sweep shards into one file.
     Merge(MergeArgs),
+    /// Estimate a sweep's jobs, time and memory, whole or in shards.
+    Plan(PlanArgs),
+    /// Compare the results of two sweep files, bit for bit.
+    Compare(CompareArgs),
 }
 
 /// Options shared by the commands that print results.
@@ -67,20 +74,68 @@ struct SweepArgs {
     /// The TOML config with a [sweep] table.
     config: PathBuf,
     /// The HDF5 output (default: the config's name with .h5, in the current
-    /// directory); the journal is written beside it as <output>.journal.
+    /// directory); the journal is <output>.journal, the lock <output>.lock.
     #[arg(long)]
     output: Option<PathBuf>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
-    /// Continue an interrupted sweep from its journal.
+    /// Require a journal to continue (without this flag a sweep continues a
+    /// journal of the same sweep if there is one, and starts otherwise).
     #[arg(long)]
     resume: bool,
+    /// Run the journalled jobs that failed again, keeping the finished ones
+    /// (e.g. after raising simulation.max_wall_time or max_steps).
+    #[arg(long)]
+    retry_failed: bool,
     /// Run only shard K of N (for job arrays), e.g. --shard 2/8.
     #[arg(long, value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
     #[command(flatten)]
+    progress: ProgressArgs,
+    #[command(flatten)]
     print: PrintArgs,
+}
+
+/// How progress is shown on stderr.
+#[derive(Debug, Args)]
+pub struct ProgressArgs {
+    /// auto: bars on a terminal, plain lines otherwise (logs); bars; lines; none.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+    /// Seconds between progress lines.
+    #[arg(long, default_value_t = 60.0)]
+    pub progress_interval: f64,
+}
+
+/// Progress display modes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ProgressMode {
+    /// Bars on a terminal, lines otherwise.
+    Auto,
+    /// Bars redrawn in place.
+    Bars,
+    /// A timestamped line at every interval.
+    Lines,
+    /// Nothing.
+    None,
+}
+
+impl ProgressArgs {
+    fn mode(&self) -> Result<quakejoint_sweep::Progress> {
+        use quakejoint_sweep::Progress;
+        let every = self.progress_interval;
+        if !(every.is_finite() && every > 0.0) {
+            return Err(InputError(format!("--progress-interval {every}: must be a positive number of seconds")).into());
+        }
+        let lines = Progress::Lines { every: std::time::Duration::from_secs_f64(every) };
+        Ok(match self.progress {
+            ProgressMode::Auto if std::io::stderr().is_terminal() => Progress::Bars,
+            ProgressMode::Auto | ProgressMode::Lines => lines,
+            ProgressMode::Bars => Progress::Bars,
+            ProgressMode::None => Progress::Quiet,
+        })
+    }
 }
 
 #[derive(Debug, Args)]
@@ -91,6 +146,38 @@ struct MergeArgs {
     /// The merged file.
     #[arg(long)]
     output: PathBuf,
+    /// Write the merged file even if some jobs have no result (they stay
+    /// marked not run; the file says complete = 0).
+    #[arg(long)]
+    allow_partial: bool,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+struct PlanArgs {
+    /// The TOML config with a [sweep] table.
+    config: PathBuf,
+    /// Number of shards to estimate.
+    #[arg(long, default_value_t = 1)]
+    shards: usize,
+    /// Worker threads per shard process.
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    /// Print only the sbatch resource options of the largest shard
+    /// (--cpus-per-task, --mem, --time).
+    #[arg(long, conflicts_with = "json")]
+    sbatch: bool,
+    #[command(flatten)]
+    print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+struct CompareArgs {
+    /// A sweep file.
+    a: PathBuf,
+    /// The other sweep file.
+    b: PathBuf,
     #[command(flatten)]
     print: PrintArgs,
 }
@@ -303,6 +390,8 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Command::Spectrum(a) => spectrum_cmd(a),
         Command::Sweep(a) => sweep_cmd(a),
         Command::Merge(a) => merge_cmd(a),
+        Command::Plan(a) => plan_cmd(a),
+        Command::Compare(a) => compare_cmd(a),
     };
     result.map_err(|e| match config {
         Some(path) => name_the_config(e, &path),
@@ -318,7 +407,8 @@ impl Command {
             Command::Simulate(a) => Some(&a.config),
             Command::Service(a) => Some(&a.config),
             Command::Sweep(a) => Some(&a.config),
-            Command::Record(_) | Command::Spectrum(_) | Command::Merge(_) => None,
+            Command::Plan(a) => Some(&a.config),
+            Command::Record(_) | Command::Spectrum(_) | Command::Merge(_) | Command::Compare(_) => None,
         }
     }
 }
@@ -335,28 +425,131 @@ fn name_the_config(err: anyhow::Error, config: &Path) -> anyhow::Error {
     err.context(name)
 }
 
-fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
-    let text = std::fs::read_to_string(&a.config)
-        .map_err(|e| InputError(format!("{}: cannot read the config: {e}", a.config.display())))?;
-    let plan = Plan::new(&text, &a.config.display().to_string(), &base_dir(&a.config))?;
+/// Reads the plan of a sweep config.
+fn read_plan(config: &Path) -> Result<Plan> {
+    let text = std::fs::read_to_string(config)
+        .map_err(|e| InputError(format!("{}: cannot read the config: {e}", config.display())))?;
+    let plan = Plan::new(&text, &config.display().to_string(), &base_dir(config))?;
     for r in plan.records.iter().chain(&plan.record_y) {
         for w in &r.warnings {
             eprintln!("warning: {w}");
         }
     }
+    Ok(plan)
+}
+
+/// Exit code of a sweep stopped by a signal: 128 + the signal's number.
+fn interrupted_code(signals: &Signals) -> u8 {
+    if signals.term.load(Ordering::Relaxed) {
+        143
+    } else {
+        130
+    }
+}
+
+/// SIGINT and SIGTERM (what Ctrl-C, `scancel` and a SLURM time limit send)
+/// ask the sweep to stop; a second signal ends the process at once (the
+/// journal is crash-safe either way).
+struct Signals {
+    stop: Arc<AtomicBool>,
+    term: Arc<AtomicBool>,
+}
+
+impl Signals {
+    fn install() -> Result<Self> {
+        use signal_hook::consts::{SIGINT, SIGTERM};
+        let stop = Arc::new(AtomicBool::new(false));
+        let term = Arc::new(AtomicBool::new(false));
+        for sig in [SIGINT, SIGTERM] {
+            // the second signal: exit at once with 128 + the signal
+            signal_hook::flag::register_conditional_shutdown(sig, 128 + sig, stop.clone())
+                .context("installing the signal handlers")?;
+            signal_hook::flag::register(sig, stop.clone()).context("installing the signal handlers")?;
+        }
+        signal_hook::flag::register(SIGTERM, term.clone()).context("installing the signal handlers")?;
+        Ok(Self { stop, term })
+    }
+}
+
+fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
+    let plan = read_plan(&a.config)?;
     let output = a.output.clone().unwrap_or_else(|| {
         PathBuf::from(a.config.file_stem().map_or("sweep".into(), |s| s.to_string_lossy().to_string()) + ".h5")
     });
-    let opts = SweepOptions { output, threads: a.threads, resume: a.resume, shard: a.shard, progress: !a.print.json };
+    let signals = Signals::install()?;
+    let opts = SweepOptions {
+        output,
+        threads: a.threads,
+        resume: a.resume,
+        retry_failed: a.retry_failed,
+        shard: a.shard,
+        progress: a.progress.mode()?,
+        inputs: vec![a.config.clone()],
+        stop: Some(signals.stop.clone()),
+    };
     let summary = run_sweep(&plan, &opts)?;
     output::sweep_summary(&summary, a.print.json);
+    if summary.interrupted {
+        let mut command = format!("quakejoint sweep {} --output {}", a.config.display(), summary.output.display());
+        if let Some((k, n)) = a.shard {
+            command.push_str(&format!(" --shard {k}/{n}"));
+        }
+        if let Some(t) = a.threads {
+            command.push_str(&format!(" --threads {t}"));
+        }
+        eprintln!(
+            "interrupted: {} of {} jobs are done and kept in {} (and in {}); continue with:\n  {command}",
+            summary.jobs - summary.not_run,
+            summary.jobs,
+            summary.journal.display(),
+            summary.output.display()
+        );
+        return Ok(ExitCode::from(interrupted_code(&signals)));
+    }
     Ok(if summary.failed.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(3) })
 }
 
 fn merge_cmd(a: MergeArgs) -> Result<ExitCode> {
-    let summary = quakejoint_sweep::merge(&a.files, &a.output)?;
+    let options = quakejoint_sweep::MergeOptions { allow_partial: a.allow_partial };
+    let summary = quakejoint_sweep::merge(&a.files, &a.output, options)?;
+    for n in &summary.notices {
+        eprintln!("warning: {n}");
+    }
     output::merge_summary(&summary, a.print.json);
     Ok(if summary.failed == 0 { ExitCode::SUCCESS } else { ExitCode::from(3) })
+}
+
+fn plan_cmd(a: PlanArgs) -> Result<ExitCode> {
+    if a.shards == 0 || a.threads == 0 {
+        return Err(InputError("--shards and --threads must be at least 1".into()).into());
+    }
+    let plan = read_plan(&a.config)?;
+    if a.shards > plan.job_count() {
+        return Err(InputError(format!(
+            "--shards {}: the sweep has only {} jobs (a shard without a job would do nothing)",
+            a.shards,
+            plan.job_count()
+        ))
+        .into());
+    }
+    let shards: Vec<_> = (1..=a.shards)
+        .map(|k| {
+            let jobs = if a.shards == 1 { (0..plan.job_count()).collect() } else { plan.shard(k, a.shards) };
+            plan.estimate(&jobs, a.threads)
+        })
+        .collect();
+    output::plan_summary(&a.config, &plan, &shards, a.threads, a.sbatch, a.print.json);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn compare_cmd(a: CompareArgs) -> Result<ExitCode> {
+    let read = |p: &Path| {
+        quakejoint_sweep::sweep_h5::read_sweep(p).map_err(|e| InputError(format!("{}: {}", p.display(), e.message)))
+    };
+    let (fa, fb) = (read(&a.a)?, read(&a.b)?);
+    let diffs = quakejoint_sweep::compare::differences(&fa, &fb);
+    output::compare_summary(&a.a, &a.b, &diffs, a.print.json);
+    Ok(if diffs.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
 fn record_cmd(a: RecordArgs) -> Result<ExitCode> {
@@ -392,6 +585,7 @@ fn model(a: ModelArgs) -> Result<ExitCode> {
     let model = build(&config, None, Drive::None)?;
     let asm = Assembly::new(&model.system, &AssemblyOptions::default()).map_err(ModelError::from)?;
     if let Some(path) = &a.sparsity {
+        quakejoint_sweep::files::check_overwrite(path, "sparsity", &[&a.config]).map_err(InputError)?;
         let names: Vec<String> = model.system.bodies().iter().map(|b| b.name.clone()).collect();
         quakejoint_sweep::h5::write_sparsity(path, &text, &asm, &names).context("writing the sparsity pattern")?;
     }
@@ -423,11 +617,25 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     };
     let omega = period_to_omega(a.period)?;
     let (rx, ry) = load_records(&config, &base)?;
+    if let Some(out) = &a.output {
+        let record_paths: Vec<PathBuf> =
+            config.record.iter().chain(&config.record_y).map(|r| r.resolve_path(&base)).collect();
+        let mut inputs: Vec<&Path> = record_paths.iter().map(PathBuf::as_path).collect();
+        inputs.push(&a.config);
+        quakejoint_sweep::files::check_overwrite(out, "simulate", &inputs).map_err(InputError)?;
+    }
     let histories = a.output.is_some();
     let result = if a.no_joint {
         linear_response(&rx, omega.unwrap_or_else(|| config.bridge.omega()), config.bridge.damping, histories)
     } else {
-        simulate_records(&config, &rx, ry.as_ref(), &RunOptions { omega, histories, ..Default::default() })?
+        let bar = TerminalProgress::new(quakejoint_model::run::run_duration(&config, &rx));
+        let options =
+            RunOptions { omega, histories, progress: bar.as_ref().map(|b| b.callback()), ..Default::default() };
+        let result = simulate_records(&config, &rx, ry.as_ref(), &options);
+        if let Some(b) = &bar {
+            b.bar.finish_and_clear();
+        }
+        result?
     };
     if let Some(path) = &a.output {
         let period = 2.0 * std::f64::consts::PI / result.omega;
@@ -451,10 +659,50 @@ fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
         config.service.cycles = c;
     }
     config.validate()?;
+    if let Some(out) = &a.output {
+        quakejoint_sweep::files::check_overwrite(out, "service", &[&a.config]).map_err(InputError)?;
+    }
     let result = service(&config)?;
     if let Some(path) = &a.output {
         quakejoint_sweep::h5::write_service(path, &text, &result).context("writing the hysteresis loop")?;
     }
     output::service_result(&a.config, &result, a.print.json);
     Ok(ExitCode::SUCCESS)
+}
+
+/// A progress bar of a single run on a terminal, drawn once the run has
+/// taken more than a second (shorter runs print nothing extra).
+struct TerminalProgress {
+    bar: indicatif::ProgressBar,
+    start: std::time::Instant,
+}
+
+impl TerminalProgress {
+    /// `None` when stderr is not a terminal.
+    fn new(duration: f64) -> Option<Arc<Self>> {
+        if !std::io::stderr().is_terminal() {
+            return None;
+        }
+        let bar = indicatif::ProgressBar::with_draw_target(
+            Some((duration * 1000.0).max(1.0) as u64),
+            indicatif::ProgressDrawTarget::hidden(),
+        );
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("simulate [{bar:30}] t = {msg} s, {elapsed} elapsed, ETA {eta}")
+                .expect("template")
+                .progress_chars("=> "),
+        );
+        Some(Arc::new(Self { bar, start: std::time::Instant::now() }))
+    }
+
+    fn callback(self: &Arc<Self>) -> quakejoint_model::run::ProgressFn {
+        let me = Arc::clone(self);
+        Arc::new(move |t| {
+            if me.bar.is_hidden() && me.start.elapsed().as_secs_f64() > 1.0 {
+                me.bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            }
+            me.bar.set_message(format!("{t:.1}"));
+            me.bar.set_position((t * 1000.0) as u64);
+        })
+    }
 }

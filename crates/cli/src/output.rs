@@ -271,17 +271,31 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
             "journal": s.journal.display().to_string(),
             "jobs": s.jobs,
             "resumed": s.resumed,
+            "retried": s.retried,
             "ran": s.ran,
+            "not_run": s.not_run,
+            "complete": s.not_run == 0,
+            "interrupted": s.interrupted,
             "failed": s.failed.len(),
             "failures": failures,
+            "notices": s.notices,
             "wall_time_s": s.wall_time_s,
             "peak_memory_mb": s.peak_memory_mb,
         });
         out!("{v}");
         return;
     }
+    let state = if s.interrupted {
+        "interrupted"
+    } else if s.ran == 0 && s.not_run == 0 {
+        "already complete"
+    } else {
+        "complete"
+    };
+    let retried = if s.retried > 0 { format!(", {} failed jobs retried", s.retried) } else { String::new() };
     out!(
-        "sweep: {} jobs ({} from the journal, {} run now) in {:.1} s -> {}",
+        "sweep {state}: {} of {} jobs done ({} from the journal{retried}, {} run now) in {:.1} s -> {}",
+        s.jobs - s.not_run,
         s.jobs,
         s.resumed,
         s.ran,
@@ -292,7 +306,7 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
         out!("peak memory: {mb:.0} MB");
     }
     if !s.failed.is_empty() {
-        out!("{} jobs failed:", s.failed.len());
+        out!("{} jobs failed (`--retry-failed` runs them again):", s.failed.len());
         for (case, record, z, t, msg) in &s.failed {
             out!("  {case} / {record} / damping {z} / T {t} s: {msg}");
         }
@@ -302,9 +316,103 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
 /// `quakejoint merge`.
 pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, json: bool) {
     if json {
-        let v = json!({"output": s.output.display().to_string(), "jobs": s.jobs, "finished": s.finished, "failed": s.failed});
+        let v = json!({
+            "output": s.output.display().to_string(),
+            "jobs": s.jobs,
+            "finished": s.finished,
+            "failed": s.failed,
+            "missing": s.missing,
+            "complete": s.missing == 0,
+            "notices": s.notices,
+        });
         out!("{v}");
         return;
     }
-    out!("merged {} of {} jobs ({} failed) -> {}", s.finished, s.jobs, s.failed, s.output.display());
+    let state = if s.missing == 0 { "complete" } else { "PARTIAL" };
+    out!("merged {} of {} jobs ({} failed), {state} -> {}", s.finished, s.jobs, s.failed, s.output.display());
+}
+
+/// `quakejoint plan`.
+pub fn plan_summary(
+    path: &Path,
+    plan: &quakejoint_sweep::Plan,
+    shards: &[quakejoint_sweep::plan::Estimate],
+    threads: usize,
+    sbatch: bool,
+    json: bool,
+) {
+    let worst = shards.iter().fold((0.0f64, 0.0f64), |(s, m), e| (s.max(e.seconds), m.max(e.memory_mb)));
+    // cluster requests: twice the estimate, rounded up, at least 256 MB and
+    // 10 minutes (nodes slower than the reference machine, shared caches)
+    let mem_mb = ((2.0 * worst.1 / 64.0).ceil() * 64.0).max(256.0) as u64;
+    let minutes = ((3.0 * worst.0 / threads as f64 / 60.0).ceil() + 10.0) as u64;
+    let time = format!("{}:{:02}:00", minutes / 60, minutes % 60);
+    if sbatch {
+        out!("--cpus-per-task={threads} --mem={mem_mb}M --time={time}");
+        return;
+    }
+    let [nc, nr, nz, nt] = plan.dims();
+    if json {
+        let v = json!({
+            "config": path.display().to_string(),
+            "jobs": plan.job_count(),
+            "cases": nc, "records": nr, "dampings": nz, "periods": nt,
+            "threads_per_shard": threads,
+            "shards": shards.iter().enumerate().map(|(k, e)| json!({
+                "shard": format!("{}/{}", k + 1, shards.len()),
+                "jobs": e.jobs,
+                "cpu_seconds": e.seconds,
+                "memory_mb": e.memory_mb,
+            })).collect::<Vec<_>>(),
+            "sbatch": {"cpus_per_task": threads, "mem_mb": mem_mb, "time": time},
+        });
+        out!("{v}");
+        return;
+    }
+    let total: f64 = shards.iter().map(|e| e.seconds).sum();
+    let count = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    out!(
+        "plan {}: {} ({} x {} x {} x {}), about {} of CPU time on the reference machine",
+        path.display(),
+        count(plan.job_count(), "job", "jobs"),
+        count(nc, "case", "cases"),
+        count(nr, "record", "records"),
+        count(nz, "damping ratio", "damping ratios"),
+        count(nt, "period", "periods"),
+        quakejoint_sweep::progress::format_duration(total)
+    );
+    for (k, e) in shards.iter().enumerate() {
+        out!(
+            "  shard {:>3}/{}: {:>5} jobs, {:>8} on {threads} thread(s), {:.0} MB peak",
+            k + 1,
+            shards.len(),
+            e.jobs,
+            quakejoint_sweep::progress::format_duration(e.seconds / threads as f64),
+            e.memory_mb
+        );
+    }
+    out!("sbatch resources per shard: --cpus-per-task={threads} --mem={mem_mb}M --time={time}");
+}
+
+/// `quakejoint compare`.
+pub fn compare_summary(a: &Path, b: &Path, diffs: &[String], json: bool) {
+    if json {
+        out!(
+            "{}",
+            json!({"a": a.display().to_string(), "b": b.display().to_string(), "identical": diffs.is_empty(), "differences": diffs})
+        );
+        return;
+    }
+    if diffs.is_empty() {
+        out!(
+            "{} and {}: identical results (wall times, creation times and shard labels aside)",
+            a.display(),
+            b.display()
+        );
+    } else {
+        out!("{} and {} differ:", a.display(), b.display());
+        for d in diffs {
+            out!("  {d}");
+        }
+    }
 }

@@ -135,7 +135,8 @@ fn twenty_kills_lose_nothing_and_change_nothing() {
     let mut report = Vec::new();
     for (k, kill) in plan.iter().enumerate() {
         let mut cmd: Command = bin();
-        cmd.args(["sweep", &cfgs, "--output", out.to_str().unwrap(), "--threads", "2", "--resume", "--json"]);
+        // the same command every time: a sweep continues its journal
+        cmd.args(["sweep", &cfgs, "--output", out.to_str().unwrap(), "--threads", "2", "--json"]);
         let paused = match *kill {
             Kill::Checkpoint(n) => {
                 cmd.env("QUAKEJOINT_TEST_PAUSE", format!("checkpoint:{n}"));

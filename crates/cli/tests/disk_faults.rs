@@ -1,5 +1,5 @@
 //! Disk faults: a write that fails part way through a sweep stops it
-//! cleanly, and `--resume` on a healthy disk finishes the work.
+//! cleanly, and the same command again on a healthy disk finishes the work.
 //!
 //! The fault is real, not mocked: the sweep runs under a file-size limit
 //! (`ulimit -f`, with SIGXFSZ ignored so that the write returns EFBIG, as
@@ -10,8 +10,8 @@
 //!   smaller than the journal, which grows by a time history per history
 //!   job).
 //!
-//! Each must exit with code 1, name the file and the cause, point to
-//! `--resume`, leave the output name either empty or holding a complete
+//! Each must exit with code 1, name the file and the cause, say that the
+//! same command continues, leave the output name either empty or holding a complete
 //! file, and leave a journal that reads; resuming without the limit must
 //! end with the numbers of an uninterrupted run. (An unwritable output
 //! directory is refused before any job runs: `sweep.rs`.)
@@ -63,7 +63,7 @@ fn a_failing_write_stops_the_sweep_and_resume_finishes_it() {
         assert_eq!(limited.status.code(), Some(1), "{name}: {stderr}");
         assert!(!stderr.contains("panicked"), "{name}: {stderr}");
         eprintln!("{name} fault: {stderr}");
-        for fragment in [failing, "File too large", "the sweep stopped", "--resume"] {
+        for fragment in [failing, "File too large", "the sweep stopped", "run the same command again"] {
             assert!(stderr.contains(fragment), "{name}: `{fragment}` missing from: {stderr}");
         }
         if out.exists() {

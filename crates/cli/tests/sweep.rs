@@ -4,8 +4,9 @@
 //!   shape, and a job's numbers equal those of the same run through
 //!   `quakejoint simulate`.
 //! - A sweep killed with SIGKILL part way resumes from its journal to the
-//!   same numbers; a second sweep into the same output (finished, or still
-//!   running), or resuming after a config change, is refused. (Thread counts and shards:
+//!   same numbers; a finished sweep run again says it is complete; a sweep
+//!   into an output that another sweep is writing, or continuing after a
+//!   config change, is refused. (Thread counts and shards:
 //!   `determinism.rs`; kills at many moments: `crash_safety.rs`.)
 //! - A case that cannot work (a geometry, a step limit, an absurd
 //!   stiffness, a per-job wall-clock limit) fails its jobs with a status and
@@ -18,7 +19,7 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use common::{assert_identical, bin, config, dir, ok, root, run};
+use common::{assert_identical, bin, config, dir, ok, root, run, stderr, stdout};
 use quakejoint_sweep::results::{status, FIELDS};
 use quakejoint_sweep::sweep_h5::read_sweep;
 
@@ -92,27 +93,34 @@ fn sweep_layout_and_a_spot_value_against_simulate() {
 }
 
 #[test]
-fn a_second_sweep_or_a_changed_config_is_refused() {
+fn a_finished_sweep_run_again_says_so_and_a_changed_config_is_refused() {
     let d = dir("refusals");
     let cfg = config(&d, "c.toml", GRID, 2.0);
     let cfgs = cfg.to_str().unwrap();
     let out = d.join("out.h5");
     let outs = out.to_str().unwrap();
     ok(&run(&["sweep", cfgs, "--output", outs, "--json"]));
-    // a second sweep into the same output without --resume is refused
+    let before = std::fs::read(&out).unwrap();
+    // the same command again: nothing to do, nothing rewritten
     let again = run(&["sweep", cfgs, "--output", outs]);
-    assert_eq!(again.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&again.stderr).contains("--resume"));
+    ok(&again);
+    assert!(stdout(&again).contains("sweep already complete: 8 of 8 jobs done"), "{}", stdout(&again));
+    assert_eq!(std::fs::read(&out).unwrap(), before, "a complete output is left as it is");
 
-    // resuming after a change of the config is refused, saying what changed
+    // continuing after a change of the config is refused, saying what changed
     let changed = config(&d, "c.toml", &format!("{GRID}\n[joint.friction]\nmu = 0.1\n"), 2.0);
-    let refused = run(&["sweep", changed.to_str().unwrap(), "--output", outs, "--resume"]);
-    assert_eq!(refused.status.code(), Some(2), "{}", String::from_utf8_lossy(&refused.stderr));
-    assert!(
-        String::from_utf8_lossy(&refused.stderr).contains("config changed"),
-        "{}",
-        String::from_utf8_lossy(&refused.stderr)
-    );
+    for extra in [&[][..], &["--resume"][..]] {
+        let mut args = vec!["sweep", changed.to_str().unwrap(), "--output", outs];
+        args.extend_from_slice(extra);
+        let refused = run(&args);
+        assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+        assert!(stderr(&refused).contains("config changed"), "{}", stderr(&refused));
+    }
+    // --resume insists on a journal
+    let fresh = run(&["sweep", cfgs, "--output", d.join("new.h5").to_str().unwrap(), "--resume"]);
+    assert_eq!(fresh.status.code(), Some(2), "{}", stderr(&fresh));
+    assert!(stderr(&fresh).contains("there is no journal to continue"), "{}", stderr(&fresh));
+    assert!(!d.join("new.h5.journal").exists());
 }
 
 #[test]
@@ -138,11 +146,7 @@ fn a_second_sweep_into_a_running_output_is_refused() {
     first.kill().unwrap();
     first.wait().unwrap();
     assert_eq!(second.status.code(), Some(2), "{}", String::from_utf8_lossy(&second.stderr));
-    assert!(
-        String::from_utf8_lossy(&second.stderr).contains("another quakejoint sweep is writing this output"),
-        "{}",
-        String::from_utf8_lossy(&second.stderr)
-    );
+    assert!(stderr(&second).contains("another quakejoint process is writing this output"), "{}", stderr(&second));
     // once the first is gone, the journal is free
     ok(&run(&["sweep", cfgs, "--output", out.to_str().unwrap(), "--resume", "--json"]));
 }

@@ -45,12 +45,18 @@ pub enum ModelError {
     /// The simulation failed.
     #[error("simulation: {0}")]
     Solver(#[from] SolverError),
+    /// The run was stopped from outside ([`crate::run::RunOptions::cancel`]).
+    #[error("interrupted at t = {time} s")]
+    Interrupted {
+        /// Simulated time reached [s].
+        time: f64,
+    },
 }
 
 impl ModelError {
     /// Whether the error is caused by the input (config, record, geometry)
     /// rather than by a failing simulation.
     pub fn is_input_error(&self) -> bool {
-        !matches!(self, ModelError::Solver(_))
+        !matches!(self, ModelError::Solver(_) | ModelError::Interrupted { .. })
     }
 }

@@ -8,6 +8,7 @@
 //! spectrum convention), the joint's demands and the run's quality figures.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -34,6 +35,9 @@ pub struct RunOptions {
     pub histories: bool,
     /// Reports the simulated time about every 0.1 s of it.
     pub progress: Option<ProgressFn>,
+    /// When set (by a signal handler, say), the run stops at its next step
+    /// with [`ModelError::Interrupted`].
+    pub cancel: Option<Arc<AtomicBool>>,
 }
 
 impl std::fmt::Debug for RunOptions {
@@ -42,6 +46,7 @@ impl std::fmt::Debug for RunOptions {
             .field("omega", &self.omega)
             .field("histories", &self.histories)
             .field("progress", &self.progress.is_some())
+            .field("cancel", &self.cancel.is_some())
             .finish()
     }
 }
@@ -185,6 +190,12 @@ fn series(record: &Record) -> Result<TimeSeries, ModelError> {
     Ok(TimeSeries::uniform(0.0, record.dt, record.acceleration.clone())?)
 }
 
+/// The simulated duration of a run [s]: `simulation.duration`, else the
+/// record's duration plus `simulation.extra_time`.
+pub fn run_duration(config: &Config, record_x: &Record) -> f64 {
+    config.simulation.duration.unwrap_or(record_x.duration() + config.simulation.extra_time)
+}
+
 /// Runs the coupled model under given records.
 pub fn simulate_records(
     config: &Config,
@@ -195,14 +206,17 @@ pub fn simulate_records(
     let gx = series(record_x)?;
     let gy = record_y.map(series).transpose()?;
     let model = build(config, options.omega, Drive::Earthquake { x: gx.clone(), y: gy })?;
-    let duration = config.simulation.duration.unwrap_or(record_x.duration() + config.simulation.extra_time);
+    let duration = run_duration(config, record_x);
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
     let start = Instant::now();
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
     let mut obs = EarthquakeObserver::new(&model, &asm, gx, record_x.dt, options.histories)?;
     obs.progress = options.progress.clone();
+    obs.cancel = options.cancel.clone();
     obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), &asm, &mut asm.workspace());
-    sim.run(duration, &mut obs)?;
+    if !sim.run(duration, &mut obs)? {
+        return Err(ModelError::Interrupted { time: sim.time() });
+    }
     let wall = start.elapsed().as_secs_f64();
     let e = sim.energy();
     let (g, gv) = sim.max_constraint_residuals();
@@ -280,6 +294,7 @@ struct EarthquakeObserver {
     gaps: Option<Gaps>,
     histories: Option<Histories>,
     progress: Option<ProgressFn>,
+    cancel: Option<Arc<AtomicBool>>,
     last_report: f64,
     q: Vec<f64>,
     v: Vec<f64>,
@@ -331,6 +346,7 @@ impl EarthquakeObserver {
             gaps,
             histories,
             progress: None,
+            cancel: None,
             last_report: 0.0,
             q: vec![0.0; n],
             v: vec![0.0; n],
@@ -390,6 +406,9 @@ impl EarthquakeObserver {
 
 impl Observer for EarthquakeObserver {
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        if self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return false;
+        }
         if let Some(p) = &self.progress {
             if view.t >= self.last_report + 0.1 {
                 self.last_report = view.t;

@@ -67,8 +67,8 @@ pub enum SweepError {
     /// Writing failed while jobs were running: the sweep stopped, the
     /// journal keeps every finished job.
     #[error(
-        "{cause}; the sweep stopped, and the journal {journal} keeps every finished job: run the same command with \
-         --resume once the problem is fixed"
+        "{cause}; the sweep stopped, and the journal {journal} keeps every finished job: run the same command again \
+         once the problem is fixed (it continues from the journal)"
     )]
     Stopped {
         /// What failed.
@@ -91,8 +91,4 @@ impl SweepError {
             SweepError::Stopped { cause, .. } => cause.is_input_error(),
         }
     }
-}
-
-pub(crate) fn io_err(path: &Path, e: std::io::Error) -> SweepError {
-    SweepError::Io { path: path.display().to_string(), message: e.to_string() }
 }

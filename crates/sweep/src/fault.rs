@@ -1,11 +1,13 @@
 //! Fault-injection points for the crash-safety tests.
 //!
 //! With `QUAKEJOINT_TEST_PAUSE=<point>:<n>` in the environment (`point` one
-//! of `journal` or `checkpoint`), the process stops in the middle of its
-//! `n`-th journal append (half of the frame written and synced) or of its
-//! `n`-th HDF5 checkpoint (the temporary file half written, not yet renamed),
-//! creates the file `<file>.paused` beside the file it is writing (the
-//! journal or the HDF5 output) and sleeps until it is killed. The
+//! of `journal`, `checkpoint` or `locked`), the process stops in the middle
+//! of its `n`-th journal append (half of the frame written and synced), of
+//! its `n`-th HDF5 checkpoint (the temporary file half written, not yet
+//! renamed), or right after taking the output's lock (before anything else
+//! of the output exists), creates the file `<file>.paused` beside the file
+//! it is writing (the journal, or the HDF5 output for the other two) and
+//! sleeps until it is killed. The
 //! tests (`crates/cli/tests/crash_safety.rs`) then send SIGKILL at exactly
 //! that moment. Without the variable the points cost one relaxed atomic load.
 
@@ -21,6 +23,8 @@ pub(crate) enum Point {
     Journal,
     /// Half-way through an HDF5 checkpoint.
     Checkpoint,
+    /// Just after the output's lock is taken.
+    Locked,
 }
 
 /// The requested pause, parsed once.
@@ -32,6 +36,7 @@ fn requested() -> Option<(Point, usize)> {
         let point = match point {
             "journal" => Point::Journal,
             "checkpoint" => Point::Checkpoint,
+            "locked" => Point::Locked,
             _ => return None,
         };
         Some((point, n.parse().ok()?))
@@ -48,7 +53,7 @@ pub fn marker(file: &Path) -> PathBuf {
 /// Counts the passes through `point`; at the requested one, creates the
 /// marker beside `file` and sleeps for ever.
 pub(crate) fn point(point: Point, file: &Path) {
-    static COUNTS: [AtomicUsize; 2] = [AtomicUsize::new(0), AtomicUsize::new(0)];
+    static COUNTS: [AtomicUsize; 3] = [AtomicUsize::new(0), AtomicUsize::new(0), AtomicUsize::new(0)];
     let Some((wanted, n)) = requested() else { return };
     let count = COUNTS[point as usize].fetch_add(1, Ordering::Relaxed) + 1;
     if wanted == point && count == n {

@@ -1,18 +1,29 @@
-//! The crash-safe journal of a sweep: the truth for `--resume`.
+//! The crash-safe journal of a sweep: the truth for resuming.
 //!
 //! Layout: the magic `QJJOURN1`, then frames of `[length: u32 LE][CRC-32 of
 //! the payload: u32 LE][payload]`, each payload a bincode (2.0, standard
 //! config) encoding: first a [`Header`], then one [`JobResult`] per finished
 //! job. Every frame is written with one `write_all`, flushed and fsynced
-//! before the next job is acknowledged. A torn or corrupt last frame (a
-//! crash during an append) is ignored on reading and cut off before new
-//! frames are appended; a journal without a complete header (a crash while
-//! it was being created, before any job finished) is started afresh. The
-//! open journal is locked ([`File::try_lock`]), so that a second sweep into
-//! the same output is refused while the first runs.
+//! before the next job is acknowledged. A job may appear more than once (a
+//! failed job retried with `--retry-failed`): the last entry wins.
+//!
+//! Reading is forgiving and never silent:
+//! - a torn last frame (a crash during an append) is cut off before new
+//!   frames are appended;
+//! - a corrupt frame in the middle (a flipped bit on disk) is skipped: the
+//!   reader searches for the next frame whose checksum holds, keeps every
+//!   entry after it, and reports the byte offset and size of what it
+//!   skipped ([`Contents::notices`]); a resume then rewrites the journal
+//!   without the damaged bytes (under a temporary name, renamed into
+//!   place), so the warning is given once;
+//! - a journal without a complete header (a crash while it was being
+//!   created, before any job finished) is started afresh.
+//!
+//! The journal is not locked itself: the sweep holds the output's lock
+//! ([`crate::lock`]) before it creates, reads or rewrites it.
 
 use std::fs::{File, OpenOptions};
-use std::io::{Read, Seek, SeekFrom, Write};
+use std::io::{Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -24,14 +35,15 @@ const MAGIC: &[u8; 8] = b"QJJOURN1";
 /// Frames longer than this are corrupt (a history of 40 s at 5 ms is ~0.5 MB).
 const MAX_FRAME: u32 = 256 << 20;
 
-/// What determines a sweep's results, checked on `--resume`.
+/// What determines a sweep's results, checked when a sweep continues.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Header {
     /// Version of the journal format.
     pub schema: u32,
     /// Version of the program that wrote it.
     pub program_version: String,
-    /// SHA-256 of the parsed config.
+    /// SHA-256 of the parsed config (without the per-job limits, which
+    /// change no finished result).
     pub config_sha256: String,
     /// Name and SHA-256 of each record file.
     pub records: Vec<(String, String)>,
@@ -70,7 +82,9 @@ impl Header {
             out.push(format!("the number of jobs changed from {} to {}", self.jobs, current.jobs));
         }
         if self.shard != current.shard {
-            out.push(format!("the shard changed from {:?} to {:?}", self.shard, current.shard));
+            let name =
+                |s: Option<(u32, u32)>| s.map_or("the whole sweep".to_string(), |(k, n)| format!("shard {k}/{n}"));
+            out.push(format!("it was written for {}, this run is {}", name(self.shard), name(current.shard)));
         }
         if self.schema != current.schema {
             out.push(format!("the journal format changed from {} to {}", self.schema, current.schema));
@@ -99,6 +113,10 @@ fn encode<T: Serialize>(value: &T) -> Vec<u8> {
     bincode::serde::encode_to_vec(value, bincode::config::standard()).expect("plain data encodes")
 }
 
+fn decode<T: serde::de::DeserializeOwned>(payload: &[u8]) -> Result<T, bincode::error::DecodeError> {
+    bincode::serde::decode_from_slice(payload, bincode::config::standard()).map(|r| r.0)
+}
+
 fn frame(payload: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(payload.len() + 8);
     out.extend_from_slice(&(payload.len() as u32).to_le_bytes());
@@ -107,47 +125,64 @@ fn frame(payload: &[u8]) -> Vec<u8> {
     out
 }
 
-/// Reads the frames of a journal: the payloads of the valid ones, and the
-/// byte offset after the last valid frame.
-fn read_frames(bytes: &[u8]) -> (Vec<&[u8]>, usize) {
-    let mut at = MAGIC.len();
-    let mut frames = Vec::new();
-    while at + 8 <= bytes.len() {
-        let len = u32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
-        let crc = u32::from_le_bytes(bytes[at + 4..at + 8].try_into().expect("4 bytes"));
-        if len > MAX_FRAME || at + 8 + len as usize > bytes.len() {
-            break;
-        }
-        let payload = &bytes[at + 8..at + 8 + len as usize];
-        if crc32fast::hash(payload) != crc {
-            break;
-        }
-        frames.push(payload);
-        at += 8 + len as usize;
+/// The payload of the frame starting at `at` and the offset after it, if
+/// a whole frame with a matching checksum starts there.
+fn frame_at(bytes: &[u8], at: usize) -> Option<(&[u8], usize)> {
+    let head = bytes.get(at..at.checked_add(8)?)?;
+    let len = u32::from_le_bytes(head[..4].try_into().expect("4 bytes"));
+    let crc = u32::from_le_bytes(head[4..].try_into().expect("4 bytes"));
+    if len > MAX_FRAME {
+        return None;
     }
-    (frames, at)
+    let end = at + 8 + len as usize;
+    let payload = bytes.get(at + 8..end)?;
+    (crc32fast::hash(payload) == crc).then_some((payload, end))
 }
 
-/// Takes the journal's advisory lock, held until the file is closed (the
-/// process ends, killed or not): one sweep writes an output at a time. Where
-/// the file system cannot lock, the sweep goes on unlocked.
-fn lock(file: &File, path: &Path) -> Result<(), SweepError> {
-    match file.try_lock() {
-        Ok(()) | Err(std::fs::TryLockError::Error(_)) => Ok(()),
-        Err(std::fs::TryLockError::WouldBlock) => Err(jerr(
-            path,
-            "another quakejoint sweep is writing this output (its journal is locked): let it finish or stop it \
-             first",
-        )),
+/// What a journal holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contents {
+    /// The header.
+    pub header: Header,
+    /// Every entry in file order (a retried job appears more than once; the
+    /// last entry wins, [`Contents::latest`]).
+    pub results: Vec<JobResult>,
+    /// Damaged byte ranges in the middle that were skipped: (offset, length).
+    pub damaged: Vec<(usize, usize)>,
+    /// Byte offset after the last valid frame.
+    pub valid: usize,
+    /// Whether a torn last frame lies beyond `valid`.
+    pub torn_tail: bool,
+}
+
+impl Contents {
+    /// The last entry of every job, in order of job index.
+    pub fn latest(&self) -> Vec<JobResult> {
+        latest(&self.results)
+    }
+
+    /// Warnings about damage, naming the journal and the byte offsets.
+    pub fn notices(&self, path: &Path) -> Vec<String> {
+        self.damaged
+            .iter()
+            .map(|&(offset, len)| {
+                format!(
+                    "{}: {len} damaged bytes at byte offset {offset} failed their checksum and were skipped (the \
+                     entries after them were kept); the jobs recorded there, if any, run again",
+                    path.display()
+                )
+            })
+            .collect()
     }
 }
 
-/// A journal's contents: its header, its results, and the byte offset after
-/// the last valid frame (a torn last frame lies beyond it).
-struct Contents {
-    header: Header,
-    results: Vec<JobResult>,
-    valid: usize,
+/// The last entry of every job, in order of job index.
+pub fn latest(results: &[JobResult]) -> Vec<JobResult> {
+    let mut by_job = std::collections::BTreeMap::new();
+    for r in results {
+        by_job.insert(r.job, r);
+    }
+    by_job.into_values().cloned().collect()
 }
 
 /// Decodes a journal's bytes; `None` for a journal cut while it was being
@@ -159,31 +194,85 @@ fn parse(bytes: &[u8], path: &Path) -> Result<Option<Contents>, SweepError> {
     if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
         return Err(jerr(path, "not a quakejoint journal"));
     }
-    let (frames, valid) = read_frames(bytes);
-    let Some((first, rest)) = frames.split_first() else { return Ok(None) };
-    let header: Header = bincode::serde::decode_from_slice(first, bincode::config::standard())
-        .map_err(|e| jerr(path, format!("unreadable header: {e}")))?
-        .0;
-    let results = rest
-        .iter()
-        .map(|payload| {
-            bincode::serde::decode_from_slice(payload, bincode::config::standard())
-                .map(|r| r.0)
-                .map_err(|e| jerr(path, format!("unreadable job record: {e}")))
-        })
-        .collect::<Result<_, _>>()?;
-    Ok(Some(Contents { header, results, valid }))
+    let Some((first, mut at)) = frame_at(bytes, MAGIC.len()) else {
+        // no header frame: torn while being created, unless entries follow
+        if (MAGIC.len() + 1..bytes.len()).any(|s| next_entry(bytes, s)) {
+            return Err(jerr(
+                path,
+                "the journal's header is damaged, so it cannot be matched to a config: remove it (and the output) \
+                 to start the sweep over",
+            ));
+        }
+        return Ok(None);
+    };
+    let header: Header = decode(first).map_err(|e| jerr(path, format!("unreadable header: {e}")))?;
+    let (mut results, mut damaged, mut valid, mut torn_tail) = (Vec::new(), Vec::new(), at, false);
+    while at < bytes.len() {
+        match frame_at(bytes, at).map(|(p, end)| (decode::<JobResult>(p), end)) {
+            Some((Ok(r), end)) => {
+                results.push(r);
+                at = end;
+                valid = end;
+            }
+            // a frame whose checksum holds but that does not decode was
+            // written by something else: refuse rather than guess
+            Some((Err(e), _)) => return Err(jerr(path, format!("unreadable job record at byte {at}: {e}"))),
+            None => match (at + 1..bytes.len()).find(|&s| next_entry(bytes, s)) {
+                Some(s) => {
+                    damaged.push((at, s - at));
+                    at = s;
+                }
+                None => {
+                    torn_tail = true;
+                    break;
+                }
+            },
+        }
+    }
+    Ok(Some(Contents { header, results, damaged, valid, torn_tail }))
+}
+
+/// Whether a whole, checksummed job entry starts at `at`.
+fn next_entry(bytes: &[u8], at: usize) -> bool {
+    frame_at(bytes, at).is_some_and(|(p, _)| decode::<JobResult>(p).is_ok())
+}
+
+/// Writes `bytes` to `path` through a temporary file, fsynced and renamed
+/// into place (the directory fsynced too), so that `path` holds either the
+/// old or the new bytes after a crash.
+fn replace_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".rewrite");
+    let tmp = PathBuf::from(tmp);
+    let mut f = OpenOptions::new().write(true).create(true).truncate(true).open(&tmp)?;
+    f.write_all(bytes)?;
+    f.sync_all()?;
+    std::fs::rename(&tmp, path)?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        File::open(dir)?.sync_all()?;
+    }
+    Ok(())
+}
+
+/// A journal opened to continue a sweep.
+#[derive(Debug)]
+pub struct Continued {
+    /// The journal, positioned for appending.
+    pub journal: Journal,
+    /// The last entry of every journalled job.
+    pub results: Vec<JobResult>,
+    /// Warnings for the user (damage found and skipped).
+    pub notices: Vec<String>,
 }
 
 impl Journal {
-    /// Creates a new journal (the file must not exist).
+    /// Creates a new journal (the file must not exist: `O_EXCL`).
     pub fn create(path: &Path, header: &Header) -> Result<Self, SweepError> {
         let mut file = OpenOptions::new()
             .write(true)
             .create_new(true)
             .open(path)
             .map_err(|e| io_error(path, format!("cannot create the journal: {e}")))?;
-        lock(&file, path)?;
         let mut bytes = MAGIC.to_vec();
         bytes.extend(frame(&encode(header)));
         file.write_all(&bytes)
@@ -192,42 +281,59 @@ impl Journal {
         Ok(Self { path: path.to_path_buf(), file })
     }
 
-    /// Opens an existing journal to resume: checks its header against
-    /// `expected` (refusing, with what changed, if they differ), returns the
-    /// journalled results and cuts off a torn last frame.
-    pub fn resume(path: &Path, expected: &Header) -> Result<(Self, Vec<JobResult>), SweepError> {
-        let mut file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .open(path)
-            .map_err(|e| jerr(path, format!("cannot open the journal to resume: {e}")))?;
-        lock(&file, path)?;
-        let mut bytes = Vec::new();
-        file.read_to_end(&mut bytes).map_err(|e| jerr(path, e.to_string()))?;
-        let Some(Contents { header, results, valid }) = parse(&bytes, path)? else {
+    /// Opens an existing journal to continue its sweep (the caller holds the
+    /// output's lock): checks its header against `expected` (refusing, with
+    /// what changed, if they differ), returns the journalled results, cuts
+    /// off a torn last frame and rewrites a journal with damage in the
+    /// middle. A journal cut while it was being created is started afresh.
+    pub fn continue_or_restart(path: &Path, expected: &Header) -> Result<Continued, SweepError> {
+        let bytes = std::fs::read(path).map_err(|e| jerr(path, format!("cannot read the journal: {e}")))?;
+        let Some(contents) = parse(&bytes, path)? else {
             // killed while the journal was being created: nothing finished yet
-            drop(file);
-            std::fs::remove_file(path).map_err(|e| jerr(path, e.to_string()))?;
-            return Ok((Self::create(path, expected)?, Vec::new()));
+            std::fs::remove_file(path).map_err(|e| io_error(path, e.to_string()))?;
+            return Ok(Continued { journal: Self::create(path, expected)?, results: Vec::new(), notices: Vec::new() });
         };
-        let diffs = header.differences(expected);
+        let diffs = contents.header.differences(expected);
         if !diffs.is_empty() {
             return Err(jerr(
                 path,
                 format!(
-                    "cannot resume: {}; start a new sweep (another output name, or delete this journal)",
-                    diffs.join("; ")
+                    "this output belongs to another sweep: {}; choose another --output, or remove {} and its \
+                     journal to start over",
+                    diffs.join("; "),
+                    path.display().to_string().trim_end_matches(".journal")
                 ),
             ));
         }
-        if let Some(r) = results.iter().find(|r| r.job as u64 >= expected.jobs) {
+        if let Some(r) = contents.results.iter().find(|r| r.job as u64 >= expected.jobs) {
             return Err(jerr(path, format!("job {} does not exist in this sweep", r.job)));
         }
-        if valid < bytes.len() {
-            file.set_len(valid as u64).map_err(|e| jerr(path, e.to_string()))?;
+        let results = contents.latest();
+        let notices = contents.notices(path);
+        if !contents.damaged.is_empty() {
+            let mut clean = MAGIC.to_vec();
+            clean.extend(frame(&encode(&contents.header)));
+            for r in &results {
+                clean.extend(frame(&encode(r)));
+            }
+            replace_atomically(path, &clean)
+                .map_err(|e| io_error(path, format!("cannot rewrite the damaged journal: {e}")))?;
         }
-        file.seek(SeekFrom::Start(valid as u64)).map_err(|e| jerr(path, e.to_string()))?;
-        Ok((Self { path: path.to_path_buf(), file }, results))
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(path)
+            .map_err(|e| jerr(path, format!("cannot open the journal: {e}")))?;
+        let end = if contents.damaged.is_empty() {
+            if contents.torn_tail {
+                file.set_len(contents.valid as u64).map_err(|e| io_error(path, e.to_string()))?;
+            }
+            contents.valid as u64
+        } else {
+            file.metadata().map_err(|e| io_error(path, e.to_string()))?.len()
+        };
+        file.seek(SeekFrom::Start(end)).map_err(|e| io_error(path, e.to_string()))?;
+        Ok(Continued { journal: Self { path: path.to_path_buf(), file }, results, notices })
     }
 
     /// Appends one result, durably (the frame is written in two halves, with
@@ -250,13 +356,17 @@ impl Journal {
     }
 }
 
-/// Reads the results of a journal without opening it for writing (for
-/// inspection and tests).
+/// Reads a journal without opening it for writing (for inspection and
+/// tests): every entry in file order.
 pub fn read(path: &Path) -> Result<(Header, Vec<JobResult>), SweepError> {
+    let c = read_contents(path)?;
+    Ok((c.header, c.results))
+}
+
+/// Reads a journal's contents, damage included, without changing it.
+pub fn read_contents(path: &Path) -> Result<Contents, SweepError> {
     let bytes = std::fs::read(path).map_err(|e| jerr(path, e.to_string()))?;
-    let contents =
-        parse(&bytes, path)?.ok_or_else(|| jerr(path, "no header: the journal was cut while it was being created"))?;
-    Ok((contents.header, contents.results))
+    parse(&bytes, path)?.ok_or_else(|| jerr(path, "no header: the journal was cut while it was being created"))
 }
 
 #[cfg(test)]
@@ -278,12 +388,17 @@ mod tests {
         JobResult { job, status: 0, message: String::new(), values: vec![job as f64; 3], history: None }
     }
 
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("qj-journal-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
     #[test]
     fn torn_last_frame_is_ignored_and_cut_off() {
-        let dir = std::env::temp_dir().join(format!("qj-journal-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("torn");
         let path = dir.join("torn.journal");
-        let _ = std::fs::remove_file(&path);
         let mut j = Journal::create(&path, &header()).unwrap();
         j.append(&result(3)).unwrap();
         j.append(&result(7)).unwrap();
@@ -293,9 +408,11 @@ mod tests {
         let mut torn = full.clone();
         torn.extend_from_slice(&frame(&encode(&result(9)))[..10]);
         std::fs::write(&path, &torn).unwrap();
-        let (mut j, got) = Journal::resume(&path, &header()).unwrap();
-        assert_eq!(got, vec![result(3), result(7)]);
+        let c = Journal::continue_or_restart(&path, &header()).unwrap();
+        assert_eq!(c.results, vec![result(3), result(7)]);
+        assert!(c.notices.is_empty(), "a torn tail is a normal crash: {:?}", c.notices);
         assert_eq!(std::fs::metadata(&path).unwrap().len(), full.len() as u64);
+        let mut j = c.journal;
         j.append(&result(9)).unwrap();
         drop(j);
         let (_, all) = read(&path).unwrap();
@@ -305,21 +422,72 @@ mod tests {
         let n = bad.len();
         bad[n - 2] ^= 0xff;
         std::fs::write(&path, &bad).unwrap();
-        let (_, got) = Journal::resume(&path, &header()).unwrap();
-        assert_eq!(got.len(), 2);
+        assert_eq!(Journal::continue_or_restart(&path, &header()).unwrap().results.len(), 2);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_damaged_entry_in_the_middle_is_named_and_the_later_ones_are_kept() {
+        let dir = scratch("flip");
+        let path = dir.join("flip.journal");
+        let mut j = Journal::create(&path, &header()).unwrap();
+        for job in 0..8 {
+            j.append(&result(job)).unwrap();
+        }
+        drop(j);
+        let whole = std::fs::read(&path).unwrap();
+        // offset of the frame of job 2 (frames are of equal size)
+        let first = MAGIC.len() + frame(&encode(&header())).len();
+        let size = frame(&encode(&result(0))).len();
+        for (what, at) in [("payload", first + 2 * size + 12), ("length", first + 2 * size + 1)] {
+            let mut bad = whole.clone();
+            bad[at] ^= 0x10;
+            std::fs::write(&path, &bad).unwrap();
+            let contents = read_contents(&path).unwrap();
+            assert_eq!(contents.damaged, vec![(first + 2 * size, size)], "{what}");
+            let notices = contents.notices(&path);
+            assert!(notices[0].contains(&format!("byte offset {}", first + 2 * size)), "{what}: {notices:?}");
+            let c = Journal::continue_or_restart(&path, &header()).unwrap();
+            let jobs: Vec<u32> = c.results.iter().map(|r| r.job).collect();
+            assert_eq!(jobs, vec![0, 1, 3, 4, 5, 6, 7], "{what}");
+            assert_eq!(c.notices.len(), 1, "{what}");
+            let mut j = c.journal;
+            j.append(&result(2)).unwrap();
+            drop(j);
+            // rewritten without the damage: no second warning
+            let again = read_contents(&path).unwrap();
+            assert!(again.damaged.is_empty() && !again.torn_tail, "{what}");
+            assert_eq!(again.latest().len(), 8, "{what}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_retried_job_is_taken_from_its_last_entry() {
+        let dir = scratch("retry");
+        let path = dir.join("retry.journal");
+        let mut j = Journal::create(&path, &header()).unwrap();
+        let failed = JobResult { status: 1, message: "failed".into(), ..result(4) };
+        j.append(&failed).unwrap();
+        j.append(&result(5)).unwrap();
+        j.append(&result(4)).unwrap();
+        drop(j);
+        let c = Journal::continue_or_restart(&path, &header()).unwrap();
+        assert_eq!(c.results, vec![result(4), result(5)]);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn a_journal_torn_while_being_created_starts_afresh() {
-        let dir = std::env::temp_dir().join(format!("qj-journal-new-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("new");
         let path = dir.join("new.journal");
         let mut whole = MAGIC.to_vec();
         whole.extend(frame(&encode(&header())));
         for cut in [0, 3, MAGIC.len(), MAGIC.len() + 5, whole.len() - 1] {
             std::fs::write(&path, &whole[..cut]).unwrap();
-            let (mut j, got) = Journal::resume(&path, &header()).unwrap();
-            assert!(got.is_empty(), "cut at {cut}");
+            let c = Journal::continue_or_restart(&path, &header()).unwrap();
+            assert!(c.results.is_empty(), "cut at {cut}");
+            let mut j = c.journal;
             j.append(&result(4)).unwrap();
             drop(j);
             let (h, all) = read(&path).unwrap();
@@ -327,21 +495,15 @@ mod tests {
         }
         // not a journal at all: refused, not overwritten
         std::fs::write(&path, b"something else entirely").unwrap();
-        assert!(Journal::resume(&path, &header()).unwrap_err().to_string().contains("not a quakejoint journal"));
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    #[test]
-    fn a_second_writer_is_refused_while_the_first_holds_the_journal() {
-        let dir = std::env::temp_dir().join(format!("qj-journal-lock-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("locked.journal");
-        let _ = std::fs::remove_file(&path);
-        let first = Journal::create(&path, &header()).unwrap();
-        let err = Journal::resume(&path, &header()).unwrap_err().to_string();
-        assert!(err.contains("another quakejoint sweep is writing this output"), "{err}");
-        drop(first);
-        assert!(Journal::resume(&path, &header()).is_ok(), "the lock ends with the first writer");
+        let err = Journal::continue_or_restart(&path, &header()).unwrap_err().to_string();
+        assert!(err.contains("not a quakejoint journal"), "{err}");
+        // a damaged header with entries after it: refused, not restarted
+        let mut bad = whole.clone();
+        bad[MAGIC.len() + 9] ^= 1;
+        bad.extend(frame(&encode(&result(1))));
+        std::fs::write(&path, &bad).unwrap();
+        let err = Journal::continue_or_restart(&path, &header()).unwrap_err().to_string();
+        assert!(err.contains("header is damaged"), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

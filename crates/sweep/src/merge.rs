@@ -2,16 +2,39 @@
 //!
 //! Shards of one sweep share the config, the records and the grids; each
 //! holds the results of its own jobs (the others marked not run). The merged
-//! file takes every job from the shard that ran it; a job run by two shards
-//! must have the same numbers (the runs are deterministic). Its numeric
-//! datasets are identical to those of an unsharded run (except the
-//! machine-dependent wall times).
+//! file takes every job from the shard that ran it. Its numeric datasets are
+//! identical to those of an unsharded run (except the machine-dependent wall
+//! times).
+//!
+//! A merge is strict by default:
+//! - every input must be a readable sweep file: each one that is missing or
+//!   unreadable is named, and nothing is written;
+//! - the result must be complete: if a job has not run, the missing shards
+//!   and jobs are named and nothing is written, unless the caller accepts a
+//!   partial result ([`MergeOptions::allow_partial`]: the file then says
+//!   `complete = 0`);
+//! - the same file given twice is read once; two files claiming the same
+//!   shard are refused; a job present in two inputs (overlapping shards of
+//!   different splits) is kept once if its results are bit-identical, and
+//!   refused otherwise. Each of these is reported.
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use crate::error::SweepError;
+use crate::files::{describe, same_file};
+use crate::lock::OutputLock;
 use crate::results::{status, Results, FIELDS, MACHINE_DEPENDENT};
-use crate::sweep_h5::{read_sweep, write_sweep};
+use crate::runner::journal_path;
+use crate::sweep_h5::{read_sweep, write_sweep, SweepFile};
+
+/// How to merge.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct MergeOptions {
+    /// Write the merged file even if some jobs have not run (they stay
+    /// marked not run, and the file says `complete = 0`).
+    pub allow_partial: bool,
+}
 
 /// What a merge produced.
 #[derive(Debug, Clone)]
@@ -24,26 +47,100 @@ pub struct MergeSummary {
     pub finished: usize,
     /// Jobs that failed.
     pub failed: usize,
+    /// Jobs without a result (only with [`MergeOptions::allow_partial`]).
+    pub missing: usize,
+    /// What the merge noticed and dealt with (duplicates, overlaps, a
+    /// partial result).
+    pub notices: Vec<String>,
 }
 
 fn same_bits(a: f64, b: f64) -> bool {
     a.to_bits() == b.to_bits()
 }
 
+/// `(k, n)` of a shard name `"k/n"`.
+fn shard_of(name: &str) -> Option<(usize, usize)> {
+    let (k, n) = name.split_once('/')?;
+    Some((k.parse().ok()?, n.parse().ok()?))
+}
+
+/// Reads every input, naming each one that cannot be used.
+fn read_all(inputs: &[PathBuf], notices: &mut Vec<String>) -> Result<Vec<(PathBuf, SweepFile)>, SweepError> {
+    let mut unique: Vec<&PathBuf> = Vec::new();
+    for path in inputs {
+        if let Some(first) = unique.iter().find(|u| same_file(u, path)) {
+            notices.push(format!("{} was given twice (as {}): read once", first.display(), path.display()));
+        } else {
+            unique.push(path);
+        }
+    }
+    let mut files = Vec::new();
+    let mut problems = Vec::new();
+    for path in unique {
+        if !path.exists() {
+            problems.push(format!("{}: no such file (has its shard run?)", path.display()));
+            continue;
+        }
+        match read_sweep(path) {
+            Ok(f) => files.push((path.clone(), f)),
+            Err(e) => problems.push(format!("{}: not a readable sweep file ({})", path.display(), e.message)),
+        }
+    }
+    if !problems.is_empty() {
+        return Err(SweepError::Merge(format!("cannot merge:\n  {}", problems.join("\n  "))));
+    }
+    Ok(files)
+}
+
+/// The merged file may replace an earlier merge or nothing, never an input
+/// or the output of a sweep (which has a journal).
+fn check_output(output: &Path, inputs: &[PathBuf]) -> Result<(), SweepError> {
+    if let Some(i) = inputs.iter().find(|i| same_file(output, i)) {
+        return Err(SweepError::Merge(format!(
+            "the output {} is one of the inputs ({})",
+            output.display(),
+            i.display()
+        )));
+    }
+    if journal_path(output).exists() {
+        return Err(SweepError::Merge(format!(
+            "{} is the output of a sweep (it has a journal): write the merge elsewhere",
+            output.display()
+        )));
+    }
+    if output.exists() && read_sweep(output).is_err() {
+        return Err(SweepError::Merge(format!(
+            "{} exists and is {}: it is not overwritten",
+            output.display(),
+            describe(output)
+        )));
+    }
+    Ok(())
+}
+
 /// Merges shard files into `output`.
-pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<MergeSummary, SweepError> {
-    let first = inputs.first().ok_or_else(|| SweepError::Merge("no input files".into()))?;
-    let mut merged = read_sweep(first)?;
-    for path in &inputs[1..] {
-        let other = read_sweep(path)?;
+pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result<MergeSummary, SweepError> {
+    if inputs.is_empty() {
+        return Err(SweepError::Merge("no input files".into()));
+    }
+    check_output(output, inputs)?;
+    let _lock = OutputLock::acquire(output)?;
+    let mut notices = Vec::new();
+    let files = read_all(inputs, &mut notices)?;
+    let (first_path, first) = &files[0];
+    let results = Results { without: first.results.without.clone(), ..Results::new(first.results.dims) };
+    let mut merged = SweepFile { results, scope: Vec::new(), ..first.clone() };
+    let mut claimed: Vec<(String, &Path)> = Vec::new();
+    let mut overlaps = 0;
+    for (path, other) in &files {
         let what = |field: &str| {
             SweepError::Merge(format!(
                 "{} and {} are not shards of one sweep: their {field} differ",
-                first.display(),
+                first_path.display(),
                 path.display()
             ))
         };
-        if other.config != merged.config {
+        if other.config_sha256 != merged.config_sha256 {
             return Err(what("configs"));
         }
         if other.periods != merged.periods || other.damping != merged.damping {
@@ -55,26 +152,92 @@ pub fn merge(inputs: &[PathBuf], output: &Path) -> Result<MergeSummary, SweepErr
         if other.records != merged.records {
             return Err(what("records"));
         }
-        let r = &other.results;
-        for (k, (a, b)) in merged.results.without.iter().zip(&r.without).enumerate() {
+        for (k, (a, b)) in merged.results.without.iter().zip(&other.results.without).enumerate() {
             if a.iter().zip(b).any(|(x, y)| !same_bits(*x, *y)) {
                 return Err(what(&format!("spectra without the joint ({})", ["sa", "psa", "sd", "sv"][k])));
             }
         }
-        combine(&mut merged.results, r, &path.display().to_string())?;
+        if other.shard != "all" && other.shard != "merged" {
+            if let Some((_, p)) = claimed.iter().find(|(s, _)| *s == other.shard) {
+                return Err(SweepError::Merge(format!(
+                    "{} and {} both hold shard {}: give each shard once",
+                    p.display(),
+                    path.display(),
+                    other.shard
+                )));
+            }
+            claimed.push((other.shard.clone(), path));
+        }
+        overlaps += combine(&mut merged.results, &other.results, &path.display().to_string())?;
     }
-    let results = &merged.results;
-    merged.shard = if results.finished() == results.status.len() { "all".into() } else { "merged".into() };
+    if overlaps > 0 {
+        notices.push(format!("{overlaps} jobs were in more than one input with identical results: kept once"));
+    }
+    let r = &merged.results;
+    let missing: Vec<usize> = (0..r.status.len()).filter(|&j| r.status[j] == status::NOT_RUN).collect();
+    if !missing.is_empty() {
+        let report = incomplete(&merged, &files, &missing);
+        if !options.allow_partial {
+            return Err(SweepError::Merge(format!(
+                "the result would be incomplete: {report}\nrun the missing shards (or continue them: \
+                 `quakejoint sweep <config> --shard K/N --output <shard file>`), or accept a partial result with \
+                 --allow-partial"
+            )));
+        }
+        notices.push(format!("partial result written (complete = 0): {report}"));
+    }
+    merged.shard = if missing.is_empty() { "all".into() } else { "partial".into() };
+    merged.scope = (0..r.status.len() as u32).collect();
     write_sweep(output, &merged)?;
+    let results = &merged.results;
     Ok(MergeSummary {
         output: output.to_path_buf(),
         jobs: results.status.len(),
         finished: results.finished(),
         failed: results.failed(),
+        missing: missing.len(),
+        notices,
     })
 }
 
-fn combine(into: &mut Results, from: &Results, source: &str) -> Result<(), SweepError> {
+/// Which shards and jobs are missing, in words.
+fn incomplete(merged: &SweepFile, files: &[(PathBuf, SweepFile)], missing: &[usize]) -> String {
+    let mut parts = Vec::new();
+    let shards: BTreeSet<(usize, usize)> = files.iter().filter_map(|(_, f)| shard_of(&f.shard)).collect();
+    let ns: BTreeSet<usize> = shards.iter().map(|&(_, n)| n).collect();
+    if let (1, Some(&n)) = (ns.len(), ns.first()) {
+        let absent: Vec<String> = (1..=n).filter(|k| !shards.contains(&(*k, n))).map(|k| format!("{k}/{n}")).collect();
+        if !absent.is_empty() {
+            parts.push(format!("shards {} were not given", absent.join(", ")));
+        }
+    }
+    for (path, f) in files {
+        let not_run = f.scope.iter().filter(|&&j| f.results.status[j as usize] == status::NOT_RUN).count();
+        if not_run > 0 {
+            parts.push(format!(
+                "{} (shard {}) has {not_run} of its {} jobs not run",
+                path.display(),
+                f.shard,
+                f.scope.len()
+            ));
+        }
+    }
+    const SHOWN: usize = 10;
+    let listed: Vec<String> = missing.iter().take(SHOWN).map(|&j| merged.describe_job(j)).collect();
+    let more = if missing.len() > SHOWN { format!(" and {} more", missing.len() - SHOWN) } else { String::new() };
+    parts.push(format!(
+        "{} of {} jobs have no result: {}{more}",
+        missing.len(),
+        merged.results.status.len(),
+        listed.join(", ")
+    ));
+    parts.join("; ")
+}
+
+/// Adds the finished jobs of `from`; returns how many were already present
+/// with identical results.
+fn combine(into: &mut Results, from: &Results, source: &str) -> Result<usize, SweepError> {
+    let mut overlaps = 0;
     for j in 0..from.status.len() {
         if from.status[j] == status::NOT_RUN {
             continue;
@@ -88,6 +251,7 @@ fn combine(into: &mut Results, from: &Results, source: &str) -> Result<(), Sweep
             if differs || into.status[j] != from.status[j] {
                 return Err(SweepError::Merge(format!("job {j} was run twice with different results ({source})")));
             }
+            overlaps += 1;
             continue;
         }
         for k in 0..FIELDS.len() {
@@ -99,5 +263,5 @@ fn combine(into: &mut Results, from: &Results, source: &str) -> Result<(), Sweep
             into.histories.insert(j as u32, h.clone());
         }
     }
-    Ok(())
+    Ok(overlaps)
 }

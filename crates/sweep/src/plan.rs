@@ -19,7 +19,7 @@
 //! overrides are merged into the base config and checked like it, so an
 //! unknown key or a bad value is an error naming the case and the key.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{load_record, period_range, Record, RecordSpec};
@@ -49,6 +49,8 @@ pub struct SweepRecord {
     pub sha256: String,
     /// Warnings from reading it.
     pub warnings: Vec<String>,
+    /// The file it was read from (resolved against the config's folder).
+    pub path: PathBuf,
 }
 
 impl SweepRecord {
@@ -58,7 +60,7 @@ impl SweepRecord {
         let path = spec.resolve_path(base_dir);
         let bytes = std::fs::read(&path)
             .map_err(|e| SweepError::Io { path: path.display().to_string(), message: e.to_string() })?;
-        Ok(Self { sha256: sha256_hex(&bytes), record: loaded.record, warnings: loaded.warnings, spec })
+        Ok(Self { sha256: sha256_hex(&bytes), record: loaded.record, warnings: loaded.warnings, spec, path })
     }
 }
 
@@ -173,6 +175,36 @@ fn merge(base: &mut toml::Table, over: &toml::Table) {
             }
         }
     }
+}
+
+/// Settings that change no finished result are left out of the config's
+/// hash: the per-job limits `simulation.max_wall_time` and
+/// `simulation.max_steps` (a job either ends within them with the same
+/// numbers or is recorded as stopped) and `sweep.checkpoint_seconds`. So a
+/// sweep can be continued, and its stopped jobs retried, with raised limits.
+/// `table` is the config or its `[sweep]` table (whose cases may set the
+/// limits too).
+fn without_run_settings(table: &toml::Table) -> toml::Table {
+    fn strip(t: &mut toml::Table) {
+        if let Some(toml::Value::Table(sim)) = t.get_mut("simulation") {
+            sim.remove("max_wall_time");
+            sim.remove("max_steps");
+            if sim.is_empty() {
+                t.remove("simulation");
+            }
+        }
+    }
+    let mut t = table.clone();
+    strip(&mut t);
+    t.remove("checkpoint_seconds");
+    if let Some(toml::Value::Array(cases)) = t.get_mut("cases") {
+        for case in cases {
+            if let toml::Value::Table(c) = case {
+                strip(c);
+            }
+        }
+    }
+    t
 }
 
 /// SHA-256 of some bytes as hex.
@@ -324,7 +356,8 @@ impl Plan {
             config.validate().map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
             cases.push(Case { name, bodies: bodies_of(&config), config });
         }
-        let canonical = toml::to_string(&table).unwrap_or_default() + &toml::to_string(&sweep).unwrap_or_default();
+        let canonical = toml::to_string(&without_run_settings(&table)).unwrap_or_default()
+            + &toml::to_string(&without_run_settings(&sweep)).unwrap_or_default();
         Ok(Self {
             cases,
             records,
@@ -365,12 +398,13 @@ impl Plan {
         }
     }
 
-    /// Relative cost estimate of a job: joint bodies times record duration
-    /// times a factor that grows for short periods (more steps).
+    /// Estimated cost of a job: seconds on one core of the reference machine
+    /// ([`cost_seconds`]).
     pub fn cost(&self, job: Job) -> f64 {
         let case = &self.cases[job.case];
-        let duration = case.config.simulation.duration.unwrap_or(self.records[job.record].record.duration());
-        (case.bodies.max(1) as f64) * duration * (1.0 + 0.5 / self.periods[job.period])
+        let record = &self.records[job.record].record;
+        let duration = quakejoint_model::run::run_duration(&case.config, record);
+        cost_seconds(case.bodies, duration / record.dt, self.periods[job.period])
     }
 
     /// The jobs of shard `k` of `n` (1-based `k`): jobs sorted by decreasing
@@ -391,6 +425,70 @@ impl Plan {
         mine.sort_unstable();
         mine
     }
+}
+
+/// What running some jobs of a plan in one process takes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    /// Jobs.
+    pub jobs: usize,
+    /// Cost-model seconds on one core of the reference machine (the wall
+    /// time on one thread; on `t` threads about this divided by `t`).
+    pub seconds: f64,
+    /// Peak resident memory of the process [MB].
+    pub memory_mb: f64,
+}
+
+impl Plan {
+    /// The time and memory of running `jobs` (flat indices) in one process
+    /// with `threads` workers (docs/sweep.md, "Cost of a job"). The memory
+    /// is that of the measured components: the program and HDF5 library,
+    /// the records, the result arrays and the stored histories (each held
+    /// three times: arrays, journal frame, HDF5 write), and one model per
+    /// worker; the sweep reports its measured peak (`peak_memory_mb`), which
+    /// a test keeps below this estimate.
+    pub fn estimate(&self, jobs: &[usize], threads: usize) -> Estimate {
+        const MB: f64 = 1.0 / (1024.0 * 1024.0);
+        let seconds = jobs.iter().map(|&j| self.cost(self.job(j))).sum();
+        let samples = |r: &SweepRecord| r.record.acceleration.len() as f64;
+        let record_bytes: f64 = self.records.iter().chain(&self.record_y).map(|r| samples(r) * 8.0 * 3.0).sum();
+        let longest = self.records.iter().map(samples).fold(0.0, f64::max);
+        let result_bytes = self.job_count() as f64 * ((crate::results::FIELDS.len() as f64 + 4.0) * 8.0) * 3.0;
+        let histories = self.history_periods.len() * self.job_count() / self.periods.len().max(1);
+        let history_bytes = histories as f64 * longest * 7.0 * 8.0 * 3.0;
+        let bodies = self.cases.iter().map(|c| c.bodies).max().unwrap_or(0) as f64;
+        let worker_mb = MEMORY_PER_WORKER_MB + MEMORY_PER_BODY_MB * bodies + longest * 8.0 * 6.0 * MB;
+        let memory_mb = MEMORY_BASE_MB
+            + (record_bytes + result_bytes + history_bytes) * MB
+            + threads.max(1).min(jobs.len().max(1)) as f64 * worker_mb;
+        Estimate { jobs: jobs.len(), seconds, memory_mb }
+    }
+}
+
+/// Memory of the program, the HDF5 library and the allocator [MB].
+pub const MEMORY_BASE_MB: f64 = 18.0;
+/// Memory of a worker without its model [MB].
+pub const MEMORY_PER_WORKER_MB: f64 = 1.0;
+/// Memory of a worker's model per joint body [MB].
+pub const MEMORY_PER_BODY_MB: f64 = 0.025;
+
+/// Seconds per output sample of a job, whatever the model ([`cost_seconds`]).
+pub const COST_PER_SAMPLE: f64 = 1.25e-5;
+/// Seconds per joint body and output sample ([`cost_seconds`]).
+pub const COST_PER_BODY_SAMPLE: f64 = 2.0e-6;
+
+/// The cost model of a coupled run, measured on this engine (docs/sweep.md,
+/// "Cost of a job"): seconds on one core of the reference machine for a
+/// joint of `bodies` rigid bodies, `samples` output samples (the steps never
+/// cross a sample, so the step count follows the sample count) and bridge
+/// period `period` [s]:
+/// `samples * (COST_PER_SAMPLE + COST_PER_BODY_SAMPLE * bodies) * f(T)` with
+/// `f(T) = 1 - 0.45 exp(-(T / 0.2 s)^2)`: a stiff bridge (short period)
+/// barely moves the joint, so its friction rarely reverses and Newton needs
+/// fewer iterations (T = 0.1 s costs about 60 % of T = 1 s).
+pub fn cost_seconds(bodies: usize, samples: f64, period: f64) -> f64 {
+    let f = 1.0 - 0.45 * (-(period / 0.2).powi(2)).exp();
+    samples.max(1.0) * (COST_PER_SAMPLE + COST_PER_BODY_SAMPLE * bodies as f64) * f
 }
 
 fn bodies_of(config: &Config) -> usize {

@@ -133,6 +133,16 @@ impl Results {
         }
     }
 
+    /// Forgets one job's outcome (it is to be run again).
+    pub fn clear(&mut self, job: usize) {
+        for f in &mut self.values {
+            f[job] = f64::NAN;
+        }
+        self.status[job] = status::NOT_RUN;
+        self.messages[job].clear();
+        self.histories.remove(&(job as u32));
+    }
+
     /// Jobs finished (any status but not run).
     pub fn finished(&self) -> usize {
         self.status.iter().filter(|&&s| s != status::NOT_RUN).count()

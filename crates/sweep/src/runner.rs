@@ -1,6 +1,14 @@
 //! Running a sweep: jobs on a rayon pool, results over a channel to one
-//! writer thread that journals them (fsync per job), keeps the arrays and
-//! checkpoints the HDF5 file.
+//! writer thread that journals them (fsync per job), keeps the arrays,
+//! checkpoints the HDF5 file and reports progress.
+//!
+//! A sweep continues the journal of its output when there is one (after
+//! checking that it records the same sweep), so the same command can be run
+//! again after a crash, a kill or a full disk. Before anything of the output
+//! is touched the output's lock is taken ([`crate::lock`]); an output that
+//! would overwrite an input, or an existing file without a journal, is
+//! refused; an output that disagrees with its journal (missing, damaged,
+//! foreign) is rebuilt from it, with a warning.
 //!
 //! Each job runs single-threaded (the solver's linear algebra never spawns
 //! threads), so a job's numbers depend only on its inputs: the results are
@@ -11,35 +19,52 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use crossbeam_channel::{unbounded, Receiver};
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use crossbeam_channel::{unbounded, Receiver, RecvTimeoutError};
+use indicatif::ProgressBar;
 use quakejoint_model::run::{simulate_records, RunOptions, RunResult};
 use quakejoint_model::ModelError;
 use quakejoint_motion::{history, spectrum, SpectrumOptions};
 use quakejoint_solver::SolverError;
 
-use crate::error::{io_err, SweepError};
+use crate::error::SweepError;
+use crate::files::{describe, same_file};
+use crate::h5::temporary_name;
 use crate::journal::{Header, Journal};
+use crate::lock::{lock_path, OutputLock};
 use crate::plan::{Job, Plan};
+use crate::progress::{Progress, Reporter};
 use crate::results::{status, JobHistory, JobResult, Results, FIELDS};
-use crate::sweep_h5::{write_sweep, StoredRecord, SweepFile};
+use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 
-/// Version of the journal format.
-const JOURNAL_SCHEMA: u32 = 1;
+/// Version of the journal format (2: the config's hash leaves out the
+/// per-job limits).
+const JOURNAL_SCHEMA: u32 = 2;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
 pub struct SweepOptions {
-    /// The HDF5 output (the journal is `<output>.journal`).
+    /// The HDF5 output (the journal is `<output>.journal`, the lock
+    /// `<output>.lock`).
     pub output: PathBuf,
     /// Worker threads (None: all cores).
     pub threads: Option<usize>,
-    /// Continue from the journal.
+    /// Require a journal to continue (without it, a sweep continues a
+    /// matching journal if there is one and starts afresh otherwise).
     pub resume: bool,
+    /// Run the journalled jobs that failed again (their new results replace
+    /// the old; finished jobs are kept).
+    pub retry_failed: bool,
     /// Run only shard `k` of `n` (1-based).
     pub shard: Option<(usize, usize)>,
-    /// Show progress bars on stderr.
-    pub progress: bool,
+    /// How progress is shown on stderr.
+    pub progress: Progress,
+    /// Files the output must never overwrite besides the records (the
+    /// config).
+    pub inputs: Vec<PathBuf>,
+    /// When set (by a signal handler), workers take no new job, running jobs
+    /// stop at their next step, and the sweep writes a final checkpoint and
+    /// returns with [`Summary::interrupted`].
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 /// What a sweep did.
@@ -49,10 +74,19 @@ pub struct Summary {
     pub jobs: usize,
     /// Of these, finished before this run (from the journal).
     pub resumed: usize,
+    /// Journalled failures run again (`--retry-failed`).
+    pub retried: usize,
     /// Run now.
     pub ran: usize,
+    /// Jobs of the scope not finished (an interrupted sweep).
+    pub not_run: usize,
     /// Failed jobs: (case, record, damping, period, message).
     pub failed: Vec<(String, String, f64, f64, String)>,
+    /// Whether a stop request ended the sweep before every job had run.
+    pub interrupted: bool,
+    /// Warnings given during the run (damage found in the journal, an
+    /// output rebuilt from it).
+    pub notices: Vec<String>,
     /// Wall-clock time [s].
     pub wall_time_s: f64,
     /// The HDF5 output.
@@ -71,20 +105,6 @@ pub fn journal_path(output: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
-/// Checks that files can be created beside `output` (before any job runs).
-pub fn check_writable(output: &Path) -> Result<(), SweepError> {
-    let probe = {
-        let mut s = output.as_os_str().to_owned();
-        s.push(format!(".probe-{}", std::process::id()));
-        PathBuf::from(s)
-    };
-    std::fs::write(&probe, b"probe").map_err(|e| SweepError::Io {
-        path: output.display().to_string(),
-        message: format!("the output location is not writable: {e}"),
-    })?;
-    std::fs::remove_file(&probe).map_err(|e| io_err(&probe, e))
-}
-
 /// The journal header of a plan.
 pub fn header(plan: &Plan, shard: Option<(usize, usize)>) -> Header {
     Header {
@@ -97,11 +117,21 @@ pub fn header(plan: &Plan, shard: Option<(usize, usize)>) -> Header {
     }
 }
 
+/// The jobs of a run: its shard's, or all.
+pub fn scope(plan: &Plan, shard: Option<(usize, usize)>) -> Vec<usize> {
+    match shard {
+        Some((k, n)) => plan.shard(k, n),
+        None => (0..plan.job_count()).collect(),
+    }
+}
+
 /// The file skeleton of a plan (results not yet filled).
 pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>) -> SweepFile {
     SweepFile {
         config: plan.config_text.clone(),
+        config_sha256: plan.config_sha256.clone(),
         shard: shard.map_or("all".to_string(), |(k, n)| format!("{k}/{n}")),
+        scope: scope(plan, shard).into_iter().map(|j| j as u32).collect(),
         periods: plan.periods.clone(),
         damping: plan.damping.clone(),
         cases: plan.cases.iter().map(|c| c.name.clone()).collect(),
@@ -172,8 +202,13 @@ fn values_of(r: &RunResult) -> Vec<f64> {
     v
 }
 
-/// Runs one job.
-pub fn run_job(plan: &Plan, index: usize, progress: Option<quakejoint_model::run::ProgressFn>) -> JobResult {
+/// Runs one job; `None` if `cancel` stopped it.
+pub fn run_job(
+    plan: &Plan,
+    index: usize,
+    progress: Option<quakejoint_model::run::ProgressFn>,
+    cancel: Option<Arc<AtomicBool>>,
+) -> Option<JobResult> {
     let job = plan.job(index);
     let Job { case, record, damping, period } = job;
     let mut config = plan.cases[case].config.clone();
@@ -182,7 +217,7 @@ pub fn run_job(plan: &Plan, index: usize, progress: Option<quakejoint_model::run
     let omega = 2.0 * std::f64::consts::PI / t;
     let want_history = plan.history_periods.contains(&period);
     let rec = &plan.records[record].record;
-    let options = RunOptions { omega: Some(omega), histories: want_history, progress };
+    let options = RunOptions { omega: Some(omega), histories: want_history, progress, cancel };
     match simulate_records(&config, rec, plan.record_y.as_ref().map(|r| &r.record), &options) {
         Ok(r) => {
             let history = r.histories.as_ref().map(|h| {
@@ -199,26 +234,84 @@ pub fn run_job(plan: &Plan, index: usize, progress: Option<quakejoint_model::run
                     friction_power: h.friction_power.clone(),
                 }
             });
-            JobResult { job: index as u32, status: status::OK, message: String::new(), values: values_of(&r), history }
+            Some(JobResult {
+                job: index as u32,
+                status: status::OK,
+                message: String::new(),
+                values: values_of(&r),
+                history,
+            })
         }
+        Err(ModelError::Interrupted { .. }) => None,
         Err(e) => {
             let code = match &e {
                 ModelError::Solver(SolverError::WallClockLimit { .. } | SolverError::StepLimit { .. }) => status::LIMIT,
                 ModelError::Solver(_) => status::FAILED,
                 _ => status::INVALID,
             };
-            JobResult {
+            Some(JobResult {
                 job: index as u32,
                 status: code,
                 message: e.to_string(),
                 values: vec![f64::NAN; FIELDS.len()],
                 history: None,
-            }
+            })
         }
     }
 }
 
-/// Runs (or resumes) a sweep.
+/// Refuses an output whose files (the output, its journal, lock or
+/// temporary file) would overwrite an input (the config, a record).
+fn check_not_an_input(output: &Path, inputs: &[PathBuf]) -> Result<(), SweepError> {
+    let targets = [output.to_path_buf(), journal_path(output), lock_path(output), temporary_name(output)];
+    for t in &targets {
+        if let Some(input) = inputs.iter().find(|i| same_file(t, i)) {
+            return Err(SweepError::Config {
+                field: "--output".into(),
+                message: format!(
+                    "{}: writing the sweep there would overwrite the input {}; choose another output name",
+                    output.display(),
+                    input.display()
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Whether `existing` (the output found on disk) agrees with `expected`
+/// (the journal's results): every job it holds as finished is in the
+/// journal with the same numbers. A file behind the journal (killed before
+/// its last checkpoint) agrees; it is rewritten at the end anyway.
+fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
+    if existing.config_sha256 != expected.config_sha256 {
+        return Err("it was written for another config".into());
+    }
+    if (&existing.periods, &existing.damping, &existing.cases)
+        != (&expected.periods, &expected.damping, &expected.cases)
+    {
+        return Err("its grid differs from the journal's".into());
+    }
+    let (a, b) = (&existing.results, &expected.results);
+    for j in 0..a.status.len() {
+        if a.status[j] == status::NOT_RUN {
+            continue;
+        }
+        if b.status[j] == status::NOT_RUN {
+            return Err(format!("it holds job {j}, which its journal does not"));
+        }
+        let same = a.status[j] == b.status[j]
+            && a.messages[j] == b.messages[j]
+            && a.values.iter().zip(&b.values).all(|(x, y)| x[j].to_bits() == y[j].to_bits())
+            && a.histories.get(&(j as u32)) == b.histories.get(&(j as u32));
+        if !same {
+            return Err(format!("its job {j} differs from the journal's"));
+        }
+    }
+    Ok(())
+}
+
+/// Runs a sweep: starts it, or continues the one its journal records.
 pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError> {
     let start = Instant::now();
     if let Some((k, n)) = opts.shard {
@@ -226,83 +319,123 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
             return Err(SweepError::Config { field: "--shard".into(), message: format!("{k}/{n}: need 1 <= K <= N") });
         }
     }
-    check_writable(&opts.output)?;
-    let jpath = journal_path(&opts.output);
+    let output = &opts.output;
+    let mut inputs = opts.inputs.clone();
+    inputs.extend(plan.records.iter().chain(&plan.record_y).map(|r| r.path.clone()));
+    check_not_an_input(output, &inputs)?;
+    // nothing of the output is created, read or deleted before the lock
+    let lock = OutputLock::acquire(output)?;
+    crate::fault::point(crate::fault::Point::Locked, output);
+    let mut notices: Vec<String> = lock.unsupported.iter().cloned().collect();
+    let jpath = journal_path(output);
     let head = header(plan, opts.shard);
     let mut file = sweep_file(plan, opts.shard);
     without_joint(plan, &mut file.results)?;
     let (journal, done) = if jpath.exists() {
-        if !opts.resume {
-            let n = crate::journal::read(&jpath).map(|(_, r)| r.len()).unwrap_or(0);
-            return Err(SweepError::Journal {
-                path: jpath.display().to_string(),
-                message: format!(
-                    "a journal of this output already exists ({n} finished jobs): use --resume to continue it, or remove \
-                     it (and the output) to start over"
-                ),
-            });
-        }
-        Journal::resume(&jpath, &head)?
+        let c = Journal::continue_or_restart(&jpath, &head)?;
+        notices.extend(c.notices);
+        (c.journal, c.results)
+    } else if opts.resume {
+        return Err(SweepError::Journal {
+            path: jpath.display().to_string(),
+            message: "--resume: there is no journal to continue (run without --resume to start the sweep)".into(),
+        });
+    } else if output.exists() {
+        return Err(SweepError::Config {
+            field: "--output".into(),
+            message: format!(
+                "{} exists ({}) and has no journal: it is not overwritten; remove it or choose another output name",
+                output.display(),
+                describe(output)
+            ),
+        });
     } else {
         (Journal::create(&jpath, &head)?, Vec::new())
     };
-    let resumed = done.len();
+    let had_results = !done.is_empty();
     for r in done {
         file.results.insert(r);
     }
-    let scope: Vec<usize> = match opts.shard {
-        Some((k, n)) => plan.shard(k, n),
-        None => (0..plan.job_count()).collect(),
-    };
+    // the output on disk must agree with its journal, or it is rebuilt
+    let mut dirty = false;
+    if had_results || output.exists() {
+        match read_sweep(output) {
+            Ok(existing) => match agrees(&existing, &file) {
+                Ok(()) => dirty = existing.results.finished() < file.results.finished(),
+                Err(p) => {
+                    notices.push(format!(
+                        "{}: {p}; it is rebuilt from the journal {}",
+                        output.display(),
+                        jpath.display()
+                    ));
+                    dirty = true;
+                }
+            },
+            Err(e) => {
+                let why =
+                    if output.exists() { format!("it cannot be read ({})", e.message) } else { "it is missing".into() };
+                notices.push(format!(
+                    "{}: {why}; it is rebuilt from the journal {}",
+                    output.display(),
+                    jpath.display()
+                ));
+                dirty = true;
+            }
+        }
+    }
+    let scope = scope(plan, opts.shard);
+    let mut retried = 0;
+    if opts.retry_failed {
+        for &j in &scope {
+            if !matches!(file.results.status[j], status::OK | status::NOT_RUN) {
+                file.results.clear(j);
+                retried += 1;
+                dirty = true;
+            }
+        }
+    }
     let mut todo: Vec<usize> = scope.iter().copied().filter(|&j| file.results.status[j] == status::NOT_RUN).collect();
     // longest jobs first: the last jobs to finish are short ones
     todo.sort_by(|&a, &b| plan.cost(plan.job(b)).total_cmp(&plan.cost(plan.job(a))).then(a.cmp(&b)));
     let in_scope_done = scope.len() - todo.len();
+    let failed_before =
+        scope.iter().filter(|&&j| !matches!(file.results.status[j], status::OK | status::NOT_RUN)).count();
 
     let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
-    let multi = MultiProgress::with_draw_target(if opts.progress {
-        ProgressDrawTarget::stderr()
-    } else {
-        ProgressDrawTarget::hidden()
-    });
-    let overall = multi.add(ProgressBar::new(scope.len() as u64));
-    overall.set_style(
-        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} jobs, {elapsed} elapsed, ETA {eta}")
-            .expect("template")
-            .progress_chars("=> "),
+    let label = output.file_name().map_or(output.display().to_string(), |n| n.to_string_lossy().into_owned());
+    let cost_left: f64 = todo.iter().map(|&j| plan.cost(plan.job(j))).sum();
+    let reporter = Reporter::new(
+        opts.progress,
+        label,
+        (scope.len(), in_scope_done, failed_before),
+        cost_left,
+        threads.min(todo.len()),
     );
-    overall.set_prefix("sweep");
-    overall.set_position(in_scope_done as u64);
-    let workers: Vec<ProgressBar> = (0..threads)
-        .map(|w| {
-            let pb = multi.add(ProgressBar::new_spinner());
-            pb.set_style(ProgressStyle::with_template("  worker {prefix}: {msg}").expect("template"));
-            pb.set_prefix(w.to_string());
-            pb.set_message("idle");
-            pb
-        })
-        .collect();
+    for n in &notices {
+        reporter.notice(n);
+    }
+    let workers: Vec<ProgressBar> = (0..threads).map(|w| reporter.worker(w)).collect();
 
     let (tx, rx) = unbounded::<JobResult>();
-    let cancel = Arc::new(AtomicBool::new(false));
+    let stop = opts.stop.clone().unwrap_or_default();
     let next = AtomicUsize::new(0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| SweepError::Io { path: "thread pool".into(), message: e.to_string() })?;
-    let checkpoint = Duration::from_secs_f64(plan.checkpoint_seconds);
-    let output = opts.output.clone();
     let writer = {
-        let cancel = cancel.clone();
-        let overall = overall.clone();
-        std::thread::spawn(move || write_results(rx, journal, file, &output, checkpoint, &cancel, &overall))
+        let (stop, output) = (stop.clone(), output.clone());
+        let checkpoint = Duration::from_secs_f64(plan.checkpoint_seconds);
+        let costs: Vec<f64> = (0..plan.job_count()).map(|j| plan.cost(plan.job(j))).collect();
+        let state = Writer { journal, file, output, checkpoint, dirty, reporter, costs };
+        std::thread::spawn(move || state.run(rx, &stop))
     };
     pool.scope(|s| {
         for bar in &workers {
             let tx = tx.clone();
-            let (todo, next, cancel) = (&todo, &next, &cancel);
+            let (todo, next, stop) = (&todo, &next, &stop);
             s.spawn(move |_| loop {
-                if cancel.load(Ordering::Relaxed) {
+                if stop.load(Ordering::Relaxed) {
                     break;
                 }
                 let i = next.fetch_add(1, Ordering::Relaxed);
@@ -320,7 +453,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
                     let bar = bar.clone();
                     Arc::new(move |t| bar.set_message(format!("{label}: t = {t:.1} s")))
                 };
-                let result = run_job(plan, index, Some(progress));
+                let Some(result) = run_job(plan, index, Some(progress), Some(stop.clone())) else { break };
                 if tx.send(result).is_err() {
                     break;
                 }
@@ -334,15 +467,18 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let file = writer
         .join()
         .map_err(|_| SweepError::Io {
-            path: opts.output.display().to_string(),
+            path: output.display().to_string(),
             message: "the writer thread panicked".into(),
         })?
         .map_err(|e| SweepError::Stopped { cause: Box::new(e), journal: jpath.display().to_string() })?;
-    overall.finish_and_clear();
+    drop(lock);
     let mut failed = Vec::new();
+    let mut not_run = 0;
     for &j in &scope {
         let st = file.results.status[j];
-        if st != status::OK && st != status::NOT_RUN {
+        if st == status::NOT_RUN {
+            not_run += 1;
+        } else if st != status::OK {
             let job = plan.job(j);
             failed.push((
                 plan.cases[job.case].name.clone(),
@@ -355,48 +491,77 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     }
     Ok(Summary {
         jobs: scope.len(),
-        resumed: in_scope_done.min(resumed),
-        ran: scope.len() - in_scope_done,
+        resumed: in_scope_done,
+        retried,
+        ran: scope.len() - in_scope_done - not_run,
+        not_run,
         failed,
+        interrupted: not_run > 0 && stop.load(Ordering::Relaxed),
+        notices,
         wall_time_s: start.elapsed().as_secs_f64(),
-        output: opts.output.clone(),
+        output: output.clone(),
         journal: jpath,
         peak_memory_mb: quakejoint_model::resources::peak_memory_mb(),
     })
 }
 
-/// The writer thread: journal, arrays, checkpoints, progress; stops the
-/// workers on a write error (the journal keeps what was finished).
-fn write_results(
-    rx: Receiver<JobResult>,
-    mut journal: Journal,
-    mut file: SweepFile,
-    output: &Path,
+/// The writer thread's state: it journals each result, keeps the arrays,
+/// checkpoints the HDF5 file and reports progress; a write error stops the
+/// workers (the journal keeps what was finished).
+struct Writer {
+    journal: Journal,
+    file: SweepFile,
+    output: PathBuf,
     checkpoint: Duration,
-    cancel: &AtomicBool,
-    overall: &ProgressBar,
-) -> Result<SweepFile, SweepError> {
-    let mut last = Instant::now();
-    let mut dirty = false;
-    for result in rx {
-        if let Err(e) = journal.append(&result) {
-            cancel.store(true, Ordering::Relaxed);
-            return Err(e);
+    /// The output on disk is behind the arrays.
+    dirty: bool,
+    reporter: Reporter,
+    /// Cost-model estimate of every job [s].
+    costs: Vec<f64>,
+}
+
+impl Writer {
+    fn run(mut self, rx: Receiver<JobResult>, stop: &AtomicBool) -> Result<SweepFile, SweepError> {
+        let result = self.receive(&rx, stop);
+        if result.is_err() {
+            stop.store(true, Ordering::Relaxed);
+            // let the workers finish their current send
+            while rx.recv().is_ok() {}
         }
-        file.results.insert(result);
-        overall.inc(1);
-        dirty = true;
-        if last.elapsed() >= checkpoint {
-            if let Err(e) = write_sweep(output, &file) {
-                cancel.store(true, Ordering::Relaxed);
-                return Err(e.into());
+        let state = match &result {
+            Err(_) => "stopped by an error",
+            Ok(()) if stop.load(Ordering::Relaxed) => "interrupted",
+            Ok(()) => "finished",
+        };
+        self.reporter.finish(state);
+        result.map(|()| self.file)
+    }
+
+    fn receive(&mut self, rx: &Receiver<JobResult>, stop: &AtomicBool) -> Result<(), SweepError> {
+        let mut last = Instant::now();
+        loop {
+            let wait = self.reporter.until_next_line().unwrap_or(Duration::from_secs(3600));
+            match rx.recv_timeout(wait) {
+                Ok(result) => {
+                    self.journal.append(&result)?;
+                    let failed = result.status != status::OK;
+                    let cost = self.costs.get(result.job as usize).copied().unwrap_or(0.0);
+                    self.file.results.insert(result);
+                    self.dirty = true;
+                    self.reporter.job_done(failed, cost);
+                    if last.elapsed() >= self.checkpoint && !stop.load(Ordering::Relaxed) {
+                        write_sweep(&self.output, &self.file)?;
+                        last = Instant::now();
+                        self.dirty = false;
+                    }
+                }
+                Err(RecvTimeoutError::Timeout) => self.reporter.tick(),
+                Err(RecvTimeoutError::Disconnected) => break,
             }
-            last = Instant::now();
-            dirty = false;
         }
+        if self.dirty || !self.output.exists() {
+            write_sweep(&self.output, &self.file)?;
+        }
+        Ok(())
     }
-    if dirty || !output.exists() {
-        write_sweep(output, &file)?;
-    }
-    Ok(file)
 }

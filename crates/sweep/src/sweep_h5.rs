@@ -11,7 +11,7 @@ use crate::h5::{attr_f64, attr_str, write_atomically, VERSION};
 use crate::results::{JobHistory, Results, FIELDS, UNITS};
 
 /// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 1;
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,8 +35,15 @@ pub struct StoredRecord {
 pub struct SweepFile {
     /// The config's TOML text.
     pub config: String,
-    /// `"k/n"` for a shard, `"all"` otherwise.
+    /// SHA-256 of the parsed config, as in the journal's header (shards of
+    /// one sweep share it).
+    pub config_sha256: String,
+    /// `"k/n"` for a shard, `"all"` for a whole sweep, `"merged"` for a
+    /// merge of shards.
     pub shard: String,
+    /// The jobs this file is responsible for (flat indices): its shard's,
+    /// or every job.
+    pub scope: Vec<u32>,
     /// Bridge periods [s].
     pub periods: Vec<f64>,
     /// Damping ratios [-].
@@ -72,11 +79,15 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         attr_str(file, "kind", "sweep")?;
         attr_str(file, "config", &f.config)?;
         attr_str(file, "created", &crate::time::utc_now())?;
+        attr_str(file, "config_sha256", &f.config_sha256)?;
         attr_str(file, "shard", &f.shard)?;
         let r = &f.results;
         file.new_attr::<u64>().create("jobs_total")?.write_scalar(&(r.status.len() as u64))?;
+        file.new_attr::<u64>().create("jobs_in_scope")?.write_scalar(&(f.scope.len() as u64))?;
         file.new_attr::<u64>().create("jobs_finished")?.write_scalar(&(r.finished() as u64))?;
         file.new_attr::<u64>().create("jobs_failed")?.write_scalar(&(r.failed() as u64))?;
+        let complete = f.scope.iter().all(|&j| r.status[j as usize] != crate::results::status::NOT_RUN);
+        file.new_attr::<u8>().create("complete")?.write_scalar(&u8::from(complete))?;
 
         let spec = file.create_group("spectrum")?;
         crate::h5::dataset_1d(&spec, "period", &f.periods, "s")?;
@@ -84,6 +95,8 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         let names: Vec<String> = f.records.iter().map(|r| r.name.clone()).collect();
         spec.new_dataset_builder().with_data(ArrayView1::from(&strings(&names)?)).create("record")?;
         spec.new_dataset_builder().with_data(ArrayView1::from(&strings(&f.cases)?)).create("case")?;
+        let scope = spec.new_dataset_builder().with_data(ArrayView1::from(&f.scope)).create("scope")?;
+        attr_str(&scope, "meaning", "flat indices of the jobs this file is responsible for (its shard's, or all)")?;
 
         let d = r.dims;
         let without = spec.create_group("without_joint")?;
@@ -166,6 +179,7 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
         let damping: Vec<f64> = spec.dataset("damping")?.read_raw()?;
         let record_names = read_strings(&spec.dataset("record")?)?;
         let cases = read_strings(&spec.dataset("case")?)?;
+        let scope: Vec<u32> = spec.dataset("scope")?.read_raw()?;
         let dims = [cases.len(), record_names.len(), damping.len(), periods.len()];
         let mut results = Results::new(dims);
         let with = spec.group("with_joint")?;
@@ -177,6 +191,17 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
         let without = spec.group("without_joint")?;
         for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
             results.without[k] = without.dataset(name)?.read_raw()?;
+        }
+        let (n, m) = (dims.iter().product::<usize>(), dims[1] * dims[2] * dims[3]);
+        let sizes_ok = results.status.len() == n
+            && results.values.iter().all(|v| v.len() == n)
+            && results.messages.len() == n
+            && results.without.iter().all(|v| v.len() == m);
+        if !sizes_ok || dims.contains(&0) {
+            return Err(hdf5::Error::from("the result arrays do not match the grid (case, record, damping, period)"));
+        }
+        if let Some(&j) = scope.iter().find(|&&j| j as usize >= n) {
+            return Err(hdf5::Error::from(format!("scope names job {j}, beyond the sweep's jobs")));
         }
         let recs = file.group("records")?;
         let mut records = Vec::new();
@@ -195,6 +220,9 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
             for name in hist.member_names()? {
                 let g = hist.group(&name)?;
                 let job: u64 = g.attr("job")?.read_scalar()?;
+                if job >= n as u64 {
+                    return Err(hdf5::Error::from(format!("history {name} names job {job}, beyond the sweep's jobs")));
+                }
                 let read = |n: &str| -> hdf5::Result<Vec<f64>> { g.dataset(n)?.read_raw() };
                 results.histories.insert(
                     job as u32,
@@ -212,7 +240,9 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
         }
         Ok(SweepFile {
             config: read_attr_str(&file, "config")?,
+            config_sha256: read_attr_str(&file, "config_sha256")?,
             shard: read_attr_str(&file, "shard")?,
+            scope,
             periods,
             damping,
             cases,
@@ -221,4 +251,16 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
         })
     };
     inner().map_err(|e| OutputError::hdf5(path, e))
+}
+
+impl SweepFile {
+    /// A job in words: `case / record / damping / period`.
+    pub fn describe_job(&self, job: usize) -> String {
+        let d = self.results.dims;
+        let (c, r, z, t) = (job / (d[1] * d[2] * d[3]), job / (d[2] * d[3]) % d[1], job / d[3] % d[2], job % d[3]);
+        format!(
+            "job {job} ({} / {} / damping {} / T {} s)",
+            self.cases[c], self.records[r].name, self.damping[z], self.periods[t]
+        )
+    }
 }

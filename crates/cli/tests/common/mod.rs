@@ -6,7 +6,6 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use quakejoint_sweep::results::{FIELDS, MACHINE_DEPENDENT};
 use quakejoint_sweep::sweep_h5::SweepFile;
 
 /// The repository root.
@@ -59,20 +58,16 @@ pub fn ok(out: &Output) {
 
 /// All numeric datasets equal bit for bit (machine-dependent wall times aside).
 pub fn assert_identical(a: &SweepFile, b: &SweepFile, what: &str) {
-    let (ra, rb) = (&a.results, &b.results);
-    assert_eq!(ra.status, rb.status, "{what}: status");
-    assert_eq!(ra.messages, rb.messages, "{what}: messages");
-    for (k, name) in FIELDS.iter().enumerate() {
-        if MACHINE_DEPENDENT.contains(name) {
-            continue;
-        }
-        for (j, (x, y)) in ra.values[k].iter().zip(&rb.values[k]).enumerate() {
-            assert_eq!(x.to_bits(), y.to_bits(), "{what}: {name}[{j}] {x} vs {y}");
-        }
-    }
-    for k in 0..4 {
-        assert!(ra.without[k].iter().zip(&rb.without[k]).all(|(x, y)| x.to_bits() == y.to_bits()), "{what}: without");
-    }
-    assert_eq!(ra.histories, rb.histories, "{what}: histories");
-    assert_eq!((&a.periods, &a.damping, &a.cases, &a.records), (&b.periods, &b.damping, &b.cases, &b.records));
+    let diffs = quakejoint_sweep::compare::differences(a, b);
+    assert!(diffs.is_empty(), "{what}: {diffs:?}");
+}
+
+/// stderr of a finished command, as text.
+pub fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// stdout of a finished command, as text.
+pub fn stdout(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The project's tests, as CI runs them (.ci/run calls this script): installs
+# what they need on a fresh Debian machine, then runs them.
+#
+#   scripts/test.sh
+#
+# 1. System packages (apt, as root or with sudo): libhdf5-dev and pkg-config
+#    for the HDF5 bindings; python3-venv if Python cannot make a virtual
+#    environment; munge and SLURM for the cluster test.
+# 2. A Python virtual environment `.venv` with scripts/requirements.txt
+#    (h5py, numpy, matplotlib): the tests call `python3` for the plotting
+#    scripts and to open outputs with h5py. It comes first on PATH.
+# 3. `cargo test --workspace`.
+# 4. The cluster test on a real one-node SLURM on localhost
+#    (tests/slurm/start.sh, test_array.sh, stop.sh). It needs root; set
+#    QJ_SKIP_SLURM=1 to leave it out where that is impossible (it is then
+#    reported as not run, and CI never sets it).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+. scripts/setup.sh
+system_packages
+python_env
+
+echo "== cargo test --workspace"
+cargo test --workspace
+
+echo "== cluster test on a real SLURM"
+if [ "${QJ_SKIP_SLURM:-0}" = 1 ]; then
+  echo "NOT RUN: the SLURM test (QJ_SKIP_SLURM=1)"
+  exit 0
+fi
+if [ "$(id -u)" -ne 0 ]; then
+  echo "the SLURM test needs root to install and start a one-node cluster; run as root, or set QJ_SKIP_SLURM=1" >&2
+  exit 1
+fi
+tests/slurm/start.sh
+trap 'tests/slurm/stop.sh > /dev/null' EXIT
+tests/slurm/test_array.sh target/debug/quakejoint
