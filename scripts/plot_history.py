@@ -21,10 +21,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 def panels(f):
     if "history" in f:
         h = f["history"]
-        title = f"{f.attrs.get('record', '')}, T = {f['result'].attrs['period']:.4g} s"
+        record = f["inputs/records/x"].attrs["name"]
+        title = f"{record}, T = {f['result/period'][()]:.4g} s"
+        if f.attrs["validity"] != 0:
+            title += f" -- FLAGGED: {f.attrs['validity_label']}"
         yield title, h["t"][:], h["a_abs"][:], h["a_abs_without_joint"][:]
     for name, g in f.get("histories", {}).items():
-        title = f"{g.attrs['case']} / {g.attrs['record']} / damping {g.attrs['damping']:g} / T = {g.attrs['period']:.4g} s"
+        title = f"{g.attrs['case']} / {g.attrs['record']} / damping {g['damping'][()]:g} / T = {g['period'][()]:.4g} s"
         yield title, g["t"][:], g["a_abs"][:], g["a_abs_without_joint"][:]
 
 

@@ -4,10 +4,12 @@
     python3 scripts/plot_spectrum.py out.h5 [output.png]
 
 One row of panels per case, record and damping ratio of a sweep file
-(`quakejoint sweep`): Sa against the bridge period with the joint (markers,
-failed jobs left out) and without it (line), and the reduction
-1 - Sa_with / Sa_without. Writes out_spectrum.png beside the input unless an
-output name is given. Headless (Agg backend).
+(`quakejoint sweep`): Sa against the bridge period with the joint (markers)
+and without it (line), and the reduction 1 - Sa_with / Sa_without. Jobs
+flagged as outside the model's validity (a collision, say) are drawn as open
+black markers and named in the legend; failed jobs as crosses on the axis.
+Writes out_spectrum.png beside the input unless an output name is given.
+Headless (Agg backend).
 """
 import sys
 from pathlib import Path
@@ -24,6 +26,16 @@ def text(x):
     return x.decode() if isinstance(x, bytes) else str(x)
 
 
+def flag_names(meaning):
+    """(bit, name) pairs from the `meaning` attribute of the validity dataset."""
+    pairs = []
+    for part in meaning.split(";")[-1].split(","):
+        bit, _, name = part.strip().partition(" ")
+        if bit.isdigit():
+            pairs.append((int(bit), name))
+    return pairs
+
+
 def main(src, dst=None):
     with h5py.File(src, "r") as f:
         s = f["spectrum"]
@@ -33,15 +45,28 @@ def main(src, dst=None):
         cases = [text(c) for c in s["case"][:]]
         sa_with = s["with_joint/sa"][:]
         status = s["with_joint/status"][:]
+        validity = s["with_joint/validity"][:]
+        meaning = text(s["with_joint/validity"].attrs["meaning"])
         sa_without = s["without_joint/sa"][:]
         reduction = s["reduction"][:]
     rows = [(c, r, z) for c in range(len(cases)) for r in range(len(records)) for z in range(len(damping))]
     fig, axes = plt.subplots(len(rows), 2, figsize=(10, 3.2 * len(rows)), squeeze=False)
+    names = flag_names(meaning)
     for row, (c, r, z) in enumerate(rows):
-        ok = status[c, r, z] == 0
+        done = status[c, r, z] == 0
+        flagged = done & (validity[c, r, z] != 0)
+        ok = done & ~flagged
+        failed = (status[c, r, z] != 0) & (status[c, r, z] != -1)
         ax, axr = axes[row]
         ax.plot(periods, sa_without[r, z], "-", color="0.4", label="without joint (exact)")
         ax.plot(periods[ok], sa_with[c, r, z][ok], "o", ms=4, color="tab:red", label="with joint")
+        if flagged.any():
+            bits = np.bitwise_or.reduce(validity[c, r, z][flagged])
+            label = "flagged: " + ", ".join(n for b, n in names if bits & b)
+            ax.plot(periods[flagged], sa_with[c, r, z][flagged], "o", ms=6, mfc="none", mec="k", label=label)
+            axr.plot(periods[flagged], 100 * reduction[c, r, z][flagged], "o", ms=6, mfc="none", mec="k")
+        if failed.any():
+            ax.plot(periods[failed], np.zeros(failed.sum()), "x", color="k", ms=7, label=f"failed ({failed.sum()})")
         ax.set_xscale("log")
         ax.set_ylabel("Sa [m/s$^2$]")
         ax.set_title(f"{cases[c]} / {records[r]} / damping {damping[z]:g}", fontsize=9)

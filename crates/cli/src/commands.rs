@@ -14,8 +14,9 @@ use quakejoint_model::linear::linear_response;
 use quakejoint_model::run::{load_records, simulate_records, RunOptions};
 use quakejoint_model::service::service;
 use quakejoint_model::{Config, ModelError};
-use quakejoint_motion::{load_record, period_range, spectrum, RecordSpec, RecordStats, SpectrumOptions};
+use quakejoint_motion::{load_record, period_range, spectrum, LoadedRecord, RecordSpec, RecordStats, SpectrumOptions};
 use quakejoint_solver::{Assembly, AssemblyOptions};
+use quakejoint_sweep::run_h5::{Provenance, RecordSource};
 use quakejoint_sweep::{run_sweep, Plan, SweepOptions};
 
 use crate::output;
@@ -241,9 +242,10 @@ pub struct RecordFileArgs {
     /// File format.
     #[arg(long, value_enum, default_value_t = FormatArg::Auto)]
     pub format: FormatArg,
-    /// Units of the values in the file.
-    #[arg(long, value_enum, default_value_t = UnitsArg::G)]
-    pub units: UnitsArg,
+    /// Units of the values in the file: required for a text file; an AT2
+    /// file states its own (if given, they must agree).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
     /// Time step of a one-column file [s].
     #[arg(long, allow_negative_numbers = true)]
     pub dt: Option<f64>,
@@ -280,7 +282,7 @@ pub enum UnitsArg {
     #[value(name = "m/s2")]
     MetersPerSecond2,
     /// cm/s^2 (gal).
-    #[value(name = "cm/s2")]
+    #[value(name = "cm/s2", alias = "gal")]
     CentimetersPerSecond2,
 }
 
@@ -293,7 +295,7 @@ impl RecordFileArgs {
             FormatArg::TwoColumn => quakejoint_motion::Format::TwoColumn,
             FormatArg::OneColumn => quakejoint_motion::Format::OneColumn,
         };
-        spec.units = Some(match self.units {
+        spec.units = self.units.map(|u| match u {
             UnitsArg::G => quakejoint_motion::Units::G,
             UnitsArg::MetersPerSecond2 => quakejoint_motion::Units::MetersPerSecond2,
             UnitsArg::CentimetersPerSecond2 => quakejoint_motion::Units::CentimetersPerSecond2,
@@ -484,7 +486,8 @@ fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
         retry_failed: a.retry_failed,
         shard: a.shard,
         progress: a.progress.mode()?,
-        inputs: vec![a.config.clone()],
+        config_path: a.config.clone(),
+        command: command_line(),
         stop: Some(signals.stop.clone()),
     };
     let summary = run_sweep(&plan, &opts)?;
@@ -506,17 +509,25 @@ fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
         );
         return Ok(ExitCode::from(interrupted_code(&signals)));
     }
-    Ok(if summary.failed.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(3) })
+    Ok(match (summary.failed.is_empty(), summary.flagged.is_empty()) {
+        (false, _) => ExitCode::from(3),
+        (true, false) => ExitCode::from(FLAGGED),
+        (true, true) => ExitCode::SUCCESS,
+    })
 }
 
 fn merge_cmd(a: MergeArgs) -> Result<ExitCode> {
-    let options = quakejoint_sweep::MergeOptions { allow_partial: a.allow_partial };
+    let options = quakejoint_sweep::MergeOptions { allow_partial: a.allow_partial, command: command_line() };
     let summary = quakejoint_sweep::merge(&a.files, &a.output, options)?;
     for n in &summary.notices {
         eprintln!("warning: {n}");
     }
     output::merge_summary(&summary, a.print.json);
-    Ok(if summary.failed == 0 { ExitCode::SUCCESS } else { ExitCode::from(3) })
+    Ok(match (summary.failed, summary.flagged) {
+        (0, 0) => ExitCode::SUCCESS,
+        (0, _) => ExitCode::from(FLAGGED),
+        _ => ExitCode::from(3),
+    })
 }
 
 fn plan_cmd(a: PlanArgs) -> Result<ExitCode> {
@@ -587,7 +598,9 @@ fn model(a: ModelArgs) -> Result<ExitCode> {
     if let Some(path) = &a.sparsity {
         quakejoint_sweep::files::check_overwrite(path, "sparsity", &[&a.config]).map_err(InputError)?;
         let names: Vec<String> = model.system.bodies().iter().map(|b| b.name.clone()).collect();
-        quakejoint_sweep::h5::write_sparsity(path, &text, &asm, &names).context("writing the sparsity pattern")?;
+        let provenance = provenance_of(&a.config, &text, &config, Vec::new());
+        quakejoint_sweep::run_h5::write_sparsity(path, &provenance, &asm, &names)
+            .context("writing the sparsity pattern")?;
     }
     output::model_summary(&a.config, &config, &model, &asm, a.print.json);
     Ok(ExitCode::SUCCESS)
@@ -603,6 +616,44 @@ fn period_to_omega(period: Option<f64>) -> Result<Option<f64>> {
     }
 }
 
+/// The command line as typed (arguments with spaces or quotes quoted).
+fn command_line() -> String {
+    std::env::args()
+        .map(|a| {
+            if a.is_empty() || a.contains(|c: char| c.is_whitespace() || "'\"\\$`".contains(c)) {
+                format!("'{}'", a.replace('\'', "'\\''"))
+            } else {
+                a
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The provenance of a single run's output: the command, the config file
+/// as read and as used (after command-line overrides), the records.
+fn provenance_of(path: &Path, text: &str, used: &Config, records: Vec<RecordSource>) -> Provenance {
+    Provenance {
+        command: command_line(),
+        config_path: path.display().to_string(),
+        config_file: text.to_string(),
+        config: toml::to_string(used).unwrap_or_default(),
+        records,
+    }
+}
+
+/// Prints the warnings raised while reading records.
+fn print_warnings(records: &[&LoadedRecord]) {
+    for r in records {
+        for w in &r.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+}
+
+/// Exit code 4: the run finished outside what the model can stand behind.
+const FLAGGED: u8 = 4;
+
 fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     let (mut config, text) = read_config(&a.config)?;
     let base = if let Some(path) = &a.record {
@@ -616,7 +667,12 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         base_dir(&a.config)
     };
     let omega = period_to_omega(a.period)?;
-    let (rx, ry) = load_records(&config, &base)?;
+    if let Some(t) = a.period {
+        (config.bridge.period, config.bridge.w0) = (Some(t), None);
+    }
+    let (lx, ly) = load_records(&config, &base)?;
+    print_warnings(&[Some(&lx), ly.as_ref()].into_iter().flatten().collect::<Vec<_>>());
+    let (rx, ry) = (&lx.record, ly.as_ref().map(|l| &l.record));
     if let Some(out) = &a.output {
         let record_paths: Vec<PathBuf> =
             config.record.iter().chain(&config.record_y).map(|r| r.resolve_path(&base)).collect();
@@ -624,14 +680,17 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         inputs.push(&a.config);
         quakejoint_sweep::files::check_overwrite(out, "simulate", &inputs).map_err(InputError)?;
     }
+    if a.no_joint {
+        config.joint.enabled = false;
+    }
     let histories = a.output.is_some();
     let result = if a.no_joint {
-        linear_response(&rx, omega.unwrap_or_else(|| config.bridge.omega()), config.bridge.damping, histories)
+        linear_response(rx, omega.unwrap_or_else(|| config.bridge.omega()), config.bridge.damping, histories)
     } else {
-        let bar = TerminalProgress::new(quakejoint_model::run::run_duration(&config, &rx));
+        let bar = TerminalProgress::new(quakejoint_model::run::run_duration(&config, rx));
         let options =
             RunOptions { omega, histories, progress: bar.as_ref().map(|b| b.callback()), ..Default::default() };
-        let result = simulate_records(&config, &rx, ry.as_ref(), &options);
+        let result = simulate_records(&config, rx, ry, &options);
         if let Some(b) = &bar {
             b.bar.finish_and_clear();
         }
@@ -640,11 +699,14 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     if let Some(path) = &a.output {
         let period = 2.0 * std::f64::consts::PI / result.omega;
         let without = quakejoint_motion::history(&rx.acceleration, rx.dt, period, config.bridge.damping).a_abs;
-        quakejoint_sweep::h5::write_run(path, &text, &rx.name, &result, Some(&without))
+        let mut records = vec![RecordSource::of("x", rx, &lx.sha256)];
+        records.extend(ly.as_ref().map(|l| RecordSource::of("y", &l.record, &l.sha256)));
+        let provenance = provenance_of(&a.config, &text, &config, records);
+        quakejoint_sweep::run_h5::write_run(path, &provenance, &result, Some(&without))
             .context("writing the time histories")?;
     }
-    output::run_result(&a.config, &rx.name, &result, a.no_joint, a.print.json);
-    Ok(ExitCode::SUCCESS)
+    output::run_result(&a.config, &rx.name, &result, a.print.json);
+    Ok(if result.validity.flags.is_ok() { ExitCode::SUCCESS } else { ExitCode::from(FLAGGED) })
 }
 
 fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
@@ -663,8 +725,12 @@ fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
         quakejoint_sweep::files::check_overwrite(out, "service", &[&a.config]).map_err(InputError)?;
     }
     let result = service(&config)?;
+    for w in &result.warnings {
+        eprintln!("warning: {w}");
+    }
     if let Some(path) = &a.output {
-        quakejoint_sweep::h5::write_service(path, &text, &result).context("writing the hysteresis loop")?;
+        let provenance = provenance_of(&a.config, &text, &config, Vec::new());
+        quakejoint_sweep::run_h5::write_service(path, &provenance, &result).context("writing the hysteresis loop")?;
     }
     output::service_result(&a.config, &result, a.print.json);
     Ok(ExitCode::SUCCESS)

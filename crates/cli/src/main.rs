@@ -12,15 +12,36 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
-    let cli = commands::Cli::parse();
+    let cli = match commands::Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // --help and --version print in full; errors quote bounded input
+            let text = e.render().to_string();
+            if e.use_stderr() {
+                eprint!("{}", bounded(&text));
+            } else {
+                print!("{text}");
+            }
+            return ExitCode::from(e.exit_code() as u8);
+        }
+    };
     match commands::run(cli) {
         Ok(code) => code,
         Err(err) => {
-            eprintln!("error: {}", message(&err));
+            eprintln!("error: {}", bounded(&message(&err)));
             ExitCode::from(commands::exit_code(&err))
         }
     }
 }
+
+/// A message with every line cut to [`MAX_LINE`] characters: errors quote
+/// the offending input, but never megabytes of it.
+fn bounded(text: &str) -> String {
+    text.split_inclusive('\n').map(|line| quakejoint_motion::excerpt(line, MAX_LINE)).collect()
+}
+
+/// Longest line of an error message.
+const MAX_LINE: usize = 500;
 
 /// The error and its causes, each cause once: the library errors already
 /// quote their source in their own message.

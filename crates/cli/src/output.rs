@@ -18,6 +18,7 @@ use std::path::Path;
 use quakejoint_model::generator::JointModel;
 use quakejoint_model::run::RunResult;
 use quakejoint_model::service::ServiceResult;
+use quakejoint_model::validity::Flags;
 use quakejoint_model::Config;
 use quakejoint_motion::{Record, RecordStats, SpectrumRow};
 use quakejoint_solver::Assembly;
@@ -81,57 +82,79 @@ pub fn model_summary(path: &Path, config: &Config, model: &JointModel, asm: &Ass
     );
 }
 
-/// `quakejoint simulate`.
-pub fn run_result(path: &Path, record: &str, r: &RunResult, no_joint: bool, json: bool) {
+/// The residuals of a run as JSON (each in its unit).
+fn residuals_json(r: &quakejoint_solver::ConstraintResiduals) -> serde_json::Value {
+    json!({
+        "max_position_residual": r.position,
+        "max_angle_residual": r.angle,
+        "max_velocity_residual": r.velocity,
+        "max_angular_velocity_residual": r.angular_velocity,
+    })
+}
+
+/// Merges the fields of `more` into the object `v`.
+fn extend(v: &mut serde_json::Value, more: serde_json::Value) {
+    if let (Some(obj), serde_json::Value::Object(more)) = (v.as_object_mut(), more) {
+        obj.extend(more);
+    }
+}
+
+/// `quakejoint simulate`. Quantities not computed (the joint's, without
+/// it) are `null` in JSON and left out of the table.
+pub fn run_result(path: &Path, record: &str, r: &RunResult, json: bool) {
+    let v = &r.validity;
     if json {
-        let mut v = json!({
+        let mut out = json!({
             "config": path.display().to_string(),
             "record": record,
-            "joint": !no_joint,
+            "joint": !r.exact_linear,
+            "method": if r.exact_linear { "exact linear" } else { "multibody" },
             "omega": r.omega,
             "period": 2.0 * std::f64::consts::PI / r.omega,
             "sa": r.sa, "psa": r.psa, "sd": r.sd, "sv": r.sv,
             "t_sa": r.t_sa, "t_sd": r.t_sd, "t_sv": r.t_sv,
+            "validity": v.flags.0,
+            "validity_label": v.flags.label(),
+            "flags": v.flags.names(),
+            "findings": v.findings,
             "wall_time_s": r.wall_time_s,
         });
-        if !no_joint {
-            let extra = json!({
-                "peak_joint_force": r.peak_joint_force,
-                "peak_bushing_force": r.peak_bushing_force,
-                "peak_friction_force": r.peak_friction_force,
-                "friction_energy": r.friction_energy,
-                "damping_energy": r.damping_energy,
-                "earthquake_work": r.earthquake_work,
-                "min_subgap": r.min_subgap,
-                "max_subgap": r.max_subgap,
-                "max_subgap_deviation": r.max_subgap_deviation,
-                "energy_error": r.energy_error,
-                "max_constraint_residual": r.max_constraint_residual(),
-                "max_position_residual": r.max_position_residual,
-                "max_velocity_residual": r.max_velocity_residual,
-                "steps": r.stats.steps,
-                "rejected_steps": r.stats.rejected,
-                "failed_attempts": r.stats.failed_attempts,
-                "newton_iterations": r.stats.newton_iterations,
-                "jacobian_evaluations": r.stats.jacobian_evaluations,
-                "factorizations": r.stats.factorizations,
-                "residual_evaluations": r.stats.residual_evaluations,
-            });
-            if let (Some(obj), serde_json::Value::Object(more)) = (v.as_object_mut(), extra) {
-                obj.extend(more);
-            }
+        if !r.exact_linear {
+            extend(
+                &mut out,
+                json!({
+                    "peak_joint_force": r.peak_joint_force,
+                    "peak_bushing_force": r.peak_bushing_force,
+                    "peak_friction_force": r.peak_friction_force,
+                    "friction_energy": r.friction_energy,
+                    "damping_energy": r.damping_energy,
+                    "earthquake_work": r.earthquake_work,
+                    "min_subgap": r.min_subgap,
+                    "max_subgap": r.max_subgap,
+                    "max_subgap_deviation": r.max_subgap_deviation,
+                    "energy_error": r.energy_error,
+                    "steps": r.stats.steps,
+                    "rejected_steps": r.stats.rejected,
+                    "failed_attempts": r.stats.failed_attempts,
+                    "newton_iterations": r.stats.newton_iterations,
+                    "jacobian_evaluations": r.stats.jacobian_evaluations,
+                    "factorizations": r.stats.factorizations,
+                    "residual_evaluations": r.stats.residual_evaluations,
+                }),
+            );
+            extend(&mut out, residuals_json(&r.residuals));
         }
-        out!("{v}");
+        out!("{out}");
         return;
     }
-    let mode = if no_joint { "bridge alone (exact linear solution)" } else { "bridge with joint" };
+    let mode = if r.exact_linear { "bridge alone (exact linear solution)" } else { "bridge with joint" };
     out!("{} under {record}: {mode}", path.display());
     out!("  w0 {:.4} rad/s, T {:.4} s, {:.2} s simulated", r.omega, 2.0 * std::f64::consts::PI / r.omega, r.duration);
     out!("  Sa   {:>12.5} m/s^2  at t = {:.3} s", r.sa, r.t_sa);
     out!("  PSa  {:>12.5} m/s^2", r.psa);
     out!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);
     out!("  Sv   {:>12.5} m/s    at t = {:.3} s", r.sv, r.t_sv);
-    if no_joint {
+    if r.exact_linear {
         return;
     }
     out!("joint demands");
@@ -140,20 +163,30 @@ pub fn run_result(path: &Path, record: &str, r: &RunResult, no_joint: bool, json
     out!("  peak friction force           {:>12.1} N", r.peak_friction_force);
     out!("  friction energy               {:>12.1} J", r.friction_energy);
     if let (Some(lo), Some(hi), Some(dev)) = (r.min_subgap, r.max_subgap, r.max_subgap_deviation) {
-        let flag = if lo < 0.0 { "  COLLISION: a sub-gap closed" } else { "" };
         out!(
-            "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm){flag}",
+            "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm)",
             lo * 1e3,
             hi * 1e3,
             dev * 1e3
         );
     }
+    if v.flags.is_ok() {
+        out!("validity: ok (no collision, bearings on their supports, energy balance closed)");
+    } else {
+        out!("VALIDITY: {} (the model cannot stand behind these numbers)", v.flags.label());
+        for f in &v.findings {
+            out!("  {f}");
+        }
+    }
     out!("quality");
     out!("  energy balance error          {:>12.2e} of the earthquake work", r.energy_error);
+    let res = &r.residuals;
     out!(
-        "  constraint residuals          {:>12.2e} (|g|), {:.2e} (|G q'|)",
-        r.max_position_residual,
-        r.max_velocity_residual
+        "  constraint residuals          {:>12.2e} m, {:.2e} rad (|g|); {:.2e} m/s, {:.2e} rad/s (|G q'|)",
+        res.position,
+        res.angle,
+        res.velocity,
+        res.angular_velocity
     );
     let s = &r.stats;
     out!(
@@ -170,32 +203,54 @@ pub fn run_result(path: &Path, record: &str, r: &RunResult, no_joint: bool, json
 
 /// `quakejoint service`.
 pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
+    let deficit = r.compliance_deficit;
     if json {
-        let v = json!({
+        let mut v = json!({
             "config": path.display().to_string(),
             "period": r.period,
             "cycles": r.cycles,
             "friction_work_per_cycle": r.friction_work_per_cycle,
             "loop_work_per_cycle": r.loop_work_per_cycle,
             "hand_calculation": r.hand_calculation,
+            "compliance_deficit": deficit,
+            "warnings": r.warnings,
             "peak_joint_force": r.peak_joint_force,
             "energy_error": r.energy_error,
-            "max_constraint_residual": r.max_position_residual.max(r.max_velocity_residual),
             "steps": r.stats.steps,
             "wall_time_s": r.wall_time_s,
         });
+        extend(&mut v, residuals_json(&r.residuals));
         out!("{v}");
         return;
     }
+    let pct = |x: f64| 100.0 * x / r.hand_calculation;
     out!("{}: service case, {} cycles of {:.3} s", path.display(), r.cycles, r.period);
-    out!("  friction work per cycle      {:>12.1} J (last cycle)", r.friction_work_per_cycle);
-    out!("  hand calculation             {:>12.1} J (sum of mu n_s F_N x sliding distance)", r.hand_calculation);
+    out!(
+        "  friction work per cycle      {:>12.1} J (last cycle; {:+.1} % against the hand calculation)",
+        r.friction_work_per_cycle,
+        pct(r.friction_work_per_cycle - r.hand_calculation)
+    );
+    out!(
+        "  hand calculation             {:>12.1} J (sum of mu n_s F_N x sliding distance, rigid bushings)",
+        r.hand_calculation
+    );
+    match deficit {
+        Some(d) => out!(
+            "  bushing compliance           {:>12.1} J (closed form: expected between {:.1} and {:.1} J)",
+            -d,
+            r.hand_calculation - d,
+            r.hand_calculation
+        ),
+        None => out!("  bushing compliance           not computable (a center beam is not held by its bearings)"),
+    }
     out!("  hysteresis loop area         {:>12.1} J (work of the deck on the joint)", r.loop_work_per_cycle);
     out!("  peak joint force on the deck {:>12.1} N", r.peak_joint_force);
+    let res = &r.residuals;
     out!(
-        "  energy balance error {:.2e}, constraint residual {:.2e}, {} steps, {:.2} s wall",
+        "  energy balance error {:.2e}, constraint residuals {:.1e} m, {:.1e} rad, {} steps, {:.2} s wall",
         r.energy_error,
-        r.max_position_residual.max(r.max_velocity_residual),
+        res.position.max(res.velocity),
+        res.angle.max(res.angular_velocity),
         r.stats.steps,
         r.wall_time_s
     );
@@ -278,6 +333,12 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
             "interrupted": s.interrupted,
             "failed": s.failed.len(),
             "failures": failures,
+            "flagged": s.flagged.len(),
+            "flag_counts": flag_counts(&s.flagged),
+            "flagged_jobs": s.flagged.iter().map(|(case, record, z, t, bits, findings)| json!({
+                "case": case, "record": record, "damping": z, "period": t,
+                "validity": bits, "flags": Flags(*bits).names(), "findings": findings,
+            })).collect::<Vec<_>>(),
             "notices": s.notices,
             "wall_time_s": s.wall_time_s,
             "peak_memory_mb": s.peak_memory_mb,
@@ -308,9 +369,34 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
     if !s.failed.is_empty() {
         out!("{} jobs failed (`--retry-failed` runs them again):", s.failed.len());
         for (case, record, z, t, msg) in &s.failed {
-            out!("  {case} / {record} / damping {z} / T {t} s: {msg}");
+            out!("  {case} / {record} / damping {z} / T {t:.4} s: {msg}");
         }
     }
+    if !s.flagged.is_empty() {
+        let counts: Vec<String> = flag_counts(&s.flagged).iter().map(|(n, c)| format!("{n} {c}")).collect();
+        out!(
+            "{} jobs FLAGGED ({}): they finished outside what the model can stand behind:",
+            s.flagged.len(),
+            counts.join(", ")
+        );
+        const SHOWN: usize = 10;
+        for (case, record, z, t, _, findings) in s.flagged.iter().take(SHOWN) {
+            out!("  {case} / {record} / damping {z} / T {t:.4} s: {findings}");
+        }
+        if s.flagged.len() > SHOWN {
+            out!("  ... and {} more (all in the output's /spectrum/with_joint/findings)", s.flagged.len() - SHOWN);
+        }
+    }
+}
+
+/// How many flagged jobs carry each flag.
+fn flag_counts(flagged: &[(String, String, f64, f64, u32, String)]) -> serde_json::Map<String, serde_json::Value> {
+    Flags::ALL
+        .iter()
+        .map(|(f, name)| (name.to_string(), flagged.iter().filter(|j| Flags(j.4).contains(*f)).count()))
+        .filter(|(_, n)| *n > 0)
+        .map(|(name, n)| (name, json!(n)))
+        .collect()
 }
 
 /// `quakejoint merge`.
@@ -321,6 +407,7 @@ pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, json: bool) {
             "jobs": s.jobs,
             "finished": s.finished,
             "failed": s.failed,
+            "flagged": s.flagged,
             "missing": s.missing,
             "complete": s.missing == 0,
             "notices": s.notices,
@@ -329,7 +416,14 @@ pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, json: bool) {
         return;
     }
     let state = if s.missing == 0 { "complete" } else { "PARTIAL" };
-    out!("merged {} of {} jobs ({} failed), {state} -> {}", s.finished, s.jobs, s.failed, s.output.display());
+    out!(
+        "merged {} of {} jobs ({} failed, {} flagged), {state} -> {}",
+        s.finished,
+        s.jobs,
+        s.failed,
+        s.flagged,
+        s.output.display()
+    );
 }
 
 /// `quakejoint plan`.

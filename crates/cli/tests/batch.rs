@@ -308,7 +308,7 @@ fn progress_goes_to_logs_as_lines_and_to_terminals_as_bars() {
     assert!(lines.len() >= 4, "a line per interval: {log}");
     assert!(lines[0].starts_with('[') && lines[0].contains("started: 0 of 12 jobs done"), "{log}");
     assert!(lines.iter().any(|l| l.contains("running:") && l.contains("ETA")), "{log}");
-    assert!(lines.last().unwrap().contains("finished: 12 of 12 jobs done (0 failed)"), "{log}");
+    assert!(lines.last().unwrap().contains("finished: 12 of 12 jobs done (0 failed, 0 flagged)"), "{log}");
     assert!(!log.contains('\r') && !log.contains('\x1b'), "no terminal control characters in a log");
 
     // `simulate` on a terminal (a pseudo-terminal from `script`), a run of

@@ -14,6 +14,12 @@ fn json(out: &Output) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).expect("one JSON object")
 }
 
+/// The JSON of a run that finished flagged (exit code 4).
+fn flagged_json(out: &Output) -> serde_json::Value {
+    assert_eq!(out.status.code(), Some(4), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).to_string()
 }
@@ -31,7 +37,9 @@ fn model_json_reports_the_reference_counts() {
 #[test]
 fn simulate_json_has_every_documented_key_and_writes_histories() {
     let out = dir("cli-histories").join("small.h5");
-    let v = json(&quakejoint(&["simulate", "configs/small.toml", "--json", "--output", out.to_str().unwrap()]));
+    // the small joint under the full record collides: the run says so
+    let v = flagged_json(&quakejoint(&["simulate", "configs/small.toml", "--json", "--output", out.to_str().unwrap()]));
+    assert_eq!(v["flags"], serde_json::json!(["collision"]));
     for key in [
         "sa",
         "psa",
@@ -43,7 +51,11 @@ fn simulate_json_has_every_documented_key_and_writes_histories() {
         "min_subgap",
         "max_subgap",
         "energy_error",
-        "max_constraint_residual",
+        "max_position_residual",
+        "max_angle_residual",
+        "max_velocity_residual",
+        "max_angular_velocity_residual",
+        "validity",
         "steps",
         "rejected_steps",
         "newton_iterations",
@@ -53,7 +65,9 @@ fn simulate_json_has_every_documented_key_and_writes_histories() {
         assert!(v.get(key).is_some_and(|x| !x.is_null()), "missing {key} in {v}");
     }
     assert!(v["energy_error"].as_f64().unwrap() < 1e-6);
-    assert!(v["max_constraint_residual"].as_f64().unwrap() < 1e-8);
+    for key in ["max_position_residual", "max_angle_residual", "max_velocity_residual"] {
+        assert!(v[key].as_f64().unwrap() < 1e-8, "{key}");
+    }
     // the HDF5 file holds the histories, one value per record sample
     let file = hdf5::File::open(&out).unwrap();
     let t: Vec<f64> = file.dataset("history/t").unwrap().read_raw().unwrap();
@@ -160,4 +174,49 @@ fn every_command_has_help() {
         assert!(out.status.success(), "{cmd}");
         assert!(String::from_utf8_lossy(&out.stdout).contains("Usage"), "{cmd}");
     }
+}
+
+/// The model description's default record exists: a config without
+/// `[record]` runs under the built-in Corralitos 090, byte for byte the file
+/// in `ground_motions/` (its SHA-256 is the one in PROVENANCE.md).
+#[test]
+fn a_config_without_a_record_uses_the_built_in_default() {
+    let d = dir("cli-default-record");
+    let empty = d.join("empty.toml");
+    std::fs::write(&empty, "").unwrap();
+    let out = d.join("run.h5");
+    let v = json(&quakejoint(&[
+        "simulate",
+        empty.to_str().unwrap(),
+        "--no-joint",
+        "--json",
+        "--output",
+        out.to_str().unwrap(),
+    ]));
+    assert_eq!(v["record"], "RSN753_LOMAP_CLS090-hor2");
+    let file_sa = json(&quakejoint(&["simulate", "configs/paper.toml", "--no-joint", "--json"]))["sa"].clone();
+    assert_eq!(v["sa"], file_sa, "the same record as the shipped file");
+    let f = hdf5::File::open(&out).unwrap();
+    let x = f.group("inputs/records/x").unwrap();
+    let sha = x.attr("sha256").unwrap().read_scalar::<hdf5::types::VarLenUnicode>().unwrap();
+    let provenance = std::fs::read_to_string(common::root().join("ground_motions/PROVENANCE.md")).unwrap();
+    assert!(provenance.contains(sha.as_str()), "{} is not in PROVENANCE.md", sha.as_str());
+}
+
+/// Error messages quote the offending input, but never megabytes of it
+/// (a 1 MB token used to give 1.2 MB of stderr; the OS caps one argument
+/// near 128 kB).
+#[test]
+fn error_messages_quote_at_most_a_short_excerpt() {
+    let long = "1".repeat(100_000);
+    let out = quakejoint(&["simulate", "configs/small.toml", "--period", &format!("x{long}")]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stderr.len() < 4000, "{} bytes of stderr", out.stderr.len());
+    let d = dir("cli-long");
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, format!("[joint]\npitch = {long}x\n")).unwrap();
+    let out = quakejoint(&["model", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stderr.len() < 4000, "{} bytes of stderr", out.stderr.len());
+    assert!(stderr(&out).contains("bad.toml"), "{}", stderr(&out));
 }

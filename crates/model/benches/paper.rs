@@ -41,7 +41,7 @@ impl Observer for Until {
 fn state() -> State {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../configs");
     let config = Config::from_file(&dir.join("paper.toml")).unwrap();
-    let (rx, _) = load_records(&config, &dir).unwrap();
+    let rx = load_records(&config, &dir).unwrap().0.record;
     let gx = TimeSeries::uniform(0.0, rx.dt, rx.acceleration.clone()).unwrap();
     let model = build(&config, None, Drive::Earthquake { x: gx, y: None }).unwrap();
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default()).unwrap());

@@ -42,7 +42,8 @@ fn paper() -> Config {
 
 fn run(config: &Config, omega: Option<f64>) -> RunResult {
     let (x, y) = load_records(config, &configs()).expect("record");
-    simulate_records(config, &x, y.as_ref(), &RunOptions { omega, ..RunOptions::default() }).expect("run")
+    simulate_records(config, &x.record, y.as_ref().map(|y| &y.record), &RunOptions { omega, ..RunOptions::default() })
+        .expect("run")
 }
 
 fn write_json(name: &str, value: &serde_json::Value) {

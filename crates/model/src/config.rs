@@ -20,7 +20,8 @@ pub struct Config {
     pub joint: JointConfig,
     /// The bridge (single-DOF oscillator).
     pub bridge: BridgeConfig,
-    /// Ground acceleration along the bridge axis (x).
+    /// Ground acceleration along the bridge axis (x); default the built-in
+    /// Corralitos 090 record ([`quakejoint_motion::builtin`]).
     pub record: Option<RecordSpec>,
     /// Optional ground acceleration across the bridge (y), acting on the joint bodies.
     pub record_y: Option<RecordSpec>,
@@ -334,15 +335,10 @@ impl Default for ServiceConfig {
     }
 }
 
-/// The most center beams a joint may have (built joints have up to about
-/// 30; the bound keeps a typo from exhausting memory).
-pub const MAX_CENTER_BEAMS: usize = 1000;
-
 impl Config {
     /// Parses TOML text; `source` names the file in messages.
     pub fn from_toml(text: &str, source: &str) -> Result<Self, ModelError> {
-        let config: Config =
-            toml::from_str(text).map_err(|e| ModelError::Parse { file: source.to_string(), message: e.to_string() })?;
+        let config: Config = toml::from_str(text).map_err(|e| parse_error(source, &e))?;
         config.validate()?;
         Ok(config)
     }
@@ -354,44 +350,48 @@ impl Config {
         Self::from_toml(&text, &path.display().to_string())
     }
 
-    /// Checks every value against its admissible range.
+    /// Checks every value against its admissible range
+    /// ([`crate::limits::LIMITS`]) and the values against each other.
     pub fn validate(&self) -> Result<(), ModelError> {
         let j = &self.joint;
         if j.enabled {
-            if j.center_beams == 0 {
-                return Err(invalid("joint.center_beams", 0.0, "must be at least 1"));
+            check("joint.center_beams", j.center_beams as f64)?;
+            for (key, v) in [
+                ("joint.pitch", j.pitch),
+                ("joint.center_beam.length", j.center_beam.length),
+                ("joint.center_beam.width", j.center_beam.width),
+                ("joint.center_beam.mass", j.center_beam.mass),
+                ("joint.center_beam.inertia", j.center_beam.inertia()),
+                ("joint.support_beam.length", j.support_beam.length),
+                ("joint.support_beam.mass", j.support_beam.mass),
+                ("joint.support_beam.inertia", j.support_beam.inertia()),
+                ("joint.bearing.mass", j.bearing.mass),
+                ("joint.bearing.inertia", j.bearing.inertia),
+                ("joint.bushing.kx", j.bushing.kx),
+                ("joint.bushing.ky", j.bushing.ky),
+                ("joint.bushing.cx", j.bushing.cx),
+                ("joint.bushing.cy", j.bushing.cy),
+                ("joint.friction.mu", j.friction.mu),
+                ("joint.friction.normal_force", j.friction.normal_force),
+                ("joint.friction.surfaces", j.friction.surfaces),
+                ("joint.friction.v_eps", j.friction.v_eps),
+            ] {
+                check(key, v)?;
             }
-            if j.center_beams > MAX_CENTER_BEAMS {
-                return Err(ModelError::Invalid {
-                    field: "joint.center_beams".to_string(),
-                    value: j.center_beams.to_string(),
-                    reason: format!("must be at most {MAX_CENTER_BEAMS}"),
-                });
-            }
-            positive("joint.pitch", j.pitch)?;
-            positive("joint.center_beam.length", j.center_beam.length)?;
-            non_negative("joint.center_beam.width", j.center_beam.width)?;
-            positive("joint.center_beam.mass", j.center_beam.mass)?;
-            positive("joint.center_beam.inertia", j.center_beam.inertia())?;
-            positive("joint.support_beam.length", j.support_beam.length)?;
-            positive("joint.support_beam.mass", j.support_beam.mass)?;
-            positive("joint.support_beam.inertia", j.support_beam.inertia())?;
-            positive("joint.bearing.mass", j.bearing.mass)?;
-            positive("joint.bearing.inertia", j.bearing.inertia)?;
-            non_negative("joint.bushing.kx", j.bushing.kx)?;
-            non_negative("joint.bushing.ky", j.bushing.ky)?;
-            non_negative("joint.bushing.cx", j.bushing.cx)?;
-            non_negative("joint.bushing.cy", j.bushing.cy)?;
-            non_negative("joint.friction.mu", j.friction.mu)?;
-            non_negative("joint.friction.normal_force", j.friction.normal_force)?;
-            non_negative("joint.friction.surfaces", j.friction.surfaces)?;
-            positive("joint.friction.v_eps", j.friction.v_eps)?;
             if j.support_beams.is_empty() {
                 return Err(invalid("joint.support_beams", 0.0, "the list of support beams is empty"));
             }
+            for (k, sb) in j.support_beams.iter().enumerate() {
+                check_as("joint.support_beams[k].y", &format!("joint.support_beams[{k}].y"), sb.y)?;
+                check_as(
+                    "joint.support_beams[k].angle_deg",
+                    &format!("joint.support_beams[{k}].angle_deg"),
+                    sb.angle_deg,
+                )?;
+            }
         }
         let b = &self.bridge;
-        positive("bridge.mass", b.mass)?;
+        check("bridge.mass", b.mass)?;
         match (b.w0, b.period) {
             (Some(_), Some(_)) => {
                 return Err(ModelError::Invalid {
@@ -400,48 +400,51 @@ impl Config {
                     reason: "give either bridge.w0 or bridge.period, not both".to_string(),
                 })
             }
-            (Some(w), None) => positive("bridge.w0", w)?,
-            (None, Some(t)) => positive("bridge.period", t)?,
+            (Some(w), None) => check("bridge.w0", w)?,
+            (None, Some(t)) => check("bridge.period", t)?,
             (None, None) => {}
         }
-        if !(b.damping.is_finite() && (0.0..1.0).contains(&b.damping)) {
-            return Err(invalid("bridge.damping", b.damping, "must be at least 0 and below 1"));
-        }
+        check("bridge.damping", b.damping)?;
         let s = &self.simulation;
-        non_negative("simulation.extra_time", s.extra_time)?;
-        if let Some(d) = s.duration {
-            positive("simulation.duration", d)?;
+        check("simulation.extra_time", s.extra_time)?;
+        for (key, v) in [
+            ("simulation.duration", s.duration),
+            ("simulation.h_max", s.h_max),
+            ("simulation.max_wall_time", s.max_wall_time),
+        ] {
+            if let Some(v) = v {
+                check(key, v)?;
+            }
         }
-        positive("simulation.rtol", s.rtol)?;
-        positive("simulation.atol", s.atol)?;
-        positive("simulation.atol_rotation", s.atol_rotation)?;
-        if let Some(h) = s.h_max {
-            positive("simulation.h_max", h)?;
+        if let Some(n) = s.max_steps {
+            check("simulation.max_steps", n as f64)?;
         }
-        if let Some(w) = s.max_wall_time {
-            positive("simulation.max_wall_time", w)?;
-        }
+        check("simulation.rtol", s.rtol)?;
+        check("simulation.atol", s.atol)?;
+        check("simulation.atol_rotation", s.atol_rotation)?;
         let v = &self.service;
-        positive("service.speed", v.speed)?;
-        positive("service.amplitude", v.amplitude)?;
-        if v.cycles == 0 {
-            return Err(invalid("service.cycles", 0.0, "must be at least 1"));
-        }
-        positive("service.blend", v.blend)?;
+        check("service.speed", v.speed)?;
+        check("service.amplitude", v.amplitude)?;
+        check("service.cycles", v.cycles as f64)?;
+        check("service.blend", v.blend)?;
         if v.blend >= 2.0 * v.amplitude / v.speed {
             return Err(invalid("service.blend", v.blend, "must be shorter than one stroke (2 amplitude / speed)"));
         }
         Ok(())
     }
 
-    /// The x record, or an error naming the missing key.
-    pub fn record_x(&self) -> Result<&RecordSpec, ModelError> {
-        self.record.as_ref().ok_or_else(|| ModelError::Invalid {
-            field: "record".to_string(),
-            value: "missing".to_string(),
-            reason: "an earthquake run needs a [record] table with at least `file`".to_string(),
-        })
+    /// The x record: the config's `[record]`, else the built-in default
+    /// (Loma Prieta 1989, Corralitos 090, as the model description says).
+    pub fn record_x(&self) -> RecordSpec {
+        self.record.clone().unwrap_or_else(|| RecordSpec::new(quakejoint_motion::builtin::DEFAULT))
     }
+}
+
+/// A TOML error naming the file, with each quoted line of the input cut to
+/// 200 characters.
+pub fn parse_error(source: &str, e: &toml::de::Error) -> ModelError {
+    let message = e.to_string().lines().map(|l| quakejoint_motion::excerpt(l, 200)).collect::<Vec<_>>().join("\n");
+    ModelError::Parse { file: source.to_string(), message }
 }
 
 /// A directory against which relative record paths are resolved.
@@ -450,21 +453,24 @@ pub fn base_dir(config_path: &std::path::Path) -> PathBuf {
 }
 
 pub(crate) fn invalid(field: &str, value: f64, reason: &str) -> ModelError {
-    ModelError::Invalid { field: field.to_string(), value: value.to_string(), reason: reason.to_string() }
-}
-
-fn positive(field: &str, v: f64) -> Result<(), ModelError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(field, v, "must be positive"))
+    ModelError::Invalid {
+        field: field.to_string(),
+        value: quakejoint_motion::number(value),
+        reason: reason.to_string(),
     }
 }
 
-fn non_negative(field: &str, v: f64) -> Result<(), ModelError> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(field, v, "must be zero or positive"))
+/// Checks `v` against the range of `key` in [`crate::limits::LIMITS`].
+fn check(key: &str, v: f64) -> Result<(), ModelError> {
+    check_as(key, key, v)
+}
+
+/// As [`check`], naming the value `field` (a support beam's index, say).
+fn check_as(key: &str, field: &str, v: f64) -> Result<(), ModelError> {
+    let Some((unit, bound)) = crate::limits::limit(key) else { return Ok(()) };
+    if bound.contains(v) {
+        return Ok(());
     }
+    let unit = if unit == "1" { String::new() } else { format!(" {unit}") };
+    Err(invalid(field, v, &format!("must be within {}{unit}", bound.describe())))
 }

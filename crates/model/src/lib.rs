@@ -14,10 +14,12 @@ pub mod config;
 pub mod error;
 pub mod generator;
 pub mod geometry;
+pub mod limits;
 pub mod linear;
 pub mod resources;
 pub mod run;
 pub mod service;
+pub mod validity;
 
 pub use config::Config;
 pub use error::ModelError;

@@ -23,8 +23,8 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
             u: h.u,
             v: h.v,
             a_abs: h.a_abs,
-            joint_force: vec![0.0; n],
-            friction_power: vec![0.0; n],
+            joint_force: vec![f64::NAN; n],
+            friction_power: vec![f64::NAN; n],
             center_beam_dx: Vec::new(),
         }
     });
@@ -40,6 +40,21 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
         wall_time_s: start.elapsed().as_secs_f64(),
         duration: record.duration(),
         histories,
+        exact_linear: true,
+        // not computed without the joint (NaN in every output)
+        peak_joint_force: f64::NAN,
+        peak_bushing_force: f64::NAN,
+        peak_friction_force: f64::NAN,
+        friction_energy: f64::NAN,
+        damping_energy: f64::NAN,
+        earthquake_work: f64::NAN,
+        energy_error: f64::NAN,
+        residuals: quakejoint_solver::ConstraintResiduals {
+            position: f64::NAN,
+            angle: f64::NAN,
+            velocity: f64::NAN,
+            angular_velocity: f64::NAN,
+        },
         ..RunResult::default()
     }
 }

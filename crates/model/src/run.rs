@@ -12,16 +12,17 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use quakejoint_motion::{load_record, Record};
+use quakejoint_motion::{load_record, LoadedRecord, Record};
 use quakejoint_solver::{
-    Assembly, AssemblyOptions, BodyId, ConstraintId, IntegratorOptions, JacobianMode, LinearSolver, Observer, Radau5,
-    Stats, StepView, TimeSeries,
+    Assembly, AssemblyOptions, BodyId, ConstraintId, ConstraintResiduals, IntegratorOptions, JacobianMode,
+    LinearSolver, Observer, Radau5, SolverError, Stats, StepView, TimeSeries,
 };
 
 use crate::config::{Config, LinearSolverConfig};
 use crate::error::ModelError;
 use crate::generator::{build, Bridge, Drive, JointModel};
 use crate::geometry::Geometry;
+use crate::validity::{Monitor, Validity};
 
 /// Called with the simulated time as a run advances.
 pub type ProgressFn = Arc<dyn Fn(f64) + Send + Sync>;
@@ -112,10 +113,15 @@ pub struct RunResult {
     pub max_subgap_deviation: Option<f64>,
     /// Largest energy-balance error divided by the largest earthquake work [-].
     pub energy_error: f64,
-    /// Largest |g| over the run [m or rad].
-    pub max_position_residual: f64,
-    /// Largest |G q' + g_t| over the run [m/s or rad/s].
-    pub max_velocity_residual: f64,
+    /// Largest constraint residuals over the run, by kind and unit.
+    pub residuals: ConstraintResiduals,
+    /// Whether the run stayed inside what the model can stand behind.
+    pub validity: Validity,
+    /// True for the exact linear solution of the bridge alone
+    /// ([`crate::linear::linear_response`]): the joint's quantities, the
+    /// energy balance, the residuals and the solver counters were not
+    /// computed (NaN in the outputs).
+    pub exact_linear: bool,
     /// Solver counters.
     pub stats: Stats,
     /// Wall-clock time of the integration [s].
@@ -126,27 +132,18 @@ pub struct RunResult {
     pub histories: Option<Histories>,
 }
 
-impl RunResult {
-    /// The larger of the position and velocity constraint residuals.
-    pub fn max_constraint_residual(&self) -> f64 {
-        self.max_position_residual.max(self.max_velocity_residual)
-    }
-}
-
-/// Loads the records of a config (x, and y if given).
-pub fn load_records(config: &Config, base_dir: &Path) -> Result<(Record, Option<Record>), ModelError> {
-    let x = load_record(config.record_x()?, base_dir)?.record;
-    let y = match &config.record_y {
-        Some(spec) => Some(load_record(spec, base_dir)?.record),
-        None => None,
-    };
+/// Loads the records of a config (x, and y if given), with their hashes
+/// and the warnings raised while reading them.
+pub fn load_records(config: &Config, base_dir: &Path) -> Result<(LoadedRecord, Option<LoadedRecord>), ModelError> {
+    let x = load_record(&config.record_x(), base_dir)?;
+    let y = config.record_y.as_ref().map(|spec| load_record(spec, base_dir)).transpose()?;
     Ok((x, y))
 }
 
 /// Reads the records of `config` (relative paths against `base_dir`) and runs.
 pub fn simulate(config: &Config, base_dir: &Path, options: &RunOptions) -> Result<RunResult, ModelError> {
     let (x, y) = load_records(config, base_dir)?;
-    simulate_records(config, &x, y.as_ref(), options)
+    simulate_records(config, &x.record, y.as_ref().map(|y| &y.record), options)
 }
 
 /// Solver options from the config.
@@ -196,6 +193,32 @@ pub fn run_duration(config: &Config, record_x: &Record) -> f64 {
     config.simulation.duration.unwrap_or(record_x.duration() + config.simulation.extra_time)
 }
 
+/// Most output samples a run may write (its duration over the record's time
+/// step): each is a force balance and, with histories, eight numbers.
+pub const MAX_OUTPUT_SAMPLES: f64 = 1e7;
+
+/// Refuses a run whose length and record cannot work: more output samples
+/// than [`MAX_OUTPUT_SAMPLES`] (a day of free vibration at 1e-5 s, say).
+pub fn check_run_length(config: &Config, record_x: &Record) -> Result<(), ModelError> {
+    let duration = run_duration(config, record_x);
+    let samples = duration / record_x.dt;
+    if samples > MAX_OUTPUT_SAMPLES {
+        let field = if config.simulation.duration.is_some() { "simulation.duration" } else { "simulation.extra_time" };
+        return Err(ModelError::Invalid {
+            field: field.to_string(),
+            value: quakejoint_motion::number(duration),
+            reason: format!(
+                "{} s of run at the record's time step of {} s are {} output samples, more than {:e}",
+                quakejoint_motion::number(duration),
+                quakejoint_motion::number(record_x.dt),
+                quakejoint_motion::number(samples.round()),
+                MAX_OUTPUT_SAMPLES
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// Runs the coupled model under given records.
 pub fn simulate_records(
     config: &Config,
@@ -203,6 +226,7 @@ pub fn simulate_records(
     record_y: Option<&Record>,
     options: &RunOptions,
 ) -> Result<RunResult, ModelError> {
+    check_run_length(config, record_x)?;
     let gx = series(record_x)?;
     let gy = record_y.map(series).transpose()?;
     let model = build(config, options.omega, Drive::Earthquake { x: gx.clone(), y: gy })?;
@@ -211,15 +235,21 @@ pub fn simulate_records(
     let start = Instant::now();
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
     let mut obs = EarthquakeObserver::new(&model, &asm, gx, record_x.dt, options.histories)?;
+    obs.monitor = Monitor::new(&model, &asm, config.joint.support_beam.length)?;
     obs.progress = options.progress.clone();
     obs.cancel = options.cancel.clone();
+    obs.deadline = config.simulation.max_wall_time.map(|s| (start, s));
     obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), &asm, &mut asm.workspace());
     if !sim.run(duration, &mut obs)? {
-        return Err(ModelError::Interrupted { time: sim.time() });
+        return Err(match obs.deadline {
+            Some((_, limit_s)) if obs.out_of_time => SolverError::WallClockLimit { limit_s, time: sim.time() }.into(),
+            _ => ModelError::Interrupted { time: sim.time() },
+        });
     }
     let wall = start.elapsed().as_secs_f64();
     let e = sim.energy();
-    let (g, gv) = sim.max_constraint_residuals();
+    let energy_error = e.error_relative_to_input();
+    let validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
     let w = model.bridge.omega;
     Ok(RunResult {
         omega: w,
@@ -239,9 +269,10 @@ pub fn simulate_records(
         min_subgap: obs.gaps.as_ref().map(|g| g.min),
         max_subgap: obs.gaps.as_ref().map(|g| g.max),
         max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
-        energy_error: e.error_relative_to_input(),
-        max_position_residual: g,
-        max_velocity_residual: gv,
+        energy_error,
+        residuals: sim.constraint_residuals(),
+        validity,
+        exact_linear: false,
         stats: sim.stats(),
         wall_time_s: wall,
         duration,
@@ -295,6 +326,11 @@ struct EarthquakeObserver {
     histories: Option<Histories>,
     progress: Option<ProgressFn>,
     cancel: Option<Arc<AtomicBool>>,
+    /// The run's start and wall-clock limit [s], checked as output samples
+    /// are written too (a long free vibration is many samples per step).
+    deadline: Option<(Instant, f64)>,
+    out_of_time: bool,
+    monitor: Option<Monitor>,
     last_report: f64,
     q: Vec<f64>,
     v: Vec<f64>,
@@ -347,6 +383,9 @@ impl EarthquakeObserver {
             histories,
             progress: None,
             cancel: None,
+            deadline: None,
+            out_of_time: false,
+            monitor: None,
             last_report: 0.0,
             q: vec![0.0; n],
             v: vec![0.0; n],
@@ -382,6 +421,9 @@ impl EarthquakeObserver {
                 g.min = g.min.min(s);
                 g.max = g.max.max(s);
                 g.deviation = g.deviation.max((s - equal).abs());
+            }
+            if let Some(m) = &mut self.monitor {
+                m.sample(t, q, u, &g.buf);
             }
             let x = asm.force_extremes(ws, q, v);
             self.bushing = self.bushing.max(x.bushing);
@@ -420,6 +462,12 @@ impl Observer for EarthquakeObserver {
             let tj = j as f64 * self.dt;
             if tj > view.t + 1e-9 * self.dt {
                 break;
+            }
+            if let Some((start, limit)) = self.deadline {
+                if j.is_multiple_of(1024) && start.elapsed().as_secs_f64() > limit {
+                    self.out_of_time = true;
+                    return false;
+                }
             }
             self.next = j;
             if (tj - view.t).abs() <= 1e-9 * self.dt {

@@ -34,6 +34,9 @@ fn friction_dissipates_and_the_balance_still_closes() {
     );
     assert!(r.friction_energy > 1e3, "friction energy {}", r.friction_energy);
     assert!(r.energy_error < 1e-6, "energy error {:e}", r.energy_error);
-    let (g, gv) = (r.max_position_residual, r.max_velocity_residual);
-    assert!(g < 1e-8 && gv < 1e-8, "constraint residuals {g:e} {gv:e}");
+    let res = r.residuals;
+    assert!(
+        res.position < 1e-8 && res.angle < 1e-8 && res.velocity < 1e-8 && res.angular_velocity < 1e-8,
+        "constraint residuals {res:?}"
+    );
 }

@@ -48,7 +48,7 @@ fn crossing_or_coinciding_joists_are_refused() {
 
 #[test]
 fn non_positive_dimensions_and_masses_are_refused() {
-    assert_mentions(&error_of("[joint]\npitch = 0.0\n"), &["joint.pitch = 0", "positive"]);
+    assert_mentions(&error_of("[joint]\npitch = 0.0\n"), &["joint.pitch = 0", "must be within 0 < x <= 10 m"]);
     assert_mentions(&error_of("[joint]\npitch = -0.1\n"), &["joint.pitch = -0.1"]);
     assert_mentions(&error_of("[joint.center_beam]\nlength = -15.0\n"), &["joint.center_beam.length = -15"]);
     assert_mentions(&error_of("[joint.bearing]\nmass = 0.0\n"), &["joint.bearing.mass = 0"]);
@@ -59,8 +59,24 @@ fn non_positive_dimensions_and_masses_are_refused() {
 }
 
 #[test]
+fn physically_absurd_values_are_refused_naming_the_field() {
+    // values that used to end deep in the solver as `non-finite value`
+    for (extra, field) in [
+        ("[joint.friction]\nnormal_force = 1e300\n", "joint.friction.normal_force = 1e300"),
+        ("[joint.friction]\nv_eps = 1e-300\n", "joint.friction.v_eps = 1e-300"),
+        ("[joint.bearing]\nmass = 9e18\n", "joint.bearing.mass = 9e18"),
+        ("[simulation]\nduration = 1e-300\n", "simulation.duration = 1e-300"),
+        ("[joint.bushing]\nkx = 1e25\n", "joint.bushing.kx = 1e25"),
+        ("[bridge]\nmass = 1e30\n", "bridge.mass = 1e30"),
+        ("[joint.friction]\nmu = 50.0\n", "joint.friction.mu = 50"),
+    ] {
+        assert_mentions(&error_of(extra), &[field, "must be within"]);
+    }
+}
+
+#[test]
 fn angles_at_or_beyond_ninety_degrees_are_refused() {
-    assert_mentions(&error_of(&joists(&[(0.0, 90.0)])), &["support_beams[1].angle_deg = 90", "90 degrees"]);
+    assert_mentions(&error_of(&joists(&[(0.0, 90.0)])), &["support_beams[1].angle_deg = 90", "-90 < x < 90 deg"]);
     assert_mentions(&error_of(&joists(&[(0.0, -95.0)])), &["angle_deg = -95"]);
     let guide = "[[joint.support_beams]]\nkind = \"guide\"\ny = -7.2\nangle_deg = 5.0\n";
     assert_mentions(&error_of(guide), &["a guide runs parallel"]);

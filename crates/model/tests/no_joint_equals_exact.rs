@@ -15,7 +15,7 @@ use quakejoint_model::run::{load_records, simulate_records, RunOptions};
 fn deck_alone_matches_the_exact_linear_solution() {
     let mut config = common::shipped("paper.toml");
     config.joint.enabled = false;
-    let (rx, _) = load_records(&config, &common::configs_dir()).unwrap();
+    let rx = load_records(&config, &common::configs_dir()).unwrap().0.record;
     for period in [0.3, 0.9973, 2.5] {
         let w = 2.0 * std::f64::consts::PI / period;
         let mb = simulate_records(&config, &rx, None, &RunOptions { omega: Some(w), ..Default::default() }).unwrap();

@@ -17,7 +17,7 @@
 
 use crate::error::RecordError;
 use crate::record::RawRecord;
-use crate::spec::Units;
+use crate::spec::{HeaderUnits, Units};
 use crate::text::{number_at, parse_number};
 
 /// Number of header lines of an AT2 file.
@@ -70,8 +70,28 @@ fn header_tokens(line: &str) -> (Option<&str>, Option<&str>) {
     (None, None)
 }
 
+/// The units stated in header line 3: the words after `UNITS` (and an
+/// optional `OF`, `IN`, `:` or `=`), e.g. `ACCELERATION TIME SERIES IN
+/// UNITS OF G`, `... IN UNITS OF CM/SEC/SEC`.
+fn units_of_line3(line: &str) -> HeaderUnits {
+    let upper = line.to_ascii_uppercase();
+    let Some(at) = upper.find("UNITS") else { return HeaderUnits::Missing };
+    let mut rest = upper[at + "UNITS".len()..].trim_start();
+    for word in ["OF ", "IN ", ":", "="] {
+        if let Some(r) = rest.strip_prefix(word) {
+            rest = r.trim_start();
+            break;
+        }
+    }
+    let text = rest.trim();
+    match Units::from_header(text) {
+        Some(u) => HeaderUnits::Stated(u),
+        None => HeaderUnits::Unrecognised(crate::text::excerpt(line[line.len() - rest.len()..].trim(), 40)),
+    }
+}
+
 /// Parse the text of an AT2 file; `file` names it in errors. Values stay in
-/// the file's units (g).
+/// the file's units (those of header line 3).
 pub fn parse_at2(text: &str, file: &str) -> Result<RawRecord, RecordError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.trim().is_empty() {
@@ -94,10 +114,10 @@ pub fn parse_at2(text: &str, file: &str) -> Result<RawRecord, RecordError> {
         return Err(RecordError::Header {
             file: file.into(),
             line: 3,
-            message: format!("not an acceleration record: `{}`", header[2].trim()),
+            message: format!("not an acceleration record: `{}`", crate::text::excerpt(header[2].trim(), 80)),
         });
     }
-    let header_units = if kind.contains("UNITS OF G") { Some(Units::G) } else { None };
+    let header_units = units_of_line3(&header[2]);
 
     let line4 = lines[3];
     let (npts_tok, dt_tok) = header_tokens(line4);
@@ -106,20 +126,20 @@ pub fn parse_at2(text: &str, file: &str) -> Result<RawRecord, RecordError> {
         return Err(RecordError::Header {
             file: file.into(),
             line: 4,
-            message: format!("no NPTS in header line `{}` ({example})", line4.trim()),
+            message: format!("no NPTS in header line `{}` ({example})", crate::text::excerpt(line4.trim(), 80)),
         });
     };
     let Some(dt_tok) = dt_tok else {
         return Err(RecordError::Header {
             file: file.into(),
             line: 4,
-            message: format!("no DT in header line `{}` ({example})", line4.trim()),
+            message: format!("no DT in header line `{}` ({example})", crate::text::excerpt(line4.trim(), 80)),
         });
     };
     let npts: usize = npts_tok.parse().map_err(|_| RecordError::Header {
         file: file.into(),
         line: 4,
-        message: format!("NPTS `{npts_tok}` is not a whole number >= 0"),
+        message: format!("NPTS `{}` is not a whole number >= 0", crate::text::excerpt(npts_tok, 40)),
     })?;
     if npts == 0 {
         return Err(RecordError::Header { file: file.into(), line: 4, message: "NPTS = 0: no samples".into() });
@@ -170,5 +190,26 @@ mod tests {
         assert_eq!(header_tokens("DT= 0.01 SEC"), (None, Some("0.01")));
         assert_eq!(header_tokens("NPTS= 10"), (Some("10"), None));
         assert_eq!(header_tokens("nothing here"), (None, None));
+    }
+
+    #[test]
+    fn units_of_header_line_3() {
+        use HeaderUnits::*;
+        for (line, units) in [
+            ("ACCELERATION TIME SERIES IN UNITS OF G", Stated(Units::G)),
+            ("Acceleration time series in units of g", Stated(Units::G)),
+            ("ACCELERATION IN UNITS OF GAL", Stated(Units::CentimetersPerSecond2)),
+            ("ACCELERATION TIME HISTORY IN UNITS OF CM/SEC/SEC", Stated(Units::CentimetersPerSecond2)),
+            ("ACCELERATION, UNITS: CM/S/S", Stated(Units::CentimetersPerSecond2)),
+            ("UNITS OF CM/S^2", Stated(Units::CentimetersPerSecond2)),
+            ("UNITS OF CM/SEC2", Stated(Units::CentimetersPerSecond2)),
+            ("UNITS OF M/S/S", Stated(Units::MetersPerSecond2)),
+            ("UNITS = M/SEC**2", Stated(Units::MetersPerSecond2)),
+            ("ACCELERATION TIME SERIES", Missing),
+            ("ACCELERATION IN UNITS OF FURLONGS/FORTNIGHT", Unrecognised("FURLONGS/FORTNIGHT".into())),
+            ("ACCELERATION IN UNITS OF MM/S/S", Unrecognised("MM/S/S".into())),
+        ] {
+            assert_eq!(units_of_line3(line), units, "{line}");
+        }
     }
 }

@@ -13,6 +13,7 @@
 //! let text = "0.1\n".repeat(201);
 //! let mut spec = RecordSpec::new("step.txt");
 //! spec.dt = Some(0.01);
+//! spec.units = Some(Units::G); // a text file cannot say its units
 //! let loaded = load_record_from_str(&spec, &text).unwrap();
 //! let rec = &loaded.record;
 //! assert_eq!(rec.acceleration.len(), 201);
@@ -43,6 +44,7 @@
 #![deny(missing_docs)]
 
 pub mod at2;
+pub mod builtin;
 pub mod error;
 pub mod oscillator;
 pub mod record;
@@ -54,14 +56,17 @@ pub mod text;
 pub use at2::parse_at2;
 pub use error::{RecordError, SpectrumError};
 pub use oscillator::Oscillator;
-pub use record::{load_record, load_record_from_str, LoadedRecord, RawRecord, Record, START_WARNING_FRACTION};
-pub use spec::{Format, RecordSpec, Units};
+pub use record::{
+    load_record, load_record_from_str, sha256_hex, LoadedRecord, RawRecord, Record, MAX_ACCELERATION_G, MAX_DT,
+    MAX_DURATION, MIN_DT, START_WARNING_FRACTION,
+};
+pub use spec::{Format, HeaderUnits, RecordSpec, Units};
 pub use spectrum::{
     history, peaks, period_range, spectrum, spectrum_samples, History, Peaks, SpectrumOptions, SpectrumRow,
     MAX_PERIODS, MAX_SUBDIVISIONS,
 };
 pub use stats::RecordStats;
-pub use text::{parse_number, parse_one_column, parse_two_column};
+pub use text::{excerpt, number, parse_number, parse_one_column, parse_two_column};
 
 /// Standard gravity [m/s²] used for the unit `g` and for Arias intensity.
 pub const G: f64 = 9.80665;

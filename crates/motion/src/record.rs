@@ -5,7 +5,7 @@ use std::path::Path;
 
 use crate::at2::parse_at2;
 use crate::error::RecordError;
-use crate::spec::{Format, RecordSpec, Units};
+use crate::spec::{Format, HeaderUnits, RecordSpec, Units};
 use crate::text::{parse_one_column, parse_two_column};
 
 /// A record as parsed from a file, before unit conversion and scaling.
@@ -19,8 +19,8 @@ pub struct RawRecord {
     pub header: Vec<String>,
     /// time of the first sample \[s\] (two-column files only)
     pub first_time: Option<f64>,
-    /// units stated in the header, if recognised (AT2 `UNITS OF G`)
-    pub header_units: Option<Units>,
+    /// what the file says about its units (AT2 header line 3)
+    pub header_units: HeaderUnits,
 }
 
 /// A record ready for use: uniform time step, acceleration in m/s² after
@@ -38,6 +38,8 @@ pub struct Record {
     /// total factor [m/s² per file unit] from the numbers in the file to
     /// `acceleration` (unit conversion times scale)
     pub scale: f64,
+    /// units of the numbers in the file (m/s² for [`Record::new`])
+    pub units: Units,
     /// AT2 header lines, else empty
     pub header: Vec<String>,
 }
@@ -49,7 +51,15 @@ impl Record {
     pub fn new(name: impl Into<String>, dt: f64, acceleration: Vec<f64>) -> Result<Self, RecordError> {
         let name = name.into();
         validate(&name, dt, &acceleration)?;
-        Ok(Record { name, source: "(memory)".into(), dt, acceleration, scale: 1.0, header: Vec::new() })
+        Ok(Record {
+            name,
+            source: "(memory)".into(),
+            dt,
+            acceleration,
+            scale: 1.0,
+            units: Units::MetersPerSecond2,
+            header: Vec::new(),
+        })
     }
 
     /// Peak ground acceleration max |a_i| [m/s²] (0 for an empty record).
@@ -68,16 +78,49 @@ impl Record {
     }
 }
 
+/// Smallest admissible time step of a record [s]: recorded and synthetic
+/// accelerograms are sampled at 50 to 1000 Hz; 1e-5 s (100 kHz) leaves room.
+pub const MIN_DT: f64 = 1e-5;
+/// Largest admissible time step [s]: coarser sampling misses the motion a
+/// bridge responds to.
+pub const MAX_DT: f64 = 1.0;
+/// Largest admissible |acceleration| [g]: the strongest recorded ground
+/// motions peak near 4 g; 20 g is beyond any earthquake (a number this large
+/// is a unit error: cm/s² read as g, say).
+pub const MAX_ACCELERATION_G: f64 = 20.0;
+/// Longest admissible record [s]: one day.
+pub const MAX_DURATION: f64 = 86_400.0;
+
 fn validate(name: &str, dt: f64, acceleration: &[f64]) -> Result<(), RecordError> {
     let invalid = |message: String| Err(RecordError::Invalid { name: name.into(), message });
-    if !(dt.is_finite() && dt > 0.0) {
-        return invalid(format!("time step dt = {dt} s must be finite and > 0"));
+    if !(dt.is_finite() && (MIN_DT..=MAX_DT).contains(&dt)) {
+        return invalid(format!(
+            "time step dt = {} s is outside {MIN_DT:e} to {MAX_DT} s: not a ground-motion record (is it in seconds?)",
+            crate::text::number(dt)
+        ));
     }
-    if acceleration.is_empty() {
-        return invalid("the record has no samples".into());
+    if acceleration.len() < 2 {
+        return invalid(format!("the record has {} sample(s); at least 2 are needed", acceleration.len()));
     }
     if let Some(i) = acceleration.iter().position(|a| !a.is_finite()) {
         return invalid(format!("sample {i} (t = {} s) is {}, not a finite number", i as f64 * dt, acceleration[i]));
+    }
+    let duration = (acceleration.len() - 1) as f64 * dt;
+    if duration > MAX_DURATION {
+        return invalid(format!(
+            "it lasts {} s, more than a day ({MAX_DURATION} s): not a ground-motion record",
+            crate::text::number(duration)
+        ));
+    }
+    let limit = MAX_ACCELERATION_G * crate::G;
+    if let Some(i) = acceleration.iter().position(|a| a.abs() > limit) {
+        return invalid(format!(
+            "sample {i} (t = {} s) is {:.4e} m/s² ({:.3e} g), beyond {MAX_ACCELERATION_G} g: no earthquake is that \
+             strong; are the units right?",
+            i as f64 * dt,
+            acceleration[i],
+            acceleration[i] / crate::G
+        ));
     }
     Ok(())
 }
@@ -90,6 +133,15 @@ pub struct LoadedRecord {
     /// warnings, each naming the file (e.g. a record that does not start
     /// near zero)
     pub warnings: Vec<String>,
+    /// SHA-256 of the file's bytes (of the text for
+    /// [`load_record_from_str`]), in hex: which file it was, for provenance
+    pub sha256: String,
+}
+
+/// SHA-256 of some bytes, in hex.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::Digest;
+    sha2::Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// A record "does not start near zero" if |a\[0\]| exceeds this fraction of
@@ -101,13 +153,20 @@ pub const START_WARNING_FRACTION: f64 = 0.01;
 pub fn load_record(spec: &RecordSpec, base_dir: &Path) -> Result<LoadedRecord, RecordError> {
     let file = spec.file.display().to_string();
     spec.validate()?;
-    let path = spec.resolve_path(base_dir);
-    let bytes = std::fs::read(&path).map_err(|source| RecordError::Io {
-        file: if path == spec.file { file.clone() } else { format!("{file} ({})", path.display()) },
-        source,
-    })?;
+    let bytes = match crate::builtin::bytes(&spec.file) {
+        Some(b) => b.to_vec(),
+        None => {
+            let path = spec.resolve_path(base_dir);
+            std::fs::read(&path).map_err(|source| RecordError::Io {
+                file: if path == spec.file { file.clone() } else { format!("{file} ({})", path.display()) },
+                source,
+            })?
+        }
+    };
     let text = String::from_utf8_lossy(&bytes);
-    load_record_from_str(spec, &text)
+    let mut loaded = load_record_from_str(spec, &text)?;
+    loaded.sha256 = sha256_hex(&bytes);
+    Ok(loaded)
 }
 
 /// As [`load_record`] with the file's text given (no IO): parse `text` as
@@ -124,31 +183,58 @@ pub fn load_record_from_str(spec: &RecordSpec, text: &str) -> Result<LoadedRecor
         }
         Format::TwoColumn | Format::Auto => parse_two_column(text, &file, spec.column.unwrap_or(2))?,
     };
-    from_raw(spec, raw)
+    from_raw(spec, raw, sha256_hex(text.as_bytes()))
+}
+
+/// The units of a parsed record: from the header, or the spec where the
+/// header states none; never a default.
+fn units_of(spec: &RecordSpec, raw: &RawRecord, warnings: &mut Vec<String>) -> Result<Units, RecordError> {
+    let file = spec.file.display().to_string();
+    let err = |message: String| Err(RecordError::Spec { file: file.clone(), field: "units", message });
+    let names = "`g`, `m/s2` or `cm/s2`";
+    match (&raw.header_units, spec.units) {
+        (HeaderUnits::Stated(h), Some(given)) if *h != given => {
+            // one of the two is wrong, and guessing which would scale the
+            // whole spectrum by a constant factor: refuse
+            err(format!(
+                "the file's header says units of {} but the config says `{}`: remove `units` (the header is \
+                 authoritative) or fix the file",
+                h.name(),
+                given.name()
+            ))
+        }
+        (HeaderUnits::Stated(h), _) => Ok(*h),
+        (HeaderUnits::Unrecognised(text), Some(given)) => {
+            warnings.push(format!(
+                "{file}: the header's units `{text}` are not recognised; the config's `units = \"{}\"` are used",
+                given.name()
+            ));
+            Ok(given)
+        }
+        (HeaderUnits::Unrecognised(text), None) => err(format!(
+            "the header's units `{text}` are not recognised: say the units of the numbers in the file with `units` \
+             ({names})"
+        )),
+        (HeaderUnits::Missing, Some(given)) => {
+            warnings.push(format!("{file}: the header states no units; the config's `{}` are used", given.name()));
+            Ok(given)
+        }
+        (HeaderUnits::Missing, None) => err(format!(
+            "the header (line 3) states no units: say the units of the numbers in the file with `units` ({names})"
+        )),
+        (HeaderUnits::NotInFormat, Some(given)) => Ok(given),
+        (HeaderUnits::NotInFormat, None) => {
+            err(format!("a text record cannot say its units: give them with `units` ({names})"))
+        }
+    }
 }
 
 /// Unit conversion, scaling and warnings for a parsed record.
-fn from_raw(spec: &RecordSpec, raw: RawRecord) -> Result<LoadedRecord, RecordError> {
+fn from_raw(spec: &RecordSpec, raw: RawRecord, sha256: String) -> Result<LoadedRecord, RecordError> {
     let file = spec.file.display().to_string();
     let name = spec.label();
-    let units = spec.resolved_units();
     let mut warnings = Vec::new();
-    if let (Some(header_units), Some(given)) = (raw.header_units, spec.units) {
-        if header_units != given {
-            // one of the two is wrong, and guessing which would scale the
-            // whole spectrum by a constant factor: refuse
-            return Err(RecordError::Spec {
-                file,
-                field: "units",
-                message: format!(
-                    "the file's header says units of {} but the spec says `{}`: remove `units` (the header is \
-                     authoritative) or fix the file",
-                    header_units.name(),
-                    given.name()
-                ),
-            });
-        }
-    }
+    let units = units_of(spec, &raw, &mut warnings)?;
     if let Some(t0) = raw.first_time {
         if t0.abs() > 0.5 * raw.dt {
             warnings.push(format!(
@@ -179,7 +265,7 @@ fn from_raw(spec: &RecordSpec, raw: RawRecord) -> Result<LoadedRecord, RecordErr
             message: format!("sample {i} overflows after scaling by {scale} (m/s² per file unit)"),
         });
     }
-    let record = Record { name, source: file.clone(), dt: raw.dt, acceleration, scale, header: raw.header };
+    let record = Record { name, source: file.clone(), dt: raw.dt, acceleration, scale, units, header: raw.header };
     validate(&file, record.dt, &record.acceleration)?;
     let pga = record.pga();
     let a0 = record.acceleration[0];
@@ -192,5 +278,5 @@ fn from_raw(spec: &RecordSpec, raw: RawRecord) -> Result<LoadedRecord, RecordErr
             100.0 * START_WARNING_FRACTION
         ));
     }
-    Ok(LoadedRecord { record, warnings })
+    Ok(LoadedRecord { record, warnings, sha256 })
 }

@@ -16,9 +16,48 @@ pub enum Units {
     /// Metres per second squared (written `"m/s2"`).
     #[serde(rename = "m/s2")]
     MetersPerSecond2,
-    /// Centimetres per second squared, gal (written `"cm/s2"`).
-    #[serde(rename = "cm/s2")]
+    /// Centimetres per second squared, gal (written `"cm/s2"` or `"gal"`).
+    #[serde(rename = "cm/s2", alias = "gal")]
     CentimetersPerSecond2,
+}
+
+/// What a file says about the units of its numbers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum HeaderUnits {
+    /// The format has no place for units (plain text and CSV).
+    NotInFormat,
+    /// The header should state them and does not (an AT2 line 3 without
+    /// `UNITS`).
+    Missing,
+    /// The header states these.
+    Stated(Units),
+    /// The header states something not recognised (the text as written,
+    /// shortened).
+    Unrecognised(String),
+}
+
+impl Units {
+    /// Reads a unit as written in a file header, case and spaces ignored:
+    /// `G`; `GAL`, `CM/S/S`, `CM/SEC/SEC`, `CM/S2`, `CM/S^2`, `CM/S**2`,
+    /// `CM/SEC2`, `CM/SEC^2`; `M/S/S`, `M/SEC/SEC`, `M/S2`, `M/S^2` (and the
+    /// `SEC` and `**2` variants). Anything else is `None`.
+    pub fn from_header(text: &str) -> Option<Units> {
+        let t: String = text.chars().filter(|c| !c.is_whitespace()).collect::<String>().to_ascii_uppercase();
+        let t = t.trim_end_matches(['.', ',', ';', ')']).trim_start_matches('(');
+        let per_s2 = |unit: &str| {
+            let rest = t.strip_prefix(unit).and_then(|r| r.strip_prefix('/'));
+            rest.is_some_and(|r| {
+                matches!(r, "S/S" | "SEC/SEC" | "S2" | "S^2" | "S**2" | "SEC2" | "SEC^2" | "SEC**2" | "SS")
+            })
+        };
+        match t {
+            "G" | "GS" | "G'S" => Some(Units::G),
+            "GAL" | "GALS" | "GALILEO" => Some(Units::CentimetersPerSecond2),
+            _ if per_s2("CM") => Some(Units::CentimetersPerSecond2),
+            _ if per_s2("M") => Some(Units::MetersPerSecond2),
+            _ => None,
+        }
+    }
 }
 
 impl Units {
@@ -68,9 +107,13 @@ fn one() -> f64 {
 /// How a record is read: one entry of a TOML configuration
 /// (unknown fields are rejected).
 ///
-/// Choices where the issue left them open:
-/// - `units` defaults to g for every format (the AT2 header says g; text
-///   files from other sources must name their units if they are not g).
+/// Units are never guessed:
+/// - an AT2 file states them in header line 3 (`UNITS OF G`, `UNITS OF
+///   CM/S/S`, ...); `units`, if given, must agree with the header, and is
+///   required when the header states none or states something unknown;
+/// - a text file cannot state them: `units` is required.
+///
+/// Other choices:
 /// - `dt` is only for one-column files; giving it for an AT2 or
 ///   two-column file is an error (the file carries its own time step).
 /// - `column` is for text files: the acceleration column of a two-column
@@ -86,7 +129,8 @@ pub struct RecordSpec {
     /// File format (default: [`Format::Auto`]).
     #[serde(default)]
     pub format: Format,
-    /// Units of the numbers in the file (default: g).
+    /// Units of the numbers in the file: required for text files, checked
+    /// against the header of an AT2 file.
     #[serde(default)]
     pub units: Option<Units>,
     /// Time step \[s\] of a one-column file (required for it, rejected for
@@ -143,25 +187,22 @@ impl RecordSpec {
         }
     }
 
-    /// Units after applying the default (g).
-    pub fn resolved_units(&self) -> Units {
-        self.units.unwrap_or(Units::G)
-    }
-
     /// The record's label: `name`, else the file stem, else the path.
     pub fn label(&self) -> String {
         if let Some(n) = &self.name {
             return n.clone();
         }
-        match self.file.file_stem() {
+        let file = self.file.to_str().and_then(|f| f.strip_prefix(crate::builtin::PREFIX)).map(Path::new);
+        match file.unwrap_or(&self.file).file_stem() {
             Some(s) => s.to_string_lossy().into_owned(),
             None => self.file.display().to_string(),
         }
     }
 
-    /// The path to open: `file` itself if absolute, else `base_dir/file`.
+    /// The path to open: `file` itself if absolute or built in
+    /// ([`crate::builtin`]), else `base_dir/file`.
     pub fn resolve_path(&self, base_dir: &Path) -> PathBuf {
-        if self.file.is_absolute() {
+        if self.file.is_absolute() || crate::builtin::is_builtin(&self.file) {
             self.file.clone()
         } else {
             base_dir.join(&self.file)
@@ -173,6 +214,12 @@ impl RecordSpec {
     pub fn validate(&self) -> Result<(), RecordError> {
         let file = self.file.display().to_string();
         let err = |field: &'static str, message: String| Err(RecordError::Spec { file: file.clone(), field, message });
+        if crate::builtin::is_builtin(&self.file) && crate::builtin::bytes(&self.file).is_none() {
+            return err(
+                "file",
+                format!("no such built-in record (the built-in record is `{}`)", crate::builtin::DEFAULT),
+            );
+        }
         let format = self.resolved_format();
         match (format, self.dt) {
             (Format::OneColumn, None) => return err("dt", "a one-column file needs the time step `dt` [s]".into()),
@@ -196,8 +243,11 @@ impl RecordSpec {
             return err("scale", format!("scale = {} must be finite and not zero", self.scale));
         }
         if let Some(t) = self.target_pga_g {
-            if !(t.is_finite() && t > 0.0) {
-                return err("target_pga_g", format!("target_pga_g = {t} g must be finite and > 0"));
+            if !(t.is_finite() && t > 0.0 && t <= crate::record::MAX_ACCELERATION_G) {
+                return err(
+                    "target_pga_g",
+                    format!("target_pga_g = {t} g must be above 0 and at most {} g", crate::record::MAX_ACCELERATION_G),
+                );
             }
             if self.scale != 1.0 {
                 return err(

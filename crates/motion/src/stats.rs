@@ -151,12 +151,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn zero_and_single_sample() {
+    fn zero_and_shortest_records() {
         let r = Record::new("z", 0.01, vec![0.0; 10]).unwrap();
         let s = RecordStats::of(&r);
         assert_eq!((s.pga, s.pgv, s.pgd, s.arias, s.d5_95), (0.0, 0.0, 0.0, 0.0, 0.0));
-        let r = Record::new("one", 0.01, vec![1.0]).unwrap();
+        // a single sample has no duration: not a record
+        assert!(Record::new("one", 0.01, vec![1.0]).is_err());
+        let r = Record::new("two", 0.01, vec![1.0, 1.0]).unwrap();
         let s = RecordStats::of(&r);
-        assert_eq!((s.samples, s.duration, s.pga, s.arias), (1, 0.0, 1.0, 0.0));
+        assert_eq!((s.samples, s.duration, s.pga), (2, 0.01, 1.0));
     }
 }

@@ -11,6 +11,7 @@
 
 use crate::error::RecordError;
 use crate::record::RawRecord;
+use crate::spec::HeaderUnits;
 
 /// Why a token is not accepted as a number.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,11 +43,30 @@ pub fn parse_number(token: &str) -> Result<f64, NumberError> {
     }
 }
 
+/// At most `max` characters of `text`, with how much was left out: error
+/// messages quote user input, but never megabytes of it.
+pub fn excerpt(text: &str, max: usize) -> String {
+    match text.char_indices().nth(max) {
+        None => text.to_string(),
+        Some((cut, _)) => format!("{}... ({} more bytes)", &text[..cut], text.len() - cut),
+    }
+}
+
+/// A number for a message: plain where that reads well, else in exponent
+/// form (`1e-300`, not three hundred zeros).
+pub fn number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// Read `token` found on `line` of `file`, with the error that names both.
 pub(crate) fn number_at(token: &str, file: &str, line: usize) -> Result<f64, RecordError> {
     parse_number(token).map_err(|e| match e {
-        NumberError::NotANumber => RecordError::NotANumber { file: file.into(), line, token: token.into() },
-        NumberError::NotFinite => RecordError::NotFinite { file: file.into(), line, token: token.into() },
+        NumberError::NotANumber => RecordError::NotANumber { file: file.into(), line, token: excerpt(token, 40) },
+        NumberError::NotFinite => RecordError::NotFinite { file: file.into(), line, token: excerpt(token, 40) },
     })
 }
 
@@ -159,7 +179,7 @@ pub fn parse_two_column(text: &str, file: &str, column: usize) -> Result<RawReco
             return Err(RecordError::NonUniformTime { file: file.into(), line: dl.line, expected, found: *t, dt });
         }
     }
-    Ok(RawRecord { dt, values, header: Vec::new(), first_time: Some(t0), header_units: None })
+    Ok(RawRecord { dt, values, header: Vec::new(), first_time: Some(t0), header_units: HeaderUnits::NotInFormat })
 }
 
 /// Parse a text file of accelerations (in file units) at time step `dt`
@@ -199,7 +219,7 @@ pub fn parse_one_column(text: &str, file: &str, dt: f64, column: Option<usize>) 
         };
         values.push(number_at(token, file, dl.line)?);
     }
-    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units: None })
+    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units: HeaderUnits::NotInFormat })
 }
 
 #[cfg(test)]

@@ -188,6 +188,7 @@ fn spec_errors_name_the_field() {
     // a zero record cannot be scaled to a PGA
     let mut s = RecordSpec::new("zero.csv");
     s.target_pga_g = Some(0.3);
+    s.units = Some(Units::G);
     let m = load_record_from_str(&s, "0 0\n0.01 0\n").unwrap_err().to_string();
     assert!(m.starts_with("zero.csv: field `target_pga_g`:"), "{m}");
 }
@@ -196,8 +197,11 @@ fn spec_errors_name_the_field() {
 fn toml_spec_errors() {
     let e = toml::from_str::<RecordSpec>("file = \"a.AT2\"\nscal = 2.0\n").unwrap_err().to_string();
     assert!(e.contains("scal"), "{e}");
-    let e = toml::from_str::<RecordSpec>("file = \"a.AT2\"\nunits = \"gal\"\n").unwrap_err().to_string();
-    assert!(e.contains("gal"), "{e}");
+    let e = toml::from_str::<RecordSpec>("file = \"a.AT2\"\nunits = \"furlong/fortnight2\"\n").unwrap_err().to_string();
+    assert!(e.contains("furlong"), "{e}");
+    // gal is cm/s2
+    let s: RecordSpec = toml::from_str("file = \"a.AT2\"\nunits = \"gal\"\n").unwrap();
+    assert_eq!(s.units, Some(Units::CentimetersPerSecond2));
     let e = toml::from_str::<RecordSpec>("units = \"g\"\n").unwrap_err().to_string();
     assert!(e.contains("file"), "{e}");
     let s: RecordSpec =
@@ -219,6 +223,7 @@ fn missing_file_is_named() {
 fn start_warning_not_error() {
     let mut spec = RecordSpec::new("start.txt");
     spec.dt = Some(0.01);
+    spec.units = Some(Units::G);
     // a[0] = 0.02 = 2 % of PGA 1.0: warning
     let loaded = load_record_from_str(&spec, "0.02\n1.0\n-0.5\n").unwrap();
     assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
@@ -232,7 +237,7 @@ fn start_warning_not_error() {
 fn invalid_records_and_spectrum_arguments() {
     let m = Record::new("r", 0.0, vec![1.0]).unwrap_err().to_string();
     assert!(m.starts_with("record `r`:") && m.contains("dt = 0"), "{m}");
-    assert!(Record::new("r", 0.01, vec![]).unwrap_err().to_string().contains("no samples"));
+    assert!(Record::new("r", 0.01, vec![]).unwrap_err().to_string().contains("at least 2 are needed"));
     let m = Record::new("r", 0.01, vec![0.0, f64::NAN]).unwrap_err().to_string();
     assert!(m.contains("sample 1"), "{m}");
 

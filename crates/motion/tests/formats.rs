@@ -34,7 +34,7 @@ fn at2_header_spellings_and_line_ends() {
             assert_eq!(r.values, VALUES, "{l4}");
             assert_eq!(r.header.len(), 4);
             assert_eq!(r.header[3], l4.trim_end(), "header kept without the line end");
-            assert_eq!(r.header_units, Some(Units::G));
+            assert_eq!(r.header_units, quakejoint_motion::HeaderUnits::Stated(Units::G));
         }
     }
 }
@@ -99,18 +99,17 @@ fn one_column_with_dt() {
 #[test]
 fn units_conversion() {
     let text = "0 0\n0.01 1\n0.02 -2\n";
-    for (units, factor) in [
-        (None, 9.80665),
-        (Some(Units::G), 9.80665),
-        (Some(Units::MetersPerSecond2), 1.0),
-        (Some(Units::CentimetersPerSecond2), 0.01),
-    ] {
+    for (units, factor) in [(Units::G, 9.80665), (Units::MetersPerSecond2, 1.0), (Units::CentimetersPerSecond2, 0.01)] {
         let mut spec = RecordSpec::new("u.txt");
-        spec.units = units;
+        spec.units = Some(units);
         let rec = load_record_from_str(&spec, text).unwrap().record;
         assert_eq!(rec.scale, factor);
+        assert_eq!(rec.units, units);
         assert_eq!(rec.acceleration, vec![0.0, factor, -2.0 * factor], "{units:?}");
     }
+    // a text file cannot say its units: they are never guessed
+    let err = load_record_from_str(&RecordSpec::new("u.txt"), text).unwrap_err().to_string();
+    assert!(err.starts_with("u.txt: field `units`: a text record cannot say its units"), "{err}");
     assert_eq!(G, 9.80665);
     // units named in TOML
     for (name, units) in [("g", Units::G), ("m/s2", Units::MetersPerSecond2), ("cm/s2", Units::CentimetersPerSecond2)] {
@@ -132,6 +131,7 @@ fn units_conversion() {
 fn scale_and_target_pga() {
     let text = "0 0\n0.01 0.5\n0.02 -0.25\n";
     let mut spec = RecordSpec::new("s.txt");
+    spec.units = Some(Units::G);
     spec.scale = -2.0;
     let rec = load_record_from_str(&spec, text).unwrap().record;
     assert_eq!(rec.acceleration, vec![0.0, -G, 0.5 * G]);
@@ -180,4 +180,71 @@ fn load_from_disk_relative_absolute_and_auto_format() {
     assert_eq!(spec.resolved_format(), Format::At2);
     let spec: RecordSpec = toml::from_str("file = \"a.dat\"\nformat = \"two-column\"\ncolumn = 3\n").unwrap();
     assert_eq!((spec.format, spec.column), (Format::TwoColumn, Some(3)));
+}
+
+/// AT2 header line 3 in the spellings of other databases and hand-made
+/// files: the units stated there are used (a file in gal read as g would
+/// be 981 times too strong), a `units` that agrees is accepted, one that
+/// contradicts is refused, and a header without units or with units not
+/// recognised needs `units`.
+#[test]
+fn at2_units_are_read_from_the_header_and_never_guessed() {
+    let body = "NPTS=   3, DT=   .0100 SEC\n0.0 10.0 -5.0\n";
+    let at2 = |line3: &str| format!("PEER-like DATABASE\nEVENT, STATION\n{line3}\n{body}");
+    for (line3, units, factor) in [
+        ("ACCELERATION TIME SERIES IN UNITS OF G", Units::G, G),
+        ("ACCELERATION TIME SERIES IN UNITS OF GAL", Units::CentimetersPerSecond2, 0.01),
+        ("ACCELERATION TIME SERIES IN UNITS OF CM/S/S", Units::CentimetersPerSecond2, 0.01),
+        ("ACCELERATION IN UNITS OF CM/SEC/SEC", Units::CentimetersPerSecond2, 0.01),
+        ("ACCELERATION IN UNITS OF M/S/S", Units::MetersPerSecond2, 1.0),
+    ] {
+        let text = at2(line3);
+        let mut spec = RecordSpec::new("h.AT2");
+        let rec = load_record_from_str(&spec, &text).unwrap_or_else(|e| panic!("{line3}: {e}")).record;
+        assert_eq!((rec.units, rec.acceleration[1]), (units, 10.0 * factor), "{line3}");
+        spec.units = Some(units);
+        assert!(load_record_from_str(&spec, &text).is_ok(), "{line3}: agreeing units are accepted");
+        let other = if units == Units::G { Units::CentimetersPerSecond2 } else { Units::G };
+        spec.units = Some(other);
+        let err = load_record_from_str(&spec, &text).unwrap_err().to_string();
+        assert!(err.contains("header says units of") && err.contains(other.name()), "{line3}: {err}");
+    }
+    for (line3, why) in [
+        ("ACCELERATION TIME SERIES", "states no units"),
+        ("ACCELERATION IN UNITS OF FURLONGS/FORTNIGHT^2", "`FURLONGS/FORTNIGHT^2` are not recognised"),
+    ] {
+        let text = at2(line3);
+        let mut spec = RecordSpec::new("h.AT2");
+        let err = load_record_from_str(&spec, &text).unwrap_err().to_string();
+        assert!(err.starts_with("h.AT2: field `units`") && err.contains(why), "{line3}: {err}");
+        spec.units = Some(Units::CentimetersPerSecond2);
+        let loaded = load_record_from_str(&spec, &text).unwrap();
+        assert_eq!(loaded.record.acceleration[1], 0.1, "{line3}: the config's units are used");
+        assert!(loaded.warnings.iter().any(|w| w.contains("the config's")), "{line3}: {:?}", loaded.warnings);
+    }
+}
+
+/// Records no earthquake produces are refused with the value named: a time
+/// step outside 1e-5..1 s, a sample beyond 20 g, a duration over a day.
+#[test]
+fn physically_absurd_records_are_refused() {
+    let mut spec = RecordSpec::new("a.txt");
+    spec.units = Some(Units::G);
+    for (text, expect) in [
+        ("0 0\n1e-300 0.1\n", "dt = 1e-300 s is outside"),
+        ("0 0\n1e300 0.1\n", "dt = 1e300 s is outside"),
+        ("0 0\n0.01 1e300\n", "beyond 20 g"),
+        ("0 0\n0.01 25\n", "beyond 20 g"),
+    ] {
+        let err = load_record_from_str(&spec, text).unwrap_err().to_string();
+        assert!(err.contains(expect), "{text:?}: {err}");
+    }
+    // 20 g itself and a scale that pushes a record beyond it
+    assert!(load_record_from_str(&spec, "0 0\n0.01 20\n").is_ok());
+    spec.scale = 2.0;
+    assert!(load_record_from_str(&spec, "0 0\n0.01 15\n").unwrap_err().to_string().contains("beyond 20 g"));
+    // a day and a bit at 1 s
+    let long = quakejoint_motion::Record::new("long", 1.0, vec![0.0; 86_402]).unwrap_err().to_string();
+    assert!(long.contains("more than a day"), "{long}");
+    assert!(quakejoint_motion::Record::new("day", 1.0, vec![0.0; 86_401]).is_ok());
 }

@@ -45,6 +45,7 @@ pub mod timefn;
 
 pub use assembly::{Assembly, AssemblyOptions, ForceExtremes, JacobianValues, Powers, Workspace};
 pub use error::{BuildError, LinalgError, SolverError, StepFailure};
+pub use integrator::radau5::ConstraintResiduals;
 pub use integrator::{EnergyBalance, IntegratorOptions, JacobianMode, NoObserver, Observer, Radau5, Stats, StepView};
 pub use linalg::block_lu::BlockOrdering;
 pub use linalg::LinearSolver;

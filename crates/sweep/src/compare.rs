@@ -38,6 +38,8 @@ pub fn differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
     let n = ra.status.len();
     per_field("status", (0..n).filter(|&j| ra.status[j] != rb.status[j]).collect());
     per_field("message", (0..n).filter(|&j| ra.messages[j] != rb.messages[j]).collect());
+    per_field("validity", (0..n).filter(|&j| ra.validity[j] != rb.validity[j]).collect());
+    per_field("findings", (0..n).filter(|&j| ra.findings[j] != rb.findings[j]).collect());
     for (k, name) in FIELDS.iter().enumerate() {
         if MACHINE_DEPENDENT.contains(name) {
             continue;

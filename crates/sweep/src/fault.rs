@@ -63,3 +63,16 @@ pub(crate) fn point(point: Point, file: &Path) {
         }
     }
 }
+
+/// Whether job `index` is to fail (`QUAKEJOINT_TEST_FAIL_JOBS=3,7`): the
+/// tests' way to make a job fail as the solver can (a typed error, status
+/// failed) without hunting for physics that breaks it.
+pub(crate) fn job_fails(index: usize) -> bool {
+    static JOBS: OnceLock<Vec<usize>> = OnceLock::new();
+    JOBS.get_or_init(|| {
+        std::env::var("QUAKEJOINT_TEST_FAIL_JOBS")
+            .map(|v| v.split(',').filter_map(|j| j.trim().parse().ok()).collect())
+            .unwrap_or_default()
+    })
+    .contains(&index)
+}

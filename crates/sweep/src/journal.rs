@@ -385,7 +385,15 @@ mod tests {
     }
 
     fn result(job: u32) -> JobResult {
-        JobResult { job, status: 0, message: String::new(), values: vec![job as f64; 3], history: None }
+        JobResult {
+            job,
+            status: 0,
+            message: String::new(),
+            values: vec![job as f64; 3],
+            validity: 0,
+            findings: String::new(),
+            history: None,
+        }
     }
 
     fn scratch(name: &str) -> PathBuf {

@@ -16,6 +16,7 @@ pub mod merge;
 pub mod plan;
 pub mod progress;
 pub mod results;
+pub mod run_h5;
 pub mod runner;
 pub mod sweep_h5;
 pub mod time;

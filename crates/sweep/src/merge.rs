@@ -29,11 +29,13 @@ use crate::runner::journal_path;
 use crate::sweep_h5::{read_sweep, write_sweep, SweepFile};
 
 /// How to merge.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct MergeOptions {
     /// Write the merged file even if some jobs have not run (they stay
     /// marked not run, and the file says `complete = 0`).
     pub allow_partial: bool,
+    /// The command line, for the merged file's provenance.
+    pub command: String,
 }
 
 /// What a merge produced.
@@ -47,6 +49,8 @@ pub struct MergeSummary {
     pub finished: usize,
     /// Jobs that failed.
     pub failed: usize,
+    /// Finished jobs outside the model's validity.
+    pub flagged: usize,
     /// Jobs without a result (only with [`MergeOptions::allow_partial`]).
     pub missing: usize,
     /// What the merge noticed and dealt with (duplicates, overlaps, a
@@ -187,6 +191,7 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         notices.push(format!("partial result written (complete = 0): {report}"));
     }
     merged.shard = if missing.is_empty() { "all".into() } else { "partial".into() };
+    merged.provenance.command = options.command.clone();
     merged.scope = (0..r.status.len() as u32).collect();
     write_sweep(output, &merged)?;
     let results = &merged.results;
@@ -195,6 +200,7 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         jobs: results.status.len(),
         finished: results.finished(),
         failed: results.failed(),
+        flagged: results.flagged(),
         missing: missing.len(),
         notices,
     })
@@ -248,7 +254,7 @@ fn combine(into: &mut Results, from: &Results, source: &str) -> Result<usize, Sw
                 .enumerate()
                 .filter(|(_, name)| !MACHINE_DEPENDENT.contains(name))
                 .any(|(k, _)| !same_bits(into.values[k][j], from.values[k][j]));
-            if differs || into.status[j] != from.status[j] {
+            if differs || into.status[j] != from.status[j] || into.validity[j] != from.validity[j] {
                 return Err(SweepError::Merge(format!("job {j} was run twice with different results ({source})")));
             }
             overlaps += 1;
@@ -259,6 +265,8 @@ fn combine(into: &mut Results, from: &Results, source: &str) -> Result<usize, Sw
         }
         into.status[j] = from.status[j];
         into.messages[j] = from.messages[j].clone();
+        into.validity[j] = from.validity[j];
+        into.findings[j] = from.findings[j].clone();
         if let Some(h) = from.histories.get(&(j as u32)) {
             into.histories.insert(j as u32, h.clone());
         }

@@ -22,10 +22,13 @@
 use std::path::{Path, PathBuf};
 
 use quakejoint_model::{Config, ModelError};
+use quakejoint_motion::sha256_hex;
 use quakejoint_motion::{load_record, period_range, Record, RecordSpec};
-use sha2::{Digest, Sha256};
 
 use crate::error::SweepError;
+
+/// The keys of the `[sweep]` table.
+pub const SWEEP_KEYS: [&str; 6] = ["periods", "damping", "records", "cases", "histories", "checkpoint_seconds"];
 
 /// One named parameter set.
 #[derive(Debug, Clone)]
@@ -58,9 +61,7 @@ impl SweepRecord {
     pub fn load(spec: RecordSpec, base_dir: &Path) -> Result<Self, SweepError> {
         let loaded = load_record(&spec, base_dir)?;
         let path = spec.resolve_path(base_dir);
-        let bytes = std::fs::read(&path)
-            .map_err(|e| SweepError::Io { path: path.display().to_string(), message: e.to_string() })?;
-        Ok(Self { sha256: sha256_hex(&bytes), record: loaded.record, warnings: loaded.warnings, spec, path })
+        Ok(Self { sha256: loaded.sha256, record: loaded.record, warnings: loaded.warnings, spec, path })
     }
 }
 
@@ -207,28 +208,23 @@ fn without_run_settings(table: &toml::Table) -> toml::Table {
     t
 }
 
-/// SHA-256 of some bytes as hex.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
-}
-
 impl Plan {
     /// Reads the sweep of a config file (`source` names it in messages;
     /// record paths are resolved against `base_dir`).
     pub fn new(config_text: &str, source: &str, base_dir: &Path) -> Result<Self, SweepError> {
         let base_config = Config::from_toml(config_text, source)?;
         let mut table: toml::Table = toml::from_str(config_text)
-            .map_err(|e| SweepError::from(ModelError::Parse { file: source.into(), message: e.to_string() }))?;
+            .map_err(|e| SweepError::from(quakejoint_model::config::parse_error(source, &e)))?;
         let sweep = match table.remove("sweep") {
             Some(toml::Value::Table(t)) => t,
             Some(_) => return Err(sweep_err("sweep", "must be a table")),
             None => return Err(sweep_err("sweep", format!("{source} has no [sweep] table"))),
         };
         for key in sweep.keys() {
-            if !["periods", "damping", "records", "cases", "histories", "checkpoint_seconds"].contains(&key.as_str()) {
+            if !SWEEP_KEYS.contains(&key.as_str()) {
                 return Err(sweep_err(
                     &format!("sweep.{key}"),
-                    "unknown key (expected periods, damping, records, cases, histories, checkpoint_seconds)",
+                    format!("unknown key (expected {})", SWEEP_KEYS.join(", ")),
                 ));
             }
         }
@@ -289,7 +285,7 @@ impl Plan {
                 })
                 .collect::<Result<_, _>>()?,
             Some(_) => return Err(sweep_err("sweep.records", "must be a list of tables")),
-            None => vec![base_config.record_x()?.clone()],
+            None => vec![base_config.record_x()],
         };
         if specs.is_empty() {
             return Err(sweep_err("sweep.records", "the list of records is empty"));
@@ -355,6 +351,26 @@ impl Plan {
                 .map_err(|e: toml::de::Error| sweep_err(&key, format!("case {name:?}: {}", e.message())))?;
             config.validate().map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
             cases.push(Case { name, bodies: bodies_of(&config), config });
+        }
+        // what can be checked before any job runs is bad input, not a failed
+        // job: every case's geometry, and every case's run length with
+        // every record
+        let named = sweep.contains_key("cases");
+        for case in &cases {
+            let name = &case.name;
+            let context = |e: ModelError| {
+                if named {
+                    sweep_err("sweep.cases", format!("case {name:?}: {e}"))
+                } else {
+                    SweepError::from(e)
+                }
+            };
+            if case.config.joint.enabled {
+                quakejoint_model::geometry::Geometry::new(&case.config).map_err(context)?;
+            }
+            for r in &records {
+                quakejoint_model::run::check_run_length(&case.config, &r.record).map_err(context)?;
+            }
         }
         let canonical = toml::to_string(&without_run_settings(&table)).unwrap_or_default()
             + &toml::to_string(&without_run_settings(&sweep)).unwrap_or_default();

@@ -44,6 +44,7 @@ pub(crate) struct Reporter {
     scope: usize,
     done: usize,
     failed: usize,
+    flagged: usize,
     threads: usize,
     cost_left: f64,
     cost_done: f64,
@@ -83,6 +84,7 @@ impl Reporter {
             scope,
             done,
             failed,
+            flagged: 0,
             threads,
             cost_left,
             cost_done: 0.0,
@@ -111,10 +113,12 @@ impl Reporter {
         }
     }
 
-    /// One job finished (`failed` if it did not end OK) that cost `cost`.
-    pub(crate) fn job_done(&mut self, failed: bool, cost: f64) {
+    /// One job finished (`failed` if it did not end OK, `flagged` if it
+    /// left the model's validity) that cost `cost`.
+    pub(crate) fn job_done(&mut self, failed: bool, flagged: bool, cost: f64) {
         self.done += 1;
         self.failed += usize::from(failed);
+        self.flagged += usize::from(flagged);
         self.cost_done += cost;
         self.overall.inc(1);
         self.overall.set_message(self.eta());
@@ -162,12 +166,13 @@ impl Reporter {
 
     fn line(&self, state: &str) -> String {
         format!(
-            "[{}] sweep {} {state}: {} of {} jobs done ({} failed), {} elapsed, {}",
+            "[{}] sweep {} {state}: {} of {} jobs done ({} failed, {} flagged), {} elapsed, {}",
             crate::time::utc_now(),
             self.label,
             self.done,
             self.scope,
             self.failed,
+            self.flagged,
             format_duration(self.start.elapsed().as_secs_f64()),
             self.eta()
         )

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 /// Per-job values stored in `/spectrum/with_joint/<name>`, in this order.
-pub const FIELDS: [&str; 24] = [
+pub const FIELDS: [&str; 27] = [
     "sa",
     "psa",
     "sd",
@@ -21,7 +21,10 @@ pub const FIELDS: [&str; 24] = [
     "max_subgap",
     "max_subgap_deviation",
     "energy_error",
-    "max_constraint_residual",
+    "max_position_residual",
+    "max_angle_residual",
+    "max_velocity_residual",
+    "max_angular_velocity_residual",
     "steps",
     "rejected_steps",
     "failed_attempts",
@@ -30,10 +33,10 @@ pub const FIELDS: [&str; 24] = [
     "wall_time_s",
 ];
 
-/// Units of [`FIELDS`].
-pub const UNITS: [&str; 24] = [
-    "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "-", "m", "-", "-", "-",
-    "-", "-", "s",
+/// Units of [`FIELDS`] (`1` for counts and ratios).
+pub const UNITS: [&str; 27] = [
+    "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "1", "m", "rad", "m/s",
+    "rad/s", "1", "1", "1", "1", "1", "s",
 ];
 
 /// Fields that depend on the machine, not on the inputs (left out of
@@ -84,6 +87,11 @@ pub struct JobResult {
     pub message: String,
     /// Values in [`FIELDS`] order (NaN when failed).
     pub values: Vec<f64>,
+    /// Validity flags of a finished run (`quakejoint_model::validity::Flags`
+    /// bits; 0 when valid or not run).
+    pub validity: u32,
+    /// What the flags found, when and where (empty when valid).
+    pub findings: String,
     /// Histories, if requested for this period.
     pub history: Option<JobHistory>,
 }
@@ -99,6 +107,10 @@ pub struct Results {
     pub status: Vec<i32>,
     /// Message of each job.
     pub messages: Vec<String>,
+    /// Validity flags of each job.
+    pub validity: Vec<u32>,
+    /// What the flags of each job found.
+    pub findings: Vec<String>,
     /// Histories by job.
     pub histories: std::collections::BTreeMap<u32, JobHistory>,
     /// Without the joint: `[sa, psa, sd, sv][(record, damping, period)]`.
@@ -115,6 +127,8 @@ impl Results {
             values: vec![vec![f64::NAN; n]; FIELDS.len()],
             status: vec![status::NOT_RUN; n],
             messages: vec![String::new(); n],
+            validity: vec![0; n],
+            findings: vec![String::new(); n],
             histories: Default::default(),
             without: [vec![f64::NAN; m], vec![f64::NAN; m], vec![f64::NAN; m], vec![f64::NAN; m]],
         }
@@ -128,6 +142,8 @@ impl Results {
         }
         self.status[j] = r.status;
         self.messages[j] = r.message;
+        self.validity[j] = r.validity;
+        self.findings[j] = r.findings;
         if let Some(h) = r.history {
             self.histories.insert(r.job, h);
         }
@@ -140,6 +156,8 @@ impl Results {
         }
         self.status[job] = status::NOT_RUN;
         self.messages[job].clear();
+        self.validity[job] = 0;
+        self.findings[job].clear();
         self.histories.remove(&(job as u32));
     }
 
@@ -151,6 +169,11 @@ impl Results {
     /// Jobs that failed.
     pub fn failed(&self) -> usize {
         self.status.iter().filter(|&&s| s != status::NOT_RUN && s != status::OK).count()
+    }
+
+    /// Finished jobs flagged as outside the model's validity.
+    pub fn flagged(&self) -> usize {
+        self.validity.iter().zip(&self.status).filter(|&(&v, &s)| v != 0 && s == status::OK).count()
     }
 
     /// Index of a field in [`FIELDS`].

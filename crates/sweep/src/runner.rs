@@ -34,11 +34,12 @@ use crate::lock::{lock_path, OutputLock};
 use crate::plan::{Job, Plan};
 use crate::progress::{Progress, Reporter};
 use crate::results::{status, JobHistory, JobResult, Results, FIELDS};
+use crate::run_h5::{Provenance, RecordSource};
 use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 
 /// Version of the journal format (2: the config's hash leaves out the
-/// per-job limits).
-const JOURNAL_SCHEMA: u32 = 2;
+/// per-job limits; 3: validity flags and split constraint residuals).
+const JOURNAL_SCHEMA: u32 = 3;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
@@ -58,9 +59,10 @@ pub struct SweepOptions {
     pub shard: Option<(usize, usize)>,
     /// How progress is shown on stderr.
     pub progress: Progress,
-    /// Files the output must never overwrite besides the records (the
-    /// config).
-    pub inputs: Vec<PathBuf>,
+    /// The config file (never overwritten; named in the output).
+    pub config_path: PathBuf,
+    /// The command line, for the output's provenance.
+    pub command: String,
     /// When set (by a signal handler), workers take no new job, running jobs
     /// stop at their next step, and the sweep writes a final checkpoint and
     /// returns with [`Summary::interrupted`].
@@ -82,6 +84,9 @@ pub struct Summary {
     pub not_run: usize,
     /// Failed jobs: (case, record, damping, period, message).
     pub failed: Vec<(String, String, f64, f64, String)>,
+    /// Finished jobs outside the model's validity: (case, record, damping,
+    /// period, flags, findings).
+    pub flagged: Vec<(String, String, f64, f64, u32, String)>,
     /// Whether a stop request ended the sweep before every job had run.
     pub interrupted: bool,
     /// Warnings given during the run (damage found in the journal, an
@@ -125,10 +130,26 @@ pub fn scope(plan: &Plan, shard: Option<(usize, usize)>) -> Vec<usize> {
     }
 }
 
-/// The file skeleton of a plan (results not yet filled).
-pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>) -> SweepFile {
-    SweepFile {
+/// The provenance of a sweep's output: the command, the config and every
+/// record file with its hash (`[record_y]` under the role `y`).
+pub fn provenance(plan: &Plan, command: &str, config_path: &Path) -> Provenance {
+    let mut records: Vec<RecordSource> =
+        plan.records.iter().map(|r| RecordSource::of(&r.record.name, &r.record, &r.sha256)).collect();
+    records.extend(plan.record_y.iter().map(|r| RecordSource::of("y", &r.record, &r.sha256)));
+    Provenance {
+        command: command.to_string(),
+        config_path: config_path.display().to_string(),
+        config_file: plan.config_text.clone(),
         config: plan.config_text.clone(),
+        records,
+    }
+}
+
+/// The file skeleton of a plan (results not yet filled).
+pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>, provenance: Provenance) -> SweepFile {
+    SweepFile {
+        provenance,
+        case_configs: plan.cases.iter().map(|c| toml::to_string(&c.config).unwrap_or_default()).collect(),
         config_sha256: plan.config_sha256.clone(),
         shard: shard.map_or("all".to_string(), |(k, n)| format!("{k}/{n}")),
         scope: scope(plan, shard).into_iter().map(|j| j as u32).collect(),
@@ -141,6 +162,8 @@ pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>) -> SweepFile {
             .map(|r| StoredRecord {
                 name: r.record.name.clone(),
                 source: r.record.source.clone(),
+                sha256: r.sha256.clone(),
+                file_units: r.record.units.name().to_string(),
                 dt: r.record.dt,
                 scale: r.record.scale,
                 pga: r.record.pga(),
@@ -190,7 +213,10 @@ fn values_of(r: &RunResult) -> Vec<f64> {
         opt(r.max_subgap),
         opt(r.max_subgap_deviation),
         r.energy_error,
-        r.max_constraint_residual(),
+        r.residuals.position,
+        r.residuals.angle,
+        r.residuals.velocity,
+        r.residuals.angular_velocity,
         s.steps as f64,
         s.rejected as f64,
         s.failed_attempts as f64,
@@ -218,7 +244,17 @@ pub fn run_job(
     let want_history = plan.history_periods.contains(&period);
     let rec = &plan.records[record].record;
     let options = RunOptions { omega: Some(omega), histories: want_history, progress, cancel };
-    match simulate_records(&config, rec, plan.record_y.as_ref().map(|r| &r.record), &options) {
+    let outcome = if crate::fault::job_fails(index) {
+        Err(ModelError::Solver(SolverError::StepFailed {
+            time: 0.0,
+            h: 0.0,
+            attempts: 0,
+            cause: quakejoint_solver::StepFailure::NonFinite,
+        }))
+    } else {
+        simulate_records(&config, rec, plan.record_y.as_ref().map(|r| &r.record), &options)
+    };
+    match outcome {
         Ok(r) => {
             let history = r.histories.as_ref().map(|h| {
                 let exact = history(&rec.acceleration, rec.dt, t, plan.damping[damping]).a_abs;
@@ -239,6 +275,8 @@ pub fn run_job(
                 status: status::OK,
                 message: String::new(),
                 values: values_of(&r),
+                validity: r.validity.flags.0,
+                findings: r.validity.message(),
                 history,
             })
         }
@@ -254,6 +292,8 @@ pub fn run_job(
                 status: code,
                 message: e.to_string(),
                 values: vec![f64::NAN; FIELDS.len()],
+                validity: 0,
+                findings: String::new(),
                 history: None,
             })
         }
@@ -302,6 +342,7 @@ fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
         }
         let same = a.status[j] == b.status[j]
             && a.messages[j] == b.messages[j]
+            && (a.validity[j], &a.findings[j]) == (b.validity[j], &b.findings[j])
             && a.values.iter().zip(&b.values).all(|(x, y)| x[j].to_bits() == y[j].to_bits())
             && a.histories.get(&(j as u32)) == b.histories.get(&(j as u32));
         if !same {
@@ -320,7 +361,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         }
     }
     let output = &opts.output;
-    let mut inputs = opts.inputs.clone();
+    let mut inputs = vec![opts.config_path.clone()];
     inputs.extend(plan.records.iter().chain(&plan.record_y).map(|r| r.path.clone()));
     check_not_an_input(output, &inputs)?;
     // nothing of the output is created, read or deleted before the lock
@@ -329,7 +370,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let mut notices: Vec<String> = lock.unsupported.iter().cloned().collect();
     let jpath = journal_path(output);
     let head = header(plan, opts.shard);
-    let mut file = sweep_file(plan, opts.shard);
+    let mut file = sweep_file(plan, opts.shard, provenance(plan, &opts.command, &opts.config_path));
     without_joint(plan, &mut file.results)?;
     let (journal, done) = if jpath.exists() {
         let c = Journal::continue_or_restart(&jpath, &head)?;
@@ -473,20 +514,19 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         .map_err(|e| SweepError::Stopped { cause: Box::new(e), journal: jpath.display().to_string() })?;
     drop(lock);
     let mut failed = Vec::new();
+    let mut flagged = Vec::new();
     let mut not_run = 0;
     for &j in &scope {
         let st = file.results.status[j];
+        let job = plan.job(j);
+        let (case, record) = (plan.cases[job.case].name.clone(), plan.records[job.record].record.name.clone());
+        let (z, t) = (plan.damping[job.damping], plan.periods[job.period]);
         if st == status::NOT_RUN {
             not_run += 1;
         } else if st != status::OK {
-            let job = plan.job(j);
-            failed.push((
-                plan.cases[job.case].name.clone(),
-                plan.records[job.record].record.name.clone(),
-                plan.damping[job.damping],
-                plan.periods[job.period],
-                file.results.messages[j].clone(),
-            ));
+            failed.push((case, record, z, t, file.results.messages[j].clone()));
+        } else if file.results.validity[j] != 0 {
+            flagged.push((case, record, z, t, file.results.validity[j], file.results.findings[j].clone()));
         }
     }
     Ok(Summary {
@@ -496,6 +536,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         ran: scope.len() - in_scope_done - not_run,
         not_run,
         failed,
+        flagged,
         interrupted: not_run > 0 && stop.load(Ordering::Relaxed),
         notices,
         wall_time_s: start.elapsed().as_secs_f64(),
@@ -545,10 +586,11 @@ impl Writer {
                 Ok(result) => {
                     self.journal.append(&result)?;
                     let failed = result.status != status::OK;
+                    let flagged = result.validity != 0;
                     let cost = self.costs.get(result.job as usize).copied().unwrap_or(0.0);
                     self.file.results.insert(result);
                     self.dirty = true;
-                    self.reporter.job_done(failed, cost);
+                    self.reporter.job_done(failed, flagged, cost);
                     if last.elapsed() >= self.checkpoint && !stop.load(Ordering::Relaxed) {
                         write_sweep(&self.output, &self.file)?;
                         last = Instant::now();

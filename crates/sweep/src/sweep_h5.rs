@@ -7,11 +7,12 @@ use hdf5::types::VarLenUnicode;
 use ndarray::{ArrayView1, ArrayView3, ArrayView4};
 
 use crate::error::OutputError;
-use crate::h5::{attr_f64, attr_str, write_atomically, VERSION};
+use crate::h5::{attach_scales, attr_str, scalar, set_scale, strings_1d, vlu, write_atomically};
 use crate::results::{JobHistory, Results, FIELDS, UNITS};
+use crate::run_h5::{write_provenance, Provenance, RecordSource};
 
 /// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 2;
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,6 +21,10 @@ pub struct StoredRecord {
     pub name: String,
     /// File it was read from.
     pub source: String,
+    /// SHA-256 of the file's bytes.
+    pub sha256: String,
+    /// Units of the numbers in the file.
+    pub file_units: String,
     /// Time step [s].
     pub dt: f64,
     /// Scale factor applied (file numbers to m/s^2).
@@ -33,13 +38,14 @@ pub struct StoredRecord {
 /// Everything in a sweep file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SweepFile {
-    /// The config's TOML text.
-    pub config: String,
+    /// The command, the config (as read: a sweep has no overrides) and
+    /// every record file with its hash (the x records and `[record_y]`).
+    pub provenance: Provenance,
     /// SHA-256 of the parsed config, as in the journal's header (shards of
     /// one sweep share it).
     pub config_sha256: String,
-    /// `"k/n"` for a shard, `"all"` for a whole sweep, `"merged"` for a
-    /// merge of shards.
+    /// `"k/n"` for a shard, `"all"` for a whole sweep or a complete merge,
+    /// `"partial"` for a merge with jobs missing.
     pub shard: String,
     /// The jobs this file is responsible for (flat indices): its shard's,
     /// or every job.
@@ -50,35 +56,54 @@ pub struct SweepFile {
     pub damping: Vec<f64>,
     /// Case names.
     pub cases: Vec<String>,
+    /// The full config of each case (TOML, base config with the case's
+    /// overrides merged in).
+    pub case_configs: Vec<String>,
     /// Records.
     pub records: Vec<StoredRecord>,
     /// The result arrays.
     pub results: Results,
 }
 
-fn vlu(s: &str) -> hdf5::Result<VarLenUnicode> {
-    s.parse().map_err(|e| hdf5::Error::from(format!("{e}")))
-}
-
 fn strings(data: &[String]) -> hdf5::Result<Vec<VarLenUnicode>> {
     data.iter().map(|s| vlu(s)).collect()
 }
 
-fn ds4(g: &hdf5::Group, name: &str, dims: [usize; 4], data: &[f64], units: &str) -> hdf5::Result<()> {
-    let view = ArrayView4::from_shape((dims[0], dims[1], dims[2], dims[3]), data)
-        .map_err(|e| hdf5::Error::from(e.to_string()))?;
-    let ds = g.new_dataset_builder().with_data(view).create(name)?;
-    attr_str(&ds, "units", units)
+fn shape_err(e: ndarray::ShapeError) -> hdf5::Error {
+    hdf5::Error::from(e.to_string())
+}
+
+/// The four axes of the result arrays and their dimension scales.
+struct Axes<'a> {
+    dims: [usize; 4],
+    scales: [(&'a hdf5::Dataset, &'static str); 4],
+}
+
+impl Axes<'_> {
+    /// Writes a (case, record, damping, period) array with its axes.
+    fn ds4<T: hdf5::H5Type>(&self, g: &hdf5::Group, name: &str, data: &[T]) -> hdf5::Result<hdf5::Dataset> {
+        let d = self.dims;
+        let view = ArrayView4::from_shape((d[0], d[1], d[2], d[3]), data).map_err(shape_err)?;
+        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        attach_scales(&ds, &self.scales)?;
+        Ok(ds)
+    }
+
+    /// Writes a (record, damping, period) array with its axes.
+    fn ds3(&self, g: &hdf5::Group, name: &str, data: &[f64]) -> hdf5::Result<hdf5::Dataset> {
+        let d = self.dims;
+        let view = ArrayView3::from_shape((d[1], d[2], d[3]), data).map_err(shape_err)?;
+        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        attach_scales(&ds, &self.scales[1..])?;
+        Ok(ds)
+    }
 }
 
 /// Writes a sweep file atomically.
 pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
     write_atomically(path, |file| {
-        attr_str(file, "quakejoint_version", VERSION)?;
+        write_provenance(file, "sweep", &f.provenance)?;
         file.new_attr::<u32>().create("schema_version")?.write_scalar(&SCHEMA_VERSION)?;
-        attr_str(file, "kind", "sweep")?;
-        attr_str(file, "config", &f.config)?;
-        attr_str(file, "created", &crate::time::utc_now())?;
         attr_str(file, "config_sha256", &f.config_sha256)?;
         attr_str(file, "shard", &f.shard)?;
         let r = &f.results;
@@ -86,39 +111,47 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         file.new_attr::<u64>().create("jobs_in_scope")?.write_scalar(&(f.scope.len() as u64))?;
         file.new_attr::<u64>().create("jobs_finished")?.write_scalar(&(r.finished() as u64))?;
         file.new_attr::<u64>().create("jobs_failed")?.write_scalar(&(r.failed() as u64))?;
+        file.new_attr::<u64>().create("jobs_flagged")?.write_scalar(&(r.flagged() as u64))?;
         let complete = f.scope.iter().all(|&j| r.status[j as usize] != crate::results::status::NOT_RUN);
         file.new_attr::<u8>().create("complete")?.write_scalar(&u8::from(complete))?;
 
         let spec = file.create_group("spectrum")?;
-        crate::h5::dataset_1d(&spec, "period", &f.periods, "s")?;
-        crate::h5::dataset_1d(&spec, "damping", &f.damping, "-")?;
         let names: Vec<String> = f.records.iter().map(|r| r.name.clone()).collect();
-        spec.new_dataset_builder().with_data(ArrayView1::from(&strings(&names)?)).create("record")?;
-        spec.new_dataset_builder().with_data(ArrayView1::from(&strings(&f.cases)?)).create("case")?;
+        let case = strings_1d(&spec, "case", &f.cases)?;
+        let record = strings_1d(&spec, "record", &names)?;
+        let damping = spec.new_dataset_builder().with_data(&f.damping[..]).create("damping")?;
+        attr_str(&damping, "units", "1")?;
+        let period = spec.new_dataset_builder().with_data(&f.periods[..]).create("period")?;
+        attr_str(&period, "units", "s")?;
+        for (ds, name) in [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, "period")] {
+            set_scale(ds, name)?;
+        }
+        strings_1d(&spec, "case_config", &f.case_configs)?;
         let scope = spec.new_dataset_builder().with_data(ArrayView1::from(&f.scope)).create("scope")?;
         attr_str(&scope, "meaning", "flat indices of the jobs this file is responsible for (its shard's, or all)")?;
+        let axes = Axes {
+            dims: r.dims,
+            scales: [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, "period")],
+        };
 
-        let d = r.dims;
         let without = spec.create_group("without_joint")?;
         for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
-            let view = ArrayView3::from_shape((d[1], d[2], d[3]), &r.without[k])
-                .map_err(|e| hdf5::Error::from(e.to_string()))?;
-            let ds = without.new_dataset_builder().with_data(view).create(*name)?;
+            let ds = axes.ds3(&without, name, &r.without[k])?;
             attr_str(&ds, "units", ["m/s^2", "m/s^2", "m", "m/s"][k])?;
         }
         let with = spec.create_group("with_joint")?;
         for (k, name) in FIELDS.iter().enumerate() {
-            ds4(&with, name, d, &r.values[k], UNITS[k])?;
+            let ds = axes.ds4(&with, name, &r.values[k])?;
+            attr_str(&ds, "units", UNITS[k])?;
         }
-        let status = ArrayView4::from_shape((d[0], d[1], d[2], d[3]), &r.status)
-            .map_err(|e| hdf5::Error::from(e.to_string()))?;
-        let ds = with.new_dataset_builder().with_data(status).create("status")?;
+        let ds = axes.ds4(&with, "status", &r.status)?;
         attr_str(&ds, "meaning", "0 ok, 1 simulation failed, 2 invalid parameters, 3 time or step limit, -1 not run")?;
-        let msgs = strings(&r.messages)?;
-        let msgs =
-            ArrayView4::from_shape((d[0], d[1], d[2], d[3]), &msgs).map_err(|e| hdf5::Error::from(e.to_string()))?;
-        with.new_dataset_builder().with_data(msgs).create("message")?;
-        ds4(&spec, "reduction", d, &r.reduction(), "-")?;
+        axes.ds4(&with, "message", &strings(&r.messages)?)?;
+        let ds = axes.ds4(&with, "validity", &r.validity)?;
+        attr_str(&ds, "meaning", &quakejoint_model::validity::Flags::legend())?;
+        axes.ds4(&with, "findings", &strings(&r.findings)?)?;
+        let ds = axes.ds4(&spec, "reduction", &r.reduction())?;
+        attr_str(&ds, "units", "1")?;
         crate::fault::point(crate::fault::Point::Checkpoint, path);
 
         let recs = file.create_group("records")?;
@@ -126,15 +159,17 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
             let g = recs.create_group(&rec.name)?;
             let ds = g.new_dataset_builder().with_data(ArrayView1::from(&rec.acceleration)).create("acceleration")?;
             attr_str(&ds, "units", "m/s^2")?;
-            attr_f64(&ds, "dt", rec.dt)?;
-            attr_str(&ds, "source", &rec.source)?;
-            attr_f64(&ds, "scale", rec.scale)?;
-            attr_f64(&ds, "pga", rec.pga)?;
+            attr_str(&g, "source", &rec.source)?;
+            attr_str(&g, "sha256", &rec.sha256)?;
+            attr_str(&g, "file_units", &rec.file_units)?;
+            scalar(&g, "dt", rec.dt, "s")?;
+            scalar(&g, "scale", rec.scale, "m/s^2 per file unit")?;
+            scalar(&g, "pga", rec.pga, "m/s^2")?;
         }
         if !r.histories.is_empty() {
             let hist = file.create_group("histories")?;
             for (&job, h) in &r.histories {
-                write_history(&hist, job, d, f, h)?;
+                write_history(&hist, job, r.dims, f, h)?;
             }
         }
         Ok(())
@@ -147,8 +182,8 @@ fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: 
     let g = hist.create_group(&format!("job_{job}"))?;
     attr_str(&g, "case", &f.cases[c])?;
     attr_str(&g, "record", &f.records[rr].name)?;
-    attr_f64(&g, "damping", f.damping[z])?;
-    attr_f64(&g, "period", f.periods[t])?;
+    scalar(&g, "damping", f.damping[z], "1")?;
+    scalar(&g, "period", f.periods[t], "s")?;
     g.new_attr::<u64>().create("job")?.write_scalar(&(job as u64))?;
     crate::h5::dataset_1d(&g, "t", &h.t, "s")?;
     crate::h5::dataset_1d(&g, "ag", &h.ag, "m/s^2")?;
@@ -165,6 +200,33 @@ fn read_strings(ds: &hdf5::Dataset) -> hdf5::Result<Vec<String>> {
 
 fn read_attr_str(loc: &hdf5::Location, name: &str) -> hdf5::Result<String> {
     Ok(loc.attr(name)?.read_scalar::<VarLenUnicode>()?.as_str().to_string())
+}
+
+/// Reads what [`write_provenance`] wrote.
+fn read_provenance(file: &hdf5::File) -> hdf5::Result<Provenance> {
+    let mut records = Vec::new();
+    if let Ok(inputs) = file.group("inputs/records") {
+        for role in inputs.member_names()? {
+            let g = inputs.group(&role)?;
+            records.push(RecordSource {
+                name: read_attr_str(&g, "name")?,
+                file: read_attr_str(&g, "file")?,
+                sha256: read_attr_str(&g, "sha256")?,
+                units: read_attr_str(&g, "file_units")?,
+                samples: g.attr("samples")?.read_scalar::<u64>()? as usize,
+                dt: g.dataset("dt")?.read_scalar()?,
+                scale: g.dataset("scale")?.read_scalar()?,
+                role,
+            });
+        }
+    }
+    Ok(Provenance {
+        command: read_attr_str(file, "command")?,
+        config_path: read_attr_str(file, "config_path")?,
+        config_file: read_attr_str(file, "config_file")?,
+        config: read_attr_str(file, "config")?,
+        records,
+    })
 }
 
 /// Reads a sweep file written by [`write_sweep`].
@@ -188,6 +250,8 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
         }
         results.status = with.dataset("status")?.read_raw()?;
         results.messages = read_strings(&with.dataset("message")?)?;
+        results.validity = with.dataset("validity")?.read_raw()?;
+        results.findings = read_strings(&with.dataset("findings")?)?;
         let without = spec.group("without_joint")?;
         for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
             results.without[k] = without.dataset(name)?.read_raw()?;
@@ -196,6 +260,8 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
         let sizes_ok = results.status.len() == n
             && results.values.iter().all(|v| v.len() == n)
             && results.messages.len() == n
+            && results.validity.len() == n
+            && results.findings.len() == n
             && results.without.iter().all(|v| v.len() == m);
         if !sizes_ok || dims.contains(&0) {
             return Err(hdf5::Error::from("the result arrays do not match the grid (case, record, damping, period)"));
@@ -206,14 +272,17 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
         let recs = file.group("records")?;
         let mut records = Vec::new();
         for name in &record_names {
-            let ds = recs.group(name)?.dataset("acceleration")?;
+            let g = recs.group(name)?;
+            let number = |n: &str| -> hdf5::Result<f64> { g.dataset(n)?.read_scalar() };
             records.push(StoredRecord {
                 name: name.clone(),
-                source: read_attr_str(&ds, "source")?,
-                dt: ds.attr("dt")?.read_scalar()?,
-                scale: ds.attr("scale")?.read_scalar()?,
-                pga: ds.attr("pga")?.read_scalar()?,
-                acceleration: ds.read_raw()?,
+                source: read_attr_str(&g, "source")?,
+                sha256: read_attr_str(&g, "sha256")?,
+                file_units: read_attr_str(&g, "file_units")?,
+                dt: number("dt")?,
+                scale: number("scale")?,
+                pga: number("pga")?,
+                acceleration: g.dataset("acceleration")?.read_raw()?,
             });
         }
         if let Ok(hist) = file.group("histories") {
@@ -238,8 +307,14 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
                 );
             }
         }
+        let provenance = read_provenance(&file)?;
+        let case_configs = read_strings(&spec.dataset("case_config")?)?;
+        if case_configs.len() != cases.len() {
+            return Err(hdf5::Error::from("case_config does not match the cases"));
+        }
         Ok(SweepFile {
-            config: read_attr_str(&file, "config")?,
+            provenance,
+            case_configs,
             config_sha256: read_attr_str(&file, "config_sha256")?,
             shard: read_attr_str(&file, "shard")?,
             scope,

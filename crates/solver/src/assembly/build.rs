@@ -220,6 +220,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         drivers: Vec::new(),
         g_entries: Vec::new(),
         eq_mref: Vec::new(),
+        eq_angular: vec![false; layout.eq_coord.len()],
         constraint_names: system.constraints().iter().map(|(n, _)| n.clone()).collect(),
         constraint_prims: vec![Vec::new(); system.constraints().len()],
         eq_constraint,
@@ -313,6 +314,11 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
             g_start,
             g_count: (asm.g_entries.len() as u32 - g_start) as u8,
         };
+        if matches!(&p, Prim::Angle(_)) || matches!(&p, Prim::Driver(k) if k.slot == 2) {
+            for row in 0..p.rows() {
+                asm.eq_angular[(eq + row as u32) as usize] = true;
+            }
+        }
         eq += p.rows() as u32;
         let r = match p {
             Prim::Point(k) => {

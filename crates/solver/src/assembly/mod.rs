@@ -211,6 +211,9 @@ pub struct Assembly {
     pub(crate) g_entries: Vec<GEntry>,
     /// Reference mass of each equation for scaling the constraint rows.
     pub(crate) eq_mref: Vec<f64>,
+    /// Whether each equation is angular (in rad) rather than translational
+    /// (in m).
+    pub(crate) eq_angular: Vec<bool>,
     pub(crate) constraint_names: Vec<String>,
     pub(crate) constraint_prims: Vec<Vec<PrimRef>>,
     pub(crate) eq_constraint: Vec<u32>,

@@ -223,8 +223,9 @@ pub struct Radau5 {
     stats: Stats,
     energy: EnergyBalance,
     potential0: f64,
-    max_g: f64,
-    max_gv: f64,
+    /// Largest residuals over the run by kind (position and angle,
+    /// velocity and angular velocity).
+    max_residual: ConstraintResiduals,
     /// The sliders solved locally at every Newton iteration.
     local: LocalFriction,
     /// Per friction element, whether it is solved locally (and enters the
@@ -320,8 +321,7 @@ impl Radau5 {
             stats: Stats::default(),
             energy: EnergyBalance::default(),
             potential0: 0.0,
-            max_g: 0.0,
-            max_gv: 0.0,
+            max_residual: ConstraintResiduals::default(),
             local,
             zone,
             ws,
@@ -366,9 +366,17 @@ impl Radau5 {
         &self.energy
     }
 
-    /// Largest |g| and |G v + g_t| over all accepted states so far.
+    /// Largest |g| and |G v + g_t| over all accepted states so far, every
+    /// equation together [m or rad; m/s or rad/s].
     pub fn max_constraint_residuals(&self) -> (f64, f64) {
-        (self.max_g, self.max_gv)
+        let r = &self.max_residual;
+        (r.position.max(r.angle), r.velocity.max(r.angular_velocity))
+    }
+
+    /// Largest residuals over all accepted states so far, by kind, each in
+    /// its unit.
+    pub fn constraint_residuals(&self) -> ConstraintResiduals {
+        self.max_residual
     }
 
     /// The compiled system.
@@ -514,10 +522,17 @@ impl Radau5 {
 
     /// Folds the constraint residuals in the workspace into the maxima.
     fn record_constraint_residuals(&mut self) {
-        let g = worst_equation(self.ws.constraints()).1;
-        let gv = worst_equation(self.ws.velocity_constraints()).1;
-        self.max_g = self.max_g.max(g);
-        self.max_gv = self.max_gv.max(gv);
+        let angular = &self.asm.eq_angular;
+        let r = &mut self.max_residual;
+        for (e, (&g, &gv)) in self.ws.constraints().iter().zip(self.ws.velocity_constraints()).enumerate() {
+            if angular[e] {
+                r.angle = r.angle.max(g.abs());
+                r.angular_velocity = r.angular_velocity.max(gv.abs());
+            } else {
+                r.position = r.position.max(g.abs());
+                r.velocity = r.velocity.max(gv.abs());
+            }
+        }
     }
 
     // --------------------------------------------------------- linear algebra
@@ -1131,6 +1146,21 @@ fn transform(mat: &[[f64; 3]; 3], src: &Stages, dst: &mut Stages) {
 }
 
 /// Index and magnitude of the largest |value|.
+/// Largest constraint residuals by kind, each in its unit.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ConstraintResiduals {
+    /// Largest |g| of translational equations (points, lines, drivers of x
+    /// or y) [m].
+    pub position: f64,
+    /// Largest |g| of angular equations (relative angles, drivers of phi)
+    /// [rad].
+    pub angle: f64,
+    /// Largest |G v + g_t| of translational equations [m/s].
+    pub velocity: f64,
+    /// Largest |G v + g_t| of angular equations [rad/s].
+    pub angular_velocity: f64,
+}
+
 fn worst_equation(values: &[f64]) -> (usize, f64) {
     values.iter().enumerate().fold((0, 0.0), |(bi, bv), (i, v)| if v.abs() > bv { (i, v.abs()) } else { (bi, bv) })
 }

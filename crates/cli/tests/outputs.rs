@@ -1,0 +1,201 @@
+//! Self-describing outputs: every HDF5 file says what produced it and what
+//! its numbers mean, and `docs/hdf5-layout.md` matches the files.
+//!
+//! - Provenance: the command, the config file as read, the config as used
+//!   after command-line overrides (`simulate --record/--period`, `service
+//!   --speed/--amplitude/--cycles`), and every record file with its SHA-256.
+//! - Units: every numeric dataset has a `units` attribute; no attribute holds
+//!   a floating-point number (numbers with units are datasets); integer
+//!   attributes are counts.
+//! - NaN for what a run did not compute (the joint's quantities and the
+//!   solver counters of the exact solution without the joint).
+//! - The sweep's result arrays carry HDF5 dimension scales (case, record,
+//!   damping, period), read back by h5py.
+//! - Every dataset and group of the files is in `docs/hdf5-layout.md`, and
+//!   every path the document lists exists in a file.
+
+mod common;
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use common::{config, dir, ok, root, run};
+use hdf5::types::VarLenUnicode;
+
+fn attr_string(loc: &hdf5::Location, name: &str) -> String {
+    loc.attr(name).unwrap_or_else(|_| panic!("attribute {name}")).read_scalar::<VarLenUnicode>().unwrap().to_string()
+}
+
+/// Every object path of a file (groups and datasets), and checks on the
+/// way: numeric datasets have units, attributes hold no floats.
+fn walk(group: &hdf5::Group, prefix: &str, paths: &mut BTreeSet<String>) {
+    for attr in group.attr_names().unwrap() {
+        let dtype = group.attr(&attr).unwrap().dtype().unwrap();
+        assert!(!dtype.is::<f64>() && !dtype.is::<f32>(), "{prefix}: attribute {attr} holds a float without units");
+    }
+    for name in group.member_names().unwrap() {
+        let path = format!("{prefix}/{name}");
+        if let Ok(g) = group.group(&name) {
+            paths.insert(path.clone());
+            walk(&g, &path, paths);
+        } else {
+            let ds = group.dataset(&name).unwrap();
+            let dtype = ds.dtype().unwrap();
+            if dtype.is::<f64>() {
+                assert!(ds.attr("units").is_ok(), "{path}: a numeric dataset without units");
+            }
+            for attr in ds.attr_names().unwrap() {
+                let t = ds.attr(&attr).unwrap().dtype().unwrap();
+                assert!(!t.is::<f64>(), "{path}: attribute {attr} holds a float");
+            }
+            paths.insert(path);
+        }
+    }
+}
+
+fn paths_of(file: &Path) -> BTreeSet<String> {
+    let f = hdf5::File::open(file).unwrap();
+    let mut paths = BTreeSet::new();
+    walk(&f, "", &mut paths);
+    paths
+}
+
+/// Paths listed in docs/hdf5-layout.md (in backquotes, starting with `/`),
+/// with `<...>` placeholders.
+fn documented_paths() -> Vec<String> {
+    let doc = std::fs::read_to_string(root().join("docs/hdf5-layout.md")).unwrap();
+    let mut out = Vec::new();
+    for part in doc.split('`').skip(1).step_by(2) {
+        if part.starts_with('/') && !part.contains(' ') {
+            out.push(part.to_string());
+        }
+    }
+    out
+}
+
+/// Whether a concrete path matches a documented one: `<...>` matches one
+/// path component; `{a,b}` any of the names.
+fn matches(doc: &str, path: &str) -> bool {
+    let (d, p): (Vec<&str>, Vec<&str>) = (doc.split('/').collect(), path.split('/').collect());
+    d.len() == p.len()
+        && d.iter().zip(&p).all(|(d, p)| {
+            if d.starts_with('<') || d.ends_with('>') || d.contains("<") {
+                let prefix = d.split('<').next().unwrap_or("");
+                p.starts_with(prefix)
+            } else if d.starts_with('{') {
+                d.trim_matches(|c| c == '{' || c == '}').split(',').any(|n| n == *p)
+            } else {
+                d == p
+            }
+        })
+}
+
+#[test]
+fn every_file_says_what_produced_it_and_carries_units() {
+    let d = dir("outputs");
+    let cfg = config(&d, "c.toml", "[sweep]\nperiods = [0.5, 1.0]\ndamping = [0.02, 0.05]\nhistories = [1.0]\n", 2.0);
+    let text = std::fs::read_to_string(&cfg).unwrap();
+    let other = root().join("ground_motions/RSN77_SFERN_PUL164-hor1.AT2");
+
+    // simulate with a record and a period from the command line
+    let run_h5 = d.join("run.h5");
+    let res = run(&[
+        "simulate",
+        cfg.to_str().unwrap(),
+        "--record",
+        other.to_str().unwrap(),
+        "--period",
+        "1.5",
+        "--output",
+        run_h5.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(matches!(res.status.code(), Some(0 | 4)), "{}", String::from_utf8_lossy(&res.stderr));
+    let f = hdf5::File::open(&run_h5).unwrap();
+    assert_eq!(attr_string(&f, "config_file"), text, "the config as read");
+    let used: toml::Table = toml::from_str(&attr_string(&f, "config")).unwrap();
+    assert!(used["record"]["file"].as_str().unwrap().ends_with("RSN77_SFERN_PUL164-hor1.AT2"), "{used:?}");
+    assert_eq!(used["bridge"]["period"].as_float(), Some(1.5));
+    assert!(attr_string(&f, "command").contains("--period 1.5"));
+    let x = f.group("inputs/records/x").unwrap();
+    let sha = quakejoint_motion::sha256_hex(&std::fs::read(&other).unwrap());
+    assert_eq!(attr_string(&x, "sha256"), sha);
+    assert_eq!(attr_string(&x, "file_units"), "g");
+    assert_eq!(f.dataset("result/period").unwrap().read_scalar::<f64>().unwrap(), 1.5);
+    assert_eq!(attr_string(&f.dataset("result/sa").unwrap(), "units"), "m/s^2");
+    assert_eq!(attr_string(&f.dataset("result/max_angle_residual").unwrap(), "units"), "rad");
+    let mut all = paths_of(&run_h5);
+
+    // without the joint: what was not computed is NaN
+    let exact = d.join("exact.h5");
+    ok(&run(&["simulate", cfg.to_str().unwrap(), "--no-joint", "--output", exact.to_str().unwrap()]));
+    let f = hdf5::File::open(&exact).unwrap();
+    for name in ["peak_joint_force", "friction_energy", "energy_error", "steps", "newton_iterations"] {
+        let v: f64 = f.dataset(&format!("result/{name}")).unwrap().read_scalar().unwrap();
+        assert!(v.is_nan(), "{name} = {v} without the joint");
+    }
+    assert!(f.dataset("result/sa").unwrap().read_scalar::<f64>().unwrap() > 0.0);
+    assert_eq!(attr_string(&f, "method"), "exact linear, without the joint");
+    all.extend(paths_of(&exact));
+
+    // service with options from the command line
+    let loop_h5 = d.join("loop.h5");
+    let small = root().join("configs/small.toml");
+    ok(&run(&[
+        "service",
+        small.to_str().unwrap(),
+        "--speed",
+        "0.1",
+        "--amplitude",
+        "0.1",
+        "--cycles",
+        "1",
+        "--output",
+        loop_h5.to_str().unwrap(),
+    ]));
+    let f = hdf5::File::open(&loop_h5).unwrap();
+    let used: toml::Table = toml::from_str(&attr_string(&f, "config")).unwrap();
+    assert_eq!(used["service"]["speed"].as_float(), Some(0.1));
+    assert_eq!(used["service"]["amplitude"].as_float(), Some(0.1));
+    assert_eq!(used["service"]["cycles"].as_integer(), Some(1));
+    assert_eq!(f.dataset("service/center_beam_dx").unwrap().shape()[0], 3);
+    all.extend(paths_of(&loop_h5));
+
+    // a sweep, with dimension scales on its arrays
+    let sweep_h5 = d.join("sweep.h5");
+    ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", sweep_h5.to_str().unwrap()]));
+    all.extend(paths_of(&sweep_h5));
+    let h5py = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(
+            "import sys, h5py\n\
+             f = h5py.File(sys.argv[1], 'r')\n\
+             for name in ['spectrum/with_joint/sa', 'spectrum/with_joint/status', 'spectrum/reduction']:\n\
+             \x20   ds = f[name]\n\
+             \x20   labels = [d.label for d in ds.dims]\n\
+             \x20   scales = [d[0].name for d in ds.dims]\n\
+             \x20   assert labels == ['case', 'record', 'damping', 'period'], labels\n\
+             \x20   assert scales == ['/spectrum/case', '/spectrum/record', '/spectrum/damping', '/spectrum/period'], scales\n\
+             ds = f['spectrum/without_joint/sa']\n\
+             assert [d.label for d in ds.dims] == ['record', 'damping', 'period']\n\
+             assert list(f['spectrum/period'][:]) == [0.5, 1.0]\n\
+             print('ok')",
+        )
+        .arg(&sweep_h5)
+        .output()
+        .unwrap();
+    assert!(h5py.status.success(), "h5py: {}", String::from_utf8_lossy(&h5py.stderr));
+
+    // a sparsity file
+    let sparsity = d.join("sparsity.h5");
+    ok(&run(&["model", small.to_str().unwrap(), "--sparsity", sparsity.to_str().unwrap()]));
+    all.extend(paths_of(&sparsity));
+
+    assert!(all.len() > 100, "{} paths in the files", all.len());
+    // the layout document and the files agree
+    let documented = documented_paths();
+    let undocumented: Vec<&String> = all.iter().filter(|p| !documented.iter().any(|d| matches(d, p))).collect();
+    assert!(undocumented.is_empty(), "not in docs/hdf5-layout.md: {undocumented:?}");
+    let missing: Vec<&String> = documented.iter().filter(|d| !all.iter().any(|p| matches(d, p))).collect();
+    assert!(missing.is_empty(), "documented but in no file: {missing:?}");
+}

@@ -1,0 +1,290 @@
+//! Whether a run stays inside what the model can stand behind.
+//!
+//! The model has no contact between its parts and no limits on its joints,
+//! so a run can reach states a real joint cannot: center beams passing
+//! through each other, a bearing sliding off its support beam, a joist
+//! pulled out of its box. Such a run still ends with numbers; its
+//! [`Validity`] says which limits it crossed, when and where, and every
+//! output carries it. A run whose energy balance does not close is flagged
+//! too: its numbers are not converged.
+//!
+//! The flags are bits of a `u32` (HDF5 `validity`, JSON `validity`):
+//!
+//! | bit | name | meaning |
+//! |---|---|---|
+//! | 1 | `collision` | a clear sub-gap went below zero: neighbouring beams (or a beam and an edge beam) overlap |
+//! | 2 | `bearing_off_support` | a bearing left the part of its support beam between the pivot (or abutment) and the joist box (or deck) |
+//! | 4 | `joist_pulled_out` | the distance from a joist's pivot to its box exceeded the joist's length (`joint.support_beam.length`) |
+//! | 8 | `energy_balance` | the energy balance error exceeded [`ENERGY_TOLERANCE`] of the earthquake's work |
+
+use quakejoint_solver::{Assembly, BodyId, Coord};
+
+use crate::config::SupportKind;
+use crate::error::ModelError;
+use crate::generator::JointModel;
+use crate::geometry::Geometry;
+
+/// Largest energy balance error, relative to the earthquake's work, of a
+/// run whose numbers are trusted [-] (converged runs stay below 1e-6).
+pub const ENERGY_TOLERANCE: f64 = 1e-3;
+
+/// The validity flags of a run (a bit set).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub struct Flags(pub u32);
+
+impl Flags {
+    /// Nothing crossed.
+    pub const OK: Flags = Flags(0);
+    /// A clear sub-gap below zero.
+    pub const COLLISION: Flags = Flags(1);
+    /// A bearing off its support beam.
+    pub const BEARING_OFF_SUPPORT: Flags = Flags(2);
+    /// A joist longer than its length from pivot to box.
+    pub const JOIST_PULLED_OUT: Flags = Flags(4);
+    /// The energy balance does not close.
+    pub const ENERGY_BALANCE: Flags = Flags(8);
+    /// Every flag with its name.
+    pub const ALL: [(Flags, &'static str); 4] = [
+        (Flags::COLLISION, "collision"),
+        (Flags::BEARING_OFF_SUPPORT, "bearing_off_support"),
+        (Flags::JOIST_PULLED_OUT, "joist_pulled_out"),
+        (Flags::ENERGY_BALANCE, "energy_balance"),
+    ];
+
+    /// Whether no flag is set.
+    pub fn is_ok(self) -> bool {
+        self.0 == 0
+    }
+
+    /// Whether every flag of `other` is set.
+    pub fn contains(self, other: Flags) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// The names of the flags set.
+    pub fn names(self) -> Vec<&'static str> {
+        Flags::ALL.iter().filter(|(f, _)| self.contains(*f) && !f.is_ok()).map(|(_, n)| *n).collect()
+    }
+
+    /// `ok`, or the names joined with `+`.
+    pub fn label(self) -> String {
+        if self.is_ok() {
+            "ok".into()
+        } else {
+            self.names().join("+")
+        }
+    }
+
+    /// The meaning of the bits, for file attributes.
+    pub fn legend() -> String {
+        let bits: Vec<String> = Flags::ALL.iter().map(|(f, n)| format!("{} {n}", f.0)).collect();
+        format!("bit set: 0 ok; {}", bits.join(", "))
+    }
+}
+
+impl std::ops::BitOrAssign for Flags {
+    fn bitor_assign(&mut self, rhs: Flags) {
+        self.0 |= rhs.0;
+    }
+}
+
+/// What a run crossed: the flags and, for each, when and where, in words.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Validity {
+    /// The flags.
+    pub flags: Flags,
+    /// One sentence per flag set (first time, place and extreme value).
+    pub findings: Vec<String>,
+}
+
+impl Validity {
+    /// The findings as one line.
+    pub fn message(&self) -> String {
+        self.findings.join("; ")
+    }
+}
+
+/// A bearing and how to find its position along its support beam.
+#[derive(Debug, Clone)]
+struct Bearing {
+    /// Its x and y coordinates.
+    x: usize,
+    y: usize,
+    /// Its support beam's index, and the joist's angle coordinate (None for
+    /// a guide, which does not turn).
+    support: usize,
+    phi: Option<usize>,
+    /// Center beam (1-based) for messages.
+    beam: usize,
+}
+
+/// The first time and worst value of a crossed limit.
+#[derive(Debug, Clone, Copy)]
+struct Crossing {
+    first: f64,
+    worst: f64,
+    at: f64,
+    place: usize,
+}
+
+impl Crossing {
+    /// Records a crossing of size `excess` (> 0) at `t` in place `place`.
+    fn update(slot: &mut Option<Crossing>, t: f64, excess: f64, place: usize) {
+        match slot {
+            None => *slot = Some(Crossing { first: t, worst: excess, at: t, place }),
+            Some(c) if excess > c.worst => {
+                c.worst = excess;
+                c.at = t;
+                c.place = place;
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Watches the limits of a run at its output times.
+#[derive(Debug, Clone)]
+pub struct Monitor {
+    geometry: Geometry,
+    joist_length: f64,
+    bearings: Vec<Bearing>,
+    collision: Option<Crossing>,
+    off_support: Option<Crossing>,
+    pulled_out: Option<Crossing>,
+}
+
+impl Monitor {
+    /// A monitor of a joint model (None without the joint).
+    pub fn new(model: &JointModel, asm: &Assembly, joist_length: f64) -> Result<Option<Self>, ModelError> {
+        let Some(geometry) = model.geometry.clone() else { return Ok(None) };
+        let coord = |b: BodyId, c: Coord| {
+            asm.coordinate(b, c).ok_or_else(|| ModelError::Geometry(format!("body {} lacks a coordinate", b.index())))
+        };
+        let mut bearings = Vec::new();
+        for (i, row) in model.bearings.iter().enumerate() {
+            for (k, &b) in row.iter().enumerate() {
+                let phi = match geometry.supports[k].kind {
+                    SupportKind::Joist => Some(coord(model.supports[k], Coord::Phi)?),
+                    SupportKind::Guide => None,
+                };
+                bearings.push(Bearing { x: coord(b, Coord::X)?, y: coord(b, Coord::Y)?, support: k, phi, beam: i + 1 });
+            }
+        }
+        Ok(Some(Self { geometry, joist_length, bearings, collision: None, off_support: None, pulled_out: None }))
+    }
+
+    /// Checks one output time: positions `q`, deck opening `u`, the clear
+    /// sub-gaps `subgaps` (abutment side first).
+    pub fn sample(&mut self, t: f64, q: &[f64], u: f64, subgaps: &[f64]) {
+        for (s, &gap) in subgaps.iter().enumerate() {
+            if gap < 0.0 {
+                Crossing::update(&mut self.collision, t, -gap, s);
+            }
+        }
+        let g = &self.geometry;
+        for (n, b) in self.bearings.iter().enumerate() {
+            let sup = &g.supports[b.support];
+            // distance along the support from its pivot (abutment) end, and
+            // the length between the pivot and the box (deck) end
+            let (along, reach) = match b.phi {
+                Some(phi) => {
+                    let (sin, cos) = q[phi].sin_cos();
+                    (q[b.x] * cos + (q[b.y] - sup.y0) * sin, (g.gap + u).hypot(sup.box_dy))
+                }
+                None => (q[b.x], g.gap + u),
+            };
+            let excess = (-along).max(along - reach);
+            if excess > 0.0 {
+                Crossing::update(&mut self.off_support, t, excess, n);
+            }
+        }
+        for (k, sup) in g.supports.iter().enumerate() {
+            if sup.kind == SupportKind::Joist {
+                let excess = (g.gap + u).hypot(sup.box_dy) - self.joist_length;
+                if excess > 0.0 {
+                    Crossing::update(&mut self.pulled_out, t, excess, k);
+                }
+            }
+        }
+    }
+
+    /// The validity of the run so far, with its energy balance error.
+    pub fn validity(&self, energy_error: f64) -> Validity {
+        let mut v = Validity::default();
+        let nc = self.geometry.center_beams;
+        if let Some(c) = self.collision {
+            v.flags |= Flags::COLLISION;
+            let between = match c.place {
+                0 => "the abutment's edge beam and center beam 1".to_string(),
+                s if s == nc => format!("center beam {nc} and the deck's edge beam"),
+                s => format!("center beams {s} and {}", s + 1),
+            };
+            v.findings.push(format!(
+                "collision: the clear sub-gap between {between} reached {:.1} mm at t = {:.3} s (first below zero at \
+                 t = {:.3} s); the model has no contact, so the beams overlap",
+                -c.worst * 1e3,
+                c.at,
+                c.first
+            ));
+        }
+        if let Some(c) = self.off_support {
+            v.flags |= Flags::BEARING_OFF_SUPPORT;
+            let b = &self.bearings[c.place];
+            v.findings.push(format!(
+                "bearing_off_support: the bearing of center beam {} on joint.support_beams[{}] was {:.1} mm beyond \
+                 its support beam's span at t = {:.3} s (first at t = {:.3} s)",
+                b.beam,
+                b.support,
+                c.worst * 1e3,
+                c.at,
+                c.first
+            ));
+        }
+        if let Some(c) = self.pulled_out {
+            v.flags |= Flags::JOIST_PULLED_OUT;
+            v.findings.push(format!(
+                "joist_pulled_out: joint.support_beams[{}] reached {:.3} m beyond its length {} m from pivot to box at \
+                 t = {:.3} s (first at t = {:.3} s)",
+                c.place, c.worst, self.joist_length, c.at, c.first
+            ));
+        }
+        if energy_error.is_nan() || energy_error > ENERGY_TOLERANCE {
+            v.flags |= Flags::ENERGY_BALANCE;
+            v.findings.push(format!(
+                "energy_balance: the energy balance error is {energy_error:.2e} of the earthquake's work (above \
+                 {ENERGY_TOLERANCE:e}): the run is not converged; tighten simulation.rtol and atol"
+            ));
+        }
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_energy_balance_that_does_not_close_is_flagged() {
+        let model = crate::generator::build(&crate::Config::default(), None, crate::generator::Drive::None).unwrap();
+        let asm = Assembly::new(&model.system, &Default::default()).unwrap();
+        let m = Monitor::new(&model, &asm, 7.5).unwrap().unwrap();
+        assert!(m.validity(1e-8).flags.is_ok());
+        assert!(m.validity(ENERGY_TOLERANCE * 0.99).flags.is_ok());
+        for bad in [ENERGY_TOLERANCE * 1.01, f64::NAN] {
+            let v = m.validity(bad);
+            assert_eq!(v.flags, Flags::ENERGY_BALANCE, "{bad}");
+            assert!(v.findings[0].starts_with("energy_balance:"), "{:?}", v.findings);
+        }
+    }
+
+    #[test]
+    fn flags_name_themselves() {
+        let mut f = Flags::OK;
+        assert_eq!(f.label(), "ok");
+        f |= Flags::COLLISION;
+        f |= Flags::ENERGY_BALANCE;
+        assert_eq!(f.label(), "collision+energy_balance");
+        assert_eq!(f.0, 9);
+        assert!(Flags::legend().contains("1 collision") && Flags::legend().contains("8 energy_balance"));
+    }
+}

@@ -1,0 +1,239 @@
+//! The HDF5 files of single runs (`quakejoint simulate`, `service`,
+//! `model --sparsity`; layout in `docs/hdf5-layout.md`), and the provenance
+//! every output file carries: the command, the config as read and as used
+//! after command-line overrides, and each record file with its hash.
+
+use std::path::Path;
+
+use quakejoint_model::run::RunResult;
+use quakejoint_model::service::ServiceResult;
+use quakejoint_motion::Record;
+
+use crate::error::OutputError;
+use crate::h5::{attr_str, dataset_1d, dataset_2d, scalar, write_atomically, VERSION};
+
+/// A record as used by a run: enough to find the very file again and to
+/// know how its numbers were read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RecordSource {
+    /// Its role: `x` or `y` in a run, the record's name in a sweep.
+    pub role: String,
+    /// The record's name.
+    pub name: String,
+    /// The file as the config names it.
+    pub file: String,
+    /// SHA-256 of the file's bytes.
+    pub sha256: String,
+    /// Units of the numbers in the file (`g`, `m/s2`, `cm/s2`).
+    pub units: String,
+    /// Total factor from the file's numbers to m/s^2 [m/s^2 per file unit].
+    pub scale: f64,
+    /// Time step [s].
+    pub dt: f64,
+    /// Samples.
+    pub samples: usize,
+}
+
+impl RecordSource {
+    /// The source of a loaded record.
+    pub fn of(role: &str, record: &Record, sha256: &str) -> Self {
+        Self {
+            role: role.to_string(),
+            name: record.name.clone(),
+            file: record.source.clone(),
+            sha256: sha256.to_string(),
+            units: record.units.name().to_string(),
+            scale: record.scale,
+            dt: record.dt,
+            samples: record.acceleration.len(),
+        }
+    }
+}
+
+/// What produced an output file.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Provenance {
+    /// The command line.
+    pub command: String,
+    /// The config file's path.
+    pub config_path: String,
+    /// The config file's text as read.
+    pub config_file: String,
+    /// The config as used: after command-line overrides (a record, a
+    /// period, service options), in TOML.
+    pub config: String,
+    /// The records read.
+    pub records: Vec<RecordSource>,
+}
+
+/// Root attributes and `/inputs` of every file.
+pub fn write_provenance(file: &hdf5::File, kind: &str, p: &Provenance) -> hdf5::Result<()> {
+    attr_str(file, "quakejoint_version", VERSION)?;
+    attr_str(file, "kind", kind)?;
+    attr_str(file, "created", &crate::time::utc_now())?;
+    attr_str(file, "command", &p.command)?;
+    attr_str(file, "config_path", &p.config_path)?;
+    attr_str(file, "config_file", &p.config_file)?;
+    attr_str(file, "config", &p.config)?;
+    if p.records.is_empty() {
+        return Ok(());
+    }
+    let inputs = file.create_group("inputs")?.create_group("records")?;
+    for r in &p.records {
+        let g = inputs.create_group(&r.role)?;
+        attr_str(&g, "name", &r.name)?;
+        attr_str(&g, "file", &r.file)?;
+        attr_str(&g, "sha256", &r.sha256)?;
+        attr_str(&g, "file_units", &r.units)?;
+        g.new_attr::<u64>().create("samples")?.write_scalar(&(r.samples as u64))?;
+        scalar(&g, "dt", r.dt, "s")?;
+        scalar(&g, "scale", r.scale, "m/s^2 per file unit")?;
+    }
+    Ok(())
+}
+
+/// Scalar results of a run: name, value, unit. Quantities a run did not
+/// compute are NaN (the joint's, the energy balance and the solver counters
+/// of the exact linear solution without the joint).
+pub fn scalar_results(r: &RunResult) -> Vec<(&'static str, f64, &'static str)> {
+    let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
+    let count = |n: u64| if r.exact_linear { f64::NAN } else { n as f64 };
+    let s = &r.stats;
+    vec![
+        ("omega", r.omega, "rad/s"),
+        ("period", 2.0 * std::f64::consts::PI / r.omega, "s"),
+        ("sa", r.sa, "m/s^2"),
+        ("t_sa", r.t_sa, "s"),
+        ("psa", r.psa, "m/s^2"),
+        ("sd", r.sd, "m"),
+        ("t_sd", r.t_sd, "s"),
+        ("sv", r.sv, "m/s"),
+        ("t_sv", r.t_sv, "s"),
+        ("peak_joint_force", r.peak_joint_force, "N"),
+        ("peak_bushing_force", r.peak_bushing_force, "N"),
+        ("peak_friction_force", r.peak_friction_force, "N"),
+        ("friction_energy", r.friction_energy, "J"),
+        ("damping_energy", r.damping_energy, "J"),
+        ("earthquake_work", r.earthquake_work, "J"),
+        ("min_subgap", opt(r.min_subgap), "m"),
+        ("max_subgap", opt(r.max_subgap), "m"),
+        ("max_subgap_deviation", opt(r.max_subgap_deviation), "m"),
+        ("energy_error", r.energy_error, "1"),
+        ("max_position_residual", r.residuals.position, "m"),
+        ("max_angle_residual", r.residuals.angle, "rad"),
+        ("max_velocity_residual", r.residuals.velocity, "m/s"),
+        ("max_angular_velocity_residual", r.residuals.angular_velocity, "rad/s"),
+        ("steps", count(s.steps), "1"),
+        ("rejected_steps", count(s.rejected), "1"),
+        ("failed_attempts", count(s.failed_attempts), "1"),
+        ("newton_iterations", count(s.newton_iterations), "1"),
+        ("factorizations", count(s.factorizations), "1"),
+        ("wall_time_s", r.wall_time_s, "s"),
+        ("duration", r.duration, "s"),
+    ]
+}
+
+/// Writes the validity of a run as root attributes.
+fn write_validity(file: &hdf5::File, v: &quakejoint_model::validity::Validity) -> hdf5::Result<()> {
+    file.new_attr::<u32>().create("validity")?.write_scalar(&v.flags.0)?;
+    attr_str(file, "validity_label", &v.flags.label())?;
+    attr_str(file, "validity_meaning", &quakejoint_model::validity::Flags::legend())?;
+    attr_str(file, "findings", &v.message())
+}
+
+/// Writes the time histories and scalar results of one earthquake run
+/// (`quakejoint simulate --output`), with the exact response of the bridge
+/// alone at the same times (`without`, if given).
+pub fn write_run(
+    path: &Path,
+    provenance: &Provenance,
+    result: &RunResult,
+    without: Option<&[f64]>,
+) -> Result<(), OutputError> {
+    write_atomically(path, |file| {
+        write_provenance(file, "simulate", provenance)?;
+        attr_str(file, "method", if result.exact_linear { "exact linear, without the joint" } else { "multibody" })?;
+        write_validity(file, &result.validity)?;
+        let res = file.create_group("result")?;
+        for (name, value, units) in scalar_results(result) {
+            scalar(&res, name, value, units)?;
+        }
+        if let Some(h) = &result.histories {
+            let g = file.create_group("history")?;
+            dataset_1d(&g, "t", &h.t, "s")?;
+            dataset_1d(&g, "ag", &h.ag, "m/s^2")?;
+            dataset_1d(&g, "u", &h.u, "m")?;
+            dataset_1d(&g, "v", &h.v, "m/s")?;
+            dataset_1d(&g, "a_abs", &h.a_abs, "m/s^2")?;
+            dataset_1d(&g, "joint_force", &h.joint_force, "N")?;
+            dataset_1d(&g, "friction_power", &h.friction_power, "W")?;
+            if let Some(w) = without {
+                let mut w = w[..w.len().min(h.t.len())].to_vec();
+                w.resize(h.t.len(), f64::NAN);
+                dataset_1d(&g, "a_abs_without_joint", &w, "m/s^2")?;
+            }
+            if !h.center_beam_dx.is_empty() {
+                dataset_2d(&g, "center_beam_dx", &h.center_beam_dx, "m")?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Writes the hysteresis loop of a service run (`quakejoint service --output`).
+pub fn write_service(path: &Path, provenance: &Provenance, result: &ServiceResult) -> Result<(), OutputError> {
+    write_atomically(path, |file| {
+        write_provenance(file, "service", provenance)?;
+        let g = file.create_group("service")?;
+        dataset_1d(&g, "t", &result.t, "s")?;
+        dataset_1d(&g, "u", &result.u, "m")?;
+        dataset_1d(&g, "joint_force", &result.joint_force, "N")?;
+        let [dx, dy, dphi] = &result.center_beams;
+        if !dx.is_empty() {
+            dataset_2d(&g, "center_beam_dx", dx, "m")?;
+            dataset_2d(&g, "center_beam_dy", dy, "m")?;
+            dataset_2d(&g, "center_beam_dphi", dphi, "rad")?;
+        }
+        g.new_attr::<u32>().create("cycles")?.write_scalar(&result.cycles)?;
+        attr_str(&g, "warnings", &result.warnings.join("; "))?;
+        scalar(&g, "period", result.period, "s")?;
+        scalar(&g, "friction_work_per_cycle", result.friction_work_per_cycle, "J")?;
+        scalar(&g, "loop_work_per_cycle", result.loop_work_per_cycle, "J")?;
+        scalar(&g, "hand_calculation", result.hand_calculation, "J")?;
+        scalar(&g, "compliance_deficit", result.compliance_deficit.unwrap_or(f64::NAN), "J")?;
+        scalar(&g, "peak_joint_force", result.peak_joint_force, "N")?;
+        scalar(&g, "energy_error", result.energy_error, "1")?;
+        let r = &result.residuals;
+        scalar(&g, "max_position_residual", r.position, "m")?;
+        scalar(&g, "max_angle_residual", r.angle, "rad")?;
+        scalar(&g, "max_velocity_residual", r.velocity, "m/s")?;
+        scalar(&g, "max_angular_velocity_residual", r.angular_velocity, "rad/s")?;
+        Ok(())
+    })
+}
+
+/// Writes the sparsity pattern of a model's iteration matrix
+/// (`quakejoint model --sparsity`): `/sparsity/row`, `/sparsity/col` in
+/// natural numbering (coordinates, then constraint equations).
+pub fn write_sparsity(
+    path: &Path,
+    provenance: &Provenance,
+    asm: &quakejoint_solver::Assembly,
+    body_names: &[String],
+) -> Result<(), OutputError> {
+    let pattern = asm.jacobian_pattern();
+    let rows: Vec<u32> = pattern.iter().map(|p| p.0).collect();
+    let cols: Vec<u32> = pattern.iter().map(|p| p.1).collect();
+    write_atomically(path, |file| {
+        write_provenance(file, "sparsity", provenance)?;
+        let g = file.create_group("sparsity")?;
+        g.new_dataset_builder().with_data(&rows[..]).create("row")?;
+        g.new_dataset_builder().with_data(&cols[..]).create("col")?;
+        g.new_dataset_builder().with_data(&asm.coordinate_bodies()[..]).create("coordinate_body")?;
+        crate::h5::strings_1d(&g, "body_name", body_names)?;
+        g.new_attr::<u64>().create("coordinates")?.write_scalar(&(asm.coordinates() as u64))?;
+        g.new_attr::<u64>().create("equations")?.write_scalar(&(asm.equations() as u64))?;
+        g.new_attr::<u64>().create("nnz")?.write_scalar(&(pattern.len() as u64))?;
+        Ok(())
+    })
+}

@@ -1,0 +1,210 @@
+//! `docs/config.md` against the code, so that the reference cannot drift:
+//!
+//! - every key the config accepts (the defaults serialised, with every
+//!   optional key set) and every record and sweep key has a row, and every
+//!   row names a key the program accepts;
+//! - every documented default equals the program's default;
+//! - every key with a range in `quakejoint_model::limits::LIMITS` has the
+//!   same unit and range in its row, and a value just outside that range is
+//!   refused with a message naming the key.
+
+use std::collections::BTreeMap;
+
+use quakejoint_model::limits::{Bound, LIMITS};
+use quakejoint_model::Config;
+use quakejoint_motion::RecordSpec;
+
+/// One documented key: unit, default and range cells.
+#[derive(Debug)]
+struct Row {
+    unit: String,
+    default: String,
+    range: String,
+}
+
+fn rows() -> BTreeMap<String, Row> {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/config.md")).unwrap();
+    let mut out = BTreeMap::new();
+    for line in doc.lines() {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        if cells.len() < 6 || !cells[1].starts_with('`') {
+            continue;
+        }
+        let key = cells[1].trim_matches('`').to_string();
+        let row = Row { unit: cells[2].to_string(), default: cells[3].to_string(), range: cells[4].to_string() };
+        assert!(out.insert(key.clone(), row).is_none(), "{key} documented twice");
+    }
+    out
+}
+
+/// Leaf keys of a TOML table with their values (arrays of tables skipped).
+fn flatten(prefix: &str, table: &toml::Table, out: &mut BTreeMap<String, toml::Value>) {
+    for (k, v) in table {
+        let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+        match v {
+            toml::Value::Table(t) => flatten(&key, t, out),
+            toml::Value::Array(a) if a.iter().all(|x| x.is_table()) => {}
+            _ => {
+                out.insert(key, v.clone());
+            }
+        }
+    }
+}
+
+fn table_of(config: &Config) -> toml::Table {
+    toml::from_str(&toml::to_string(config).unwrap()).unwrap()
+}
+
+/// A config with every optional key set, to list every key.
+fn full() -> Config {
+    let mut c = Config::default();
+    c.joint.center_beam.inertia = Some(1.0);
+    c.joint.support_beam.inertia = Some(1.0);
+    c.bridge.w0 = Some(6.3);
+    c.simulation.duration = Some(1.0);
+    c.simulation.h_max = Some(1.0);
+    c.simulation.max_wall_time = Some(1.0);
+    c.simulation.max_steps = Some(1);
+    c
+}
+
+/// Whether a documented default such as `` `1e7` `` equals a TOML value.
+fn same_default(doc: &str, value: &toml::Value) -> bool {
+    let d = doc.trim_matches('`');
+    match value {
+        toml::Value::Float(x) => d.parse::<f64>().is_ok_and(|y| y == *x),
+        toml::Value::Integer(i) => d.parse::<i64>().is_ok_and(|y| y == *i),
+        toml::Value::Boolean(b) => d == b.to_string(),
+        toml::Value::String(s) => d == format!("\"{s}\""),
+        _ => false,
+    }
+}
+
+#[test]
+fn every_key_is_documented_with_its_default() {
+    let rows = rows();
+    let mut defaults = BTreeMap::new();
+    flatten("", &table_of(&Config::default()), &mut defaults);
+    let mut all = BTreeMap::new();
+    flatten("", &table_of(&full()), &mut all);
+    let mut by_period = full();
+    (by_period.bridge.w0, by_period.bridge.period) = (None, Some(1.0));
+    flatten("", &table_of(&by_period), &mut all);
+    let mut problems = Vec::new();
+    for (key, value) in &defaults {
+        match rows.get(key) {
+            None => problems.push(format!("{key}: not documented")),
+            Some(r) if !same_default(&r.default, value) => {
+                problems.push(format!("{key}: documented default {} but the program's is {value}", r.default))
+            }
+            _ => {}
+        }
+    }
+    for key in all.keys().filter(|k| !defaults.contains_key(*k)) {
+        if !rows.contains_key(key) {
+            problems.push(format!("{key}: an optional key that is not documented"));
+        }
+    }
+    // records: every field of a record spec, for [record]
+    let mut spec = RecordSpec::new("x.txt");
+    (spec.units, spec.dt, spec.column, spec.target_pga_g, spec.name) =
+        (Some(quakejoint_motion::Units::G), Some(0.01), Some(2), Some(0.3), Some("x".into()));
+    let spec: toml::Table = toml::from_str(&toml::to_string(&spec).unwrap()).unwrap();
+    let record_keys: Vec<String> = spec.keys().map(|k| format!("record.{k}")).collect();
+    for key in &record_keys {
+        if !rows.contains_key(key) {
+            problems.push(format!("{key}: not documented"));
+        }
+    }
+    let support_keys = ["kind", "y", "angle_deg"].map(|k| format!("joint.support_beams[k].{k}"));
+    let sweep_keys: Vec<String> = quakejoint_sweep::plan::SWEEP_KEYS.iter().map(|k| format!("sweep.{k}")).collect();
+    for key in support_keys.iter().chain(&sweep_keys) {
+        if !rows.contains_key(key) {
+            problems.push(format!("{key}: not documented"));
+        }
+    }
+    // and nothing documented that the program does not accept
+    for key in rows.keys() {
+        let known = all.contains_key(key)
+            || record_keys.contains(key)
+            || support_keys.contains(key)
+            || sweep_keys.contains(key);
+        if !known {
+            problems.push(format!("{key}: documented but not a key of the config"));
+        }
+    }
+    assert!(problems.is_empty(), "docs/config.md disagrees with the code:\n{}", problems.join("\n"));
+}
+
+/// A value just outside the range, on the lower side if it has one.
+fn outside(b: &Bound) -> f64 {
+    if b.min.is_finite() {
+        if b.min_inclusive {
+            b.min - (b.min.abs() * 1e-6).max(1e-300)
+        } else {
+            b.min
+        }
+    } else if b.max_inclusive {
+        b.max * (1.0 + 1e-6)
+    } else {
+        b.max
+    }
+}
+
+#[test]
+fn every_range_is_documented_and_enforced() {
+    let rows = rows();
+    let mut problems = Vec::new();
+    for (key, unit, bound) in LIMITS {
+        let Some(row) = rows.get(*key) else {
+            problems.push(format!("{key}: not documented"));
+            continue;
+        };
+        if row.unit != *unit {
+            problems.push(format!("{key}: documented unit `{}` but the program's is `{unit}`", row.unit));
+        }
+        if row.range != bound.describe() {
+            problems.push(format!(
+                "{key}: documented range `{}` but the program's is `{}`",
+                row.range,
+                bound.describe()
+            ));
+        }
+        // a value just outside, on both sides, is refused
+        let is_int = matches!(*key, "joint.center_beams" | "simulation.max_steps" | "service.cycles");
+        let values = if is_int {
+            vec![bound.min - 1.0, bound.max + 1.0]
+        } else {
+            vec![outside(bound), if bound.max_inclusive { bound.max * (1.0 + 1e-6) } else { bound.max }]
+        };
+        for v in values {
+            let (section, field) = key.rsplit_once('.').unwrap();
+            let text = if let Some(sb) = section.strip_suffix("[k]") {
+                let table = sb;
+                let mut entry = "kind = \"joist\"\ny = 0.0\nangle_deg = 10.0\n".to_string();
+                entry = entry
+                    .lines()
+                    .filter(|l| !l.starts_with(&format!("{field} ")))
+                    .map(|l| format!("{l}\n"))
+                    .collect::<String>();
+                format!("[[{table}]]\n{entry}{field} = {v:e}\n")
+            } else {
+                let value = if is_int { format!("{}", v.floor() as i64) } else { format!("{v:e}") };
+                if is_int && (v.floor() as i64) < 0 {
+                    continue; // not representable in the key's unsigned type: refused by the parser
+                }
+                format!("[{section}]\n{field} = {value}\n")
+            };
+            match Config::from_toml(&text, "test.toml") {
+                Ok(_) => problems.push(format!("{key} = {v:e} is accepted, outside {}", bound.describe())),
+                Err(e) => {
+                    let shown = key.replace("[k]", "[0]");
+                    if !e.to_string().contains(&shown) && !e.to_string().contains(field) {
+                        problems.push(format!("{key} = {v:e}: the message does not name the key: {e}"));
+                    }
+                }
+            }
+        }
+    }
+    assert!(problems.is_empty(), "ranges:\n{}", problems.join("\n"));
+}
