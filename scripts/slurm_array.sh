@@ -12,7 +12,13 @@
 # Files (in the current directory, which must be visible to the nodes):
 #   shards/<name>-<K>-of-<N>.h5   the output of shard K (with .journal, .lock)
 #   shards/logs/                  one log per task and for the merge
-#   <name>.h5                     the merged result
+#   <name>.h5                     the merged result (or --output FILE)
+#
+# Before submitting, the script checks the config, its records and every
+# shard file already there (`quakejoint sweep --check`): shards of an
+# earlier version of the config are refused (delete them, or use another
+# config name), and so is a merged name that is an unsharded sweep's output
+# (it has a journal) and a config whose jobs are already queued.
 #
 # Each task runs `quakejoint sweep <config> --shard K/N --output <shard file>`
 # with one worker thread per CPU it gets. A sweep continues its journal, so
@@ -34,6 +40,7 @@
 #   --tasks LIST     submit only these shards (e.g. 3,5-6), then a merge
 #   --retry-failed   shards run their journalled failed jobs again
 #   --allow-partial  the merge writes an incomplete result (complete = 0)
+#   --output FILE    the merged file (default <name>.h5)
 #   --local          run the shards as local processes, then merge
 #   --dry-run        print what would be submitted, submit nothing
 #
@@ -47,22 +54,26 @@
 #   QJ_TIME       time limit per task, e.g. 2:00:00 (default: three times the
 #                 estimate of `quakejoint plan` plus 10 minutes)
 #   QJ_PARTITION  the partition (default: the cluster's default)
-#   SBATCH_ARGS   more sbatch options, placed last so that they override the
-#                 script's own (e.g. "--account=abc --qos=long")
+#   SBATCH_ARGS   more sbatch options for both jobs, read as shell words
+#                 (quote values with spaces) and placed last so that they
+#                 override the script's own (e.g. "--account=abc --qos=long";
+#                 a --time or --mem there applies to the merge job too, and a
+#                 --job-name renames the logs)
 set -euo pipefail
 
-usage() { sed -n '2,/^set -euo/p' "$0" | sed -e 's/^# \{0,1\}//' -e '$d'; exit 2; }
+usage() { sed -n '2,/^set -euo/p' "$0" | sed -e 's/^# \{0,1\}//' -e '$d'; exit "${1:-2}"; }
 die() { echo "slurm_array.sh: $*" >&2; exit 2; }
 
-tasks="" retry="" partial="" mode=slurm dry="" args=()
+tasks="" retry="" partial="" mode=slurm dry="" merged="" args=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --tasks) tasks=${2:?--tasks needs a list, e.g. 3,5-6}; shift 2 ;;
     --retry-failed) retry="--retry-failed"; shift ;;
     --allow-partial) partial="--allow-partial"; shift ;;
+    --output) merged=${2:?--output needs a file name}; shift 2 ;;
     --local) mode=local; shift ;;
     --dry-run) dry=1; shift ;;
-    -h|--help) usage ;;
+    -h|--help) usage 0 ;;
     -*) die "unknown option $1 (see --help)" ;;
     *) args+=("$1"); shift ;;
   esac
@@ -86,15 +97,21 @@ bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")
 config=$(cd "$(dirname "$config")" && pwd)/$(basename "$config")
 name=$(basename "${config%.toml}")
 
-# the shard numbers to run: all, or the --tasks list
+# the shard numbers to run: all, or the --tasks list (sorted, each once)
 if [ -n "$tasks" ]; then
   [[ "$tasks" =~ ^[0-9]+(-[0-9]+)?(,[0-9]+(-[0-9]+)?)*$ ]] || die "--tasks $tasks: expected e.g. 3,5-6"
-  list=$(echo "$tasks" | tr ',' '\n' | while IFS=- read -r a b; do seq "$a" "${b:-$a}"; done)
+  for range in ${tasks//,/ }; do
+    IFS=- read -r a b <<< "$range"
+    [ "${b:-$a}" -ge "$a" ] || die "--tasks: $range runs backwards"
+  done
+  list=$(echo "$tasks" | tr ',' '\n' | while IFS=- read -r a b; do seq "$a" "${b:-$a}"; done | sort -un)
   for k in $list; do [ "$k" -ge 1 ] && [ "$k" -le "$shards" ] || die "--tasks: shard $k is not in 1..$shards"; done
+  tasks=$(echo $list | tr ' ' ',')
 else
   list=$(seq 1 "$shards")
   tasks="1-$shards"
 fi
+merged=${merged:-${name}.h5}
 
 # checks the config and its records, and sizes the requests (exit 2 on bad input)
 resources=$("$bin" plan "$config" --shards "$shards" --threads "$cpus" --sbatch) || exit $?
@@ -103,6 +120,14 @@ shard_file() { echo "shards/${name}-$1-of-${shards}.h5"; }
 files=()
 for k in $(seq 1 "$shards"); do files+=("$(shard_file "$k")"); done
 q() { printf '%q ' "$@"; }   # quoted words, each followed by a space
+
+# every shard already there must be of this config (or its task would stop
+# at once, and a merge of old shards would give old results)
+for k in $list; do
+  "$bin" sweep "$config" --shard "$k/$shards" --output "$(shard_file "$k")" --check > /dev/null \
+    || die "shard $k cannot run (above): delete shards/${name}-*-of-${shards}.h5* to start this sweep over, or use another config name"
+done
+[ ! -e "${merged}.journal" ] || die "$merged is the output of an unsharded sweep (it has a journal): name the merged file with --output"   # quoted words, each followed by a space
 q1() { printf '%q' "$1"; }    # one quoted word
 
 if [ "$mode" = local ]; then
@@ -114,7 +139,7 @@ if [ "$mode" = local ]; then
     "${cmd[@]}" > "$(shard_file "$k").json" 2> "shards/logs/${name}-$k.log" &
     pids+=($!)
   done
-  merge=("$bin" merge "${files[@]}" --output "${name}.h5")
+  merge=("$bin" merge "${files[@]}" --config "$config" --output "$merged")
   [ -z "$partial" ] || merge+=("$partial")
   if [ -n "$dry" ]; then q "${merge[@]}"; echo; exit 0; fi
   status=0
@@ -125,6 +150,8 @@ if [ "$mode" = local ]; then
 fi
 
 command -v sbatch > /dev/null || die "sbatch not found: is this a SLURM login node? (--local runs without SLURM)"
+queued=$(squeue -h -u "$(id -un)" -n "qj-$name,qj-$name-merge" -o %i 2> /dev/null | tr '\n' ' ')
+[ -z "$queued" ] || die "jobs of this config are queued or running ($queued): wait for them, or scancel them first"
 opts=()
 read -r -a req <<< "$resources"
 for r in "${req[@]}"; do
@@ -135,12 +162,12 @@ for r in "${req[@]}"; do
   opts+=("$r")
 done
 [ -z "${QJ_PARTITION:-}" ] || opts+=("--partition=$QJ_PARTITION")
-read -r -a extra <<< "${SBATCH_ARGS:-}"
+eval "extra=(${SBATCH_ARGS:-})" || die "SBATCH_ARGS: not shell words: ${SBATCH_ARGS:-}"
 
 task_cmd="exec $(q1 "$bin") sweep $(q1 "$config") --shard \${SLURM_ARRAY_TASK_ID}/$shards --threads \${SLURM_CPUS_PER_TASK:-$cpus} --output shards/$(q1 "$name")-\${SLURM_ARRAY_TASK_ID}-of-$shards.h5 --progress lines $retry"
 array_cmd=(sbatch --parsable --job-name="qj-$name" --array="$tasks" "${opts[@]}"
   --output="shards/logs/%x_%A_%a.log" "${extra[@]}" --wrap "$task_cmd")
-merge_cmd="exec $(q1 "$bin") merge $(q "${files[@]}")--output $(q1 "$name.h5") $partial"
+merge_cmd="exec $(q1 "$bin") merge $(q "${files[@]}")--config $(q1 "$config") --output $(q1 "$merged") $partial"
 merge_opts=(--job-name="qj-$name-merge" --cpus-per-task=1 --mem=1G --time=0:30:00
   --output="shards/logs/%x_%j.log")
 [ -z "${QJ_PARTITION:-}" ] || merge_opts+=("--partition=$QJ_PARTITION")
@@ -151,7 +178,7 @@ if [ -n "$dry" ]; then
   exit 0
 fi
 
-array=$("${array_cmd[@]}") || die "sbatch refused the array (see above); adjust QJ_CPUS, QJ_MEM, QJ_TIME or SBATCH_ARGS"
+array=$("${array_cmd[@]}") || die "sbatch refused the array (see above); adjust --tasks, QJ_CPUS, QJ_MEM, QJ_TIME, QJ_PARTITION or SBATCH_ARGS"
 array=${array%%;*}
 merge=$(sbatch --parsable --dependency="afterany:$array" "${merge_opts[@]}" "${extra[@]}" --wrap "$merge_cmd") || {
   scancel "$array"; die "sbatch refused the merge job; the array $array was cancelled"; }
@@ -168,5 +195,5 @@ for _ in 1 2 3 4 5; do
   fi
 done
 echo "submitted shards $tasks of $shards as job array $array and the merge as job $merge"
-echo "  each task: ${opts[*]}; logs in shards/logs/; follow with: squeue -j $array,$merge"
-echo "  result: ${name}.h5 (the merge's log names any missing shard: resubmit it with --tasks K)"
+echo "  each task: ${opts[*]} ${extra[*]}; logs in shards/logs/; follow with: squeue -j $array,$merge"
+echo "  result: $merged (the merge's log names any missing shard: resubmit it with --tasks K)"

@@ -1,13 +1,10 @@
-//! Argument definitions and the command implementations.
+//! The command implementations: each parses what it reads, calls the
+//! library crates and prints.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 
 use anyhow::{Context, Result};
-use clap::{Args, Parser, Subcommand};
 use quakejoint_model::config::base_dir;
 use quakejoint_model::generator::{build, Drive};
 use quakejoint_model::linear::linear_response;
@@ -19,334 +16,9 @@ use quakejoint_solver::{Assembly, AssemblyOptions};
 use quakejoint_sweep::run_h5::{Provenance, RecordSource};
 use quakejoint_sweep::{run_sweep, Plan, SweepOptions};
 
+use crate::args::*;
+use crate::interrupt::{interrupted_code, Signals, TerminalProgress};
 use crate::output;
-
-/// Expansion joints on bridges in earthquakes.
-#[derive(Debug, Parser)]
-#[command(name = "quakejoint", version, about, long_about = None)]
-pub struct Cli {
-    #[command(subcommand)]
-    command: Command,
-}
-
-#[derive(Debug, Subcommand)]
-enum Command {
-    /// Build the model of a config and print its size.
-    Model(ModelArgs),
-    /// Run one earthquake on the bridge with the joint (or without it).
-    Simulate(SimulateArgs),
-    /// Drive the deck through opening and closing cycles (the service case).
-    Service(ServiceArgs),
-    /// Read a ground-motion record and print its statistics.
-    Record(RecordArgs),
-    /// Exact linear response spectrum of a record.
-    Spectrum(SpectrumArgs),
-    /// Run the spectrum sweep of a config ([sweep] table) on worker threads.
-    Sweep(SweepArgs),
-    /// Combine the outputs of sweep shards into one file.
-    Merge(MergeArgs),
-    /// Estimate a sweep's jobs, time and memory, whole or in shards.
-    Plan(PlanArgs),
-    /// Compare the results of two sweep files, bit for bit.
-    Compare(CompareArgs),
-}
-
-/// Options shared by the commands that print results.
-#[derive(Debug, Args)]
-pub struct PrintArgs {
-    /// Print one JSON object on stdout instead of a table.
-    #[arg(long)]
-    pub json: bool,
-}
-
-#[derive(Debug, Args)]
-struct ModelArgs {
-    /// The TOML config.
-    config: PathBuf,
-    /// Write the iteration matrix's sparsity pattern to this HDF5 file.
-    #[arg(long)]
-    sparsity: Option<PathBuf>,
-    #[command(flatten)]
-    print: PrintArgs,
-}
-
-#[derive(Debug, Args)]
-struct SweepArgs {
-    /// The TOML config with a [sweep] table.
-    config: PathBuf,
-    /// The HDF5 output (default: the config's name with .h5, in the current
-    /// directory); the journal is <output>.journal, the lock <output>.lock.
-    #[arg(long)]
-    output: Option<PathBuf>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    threads: Option<usize>,
-    /// Require a journal to continue (without this flag a sweep continues a
-    /// journal of the same sweep if there is one, and starts otherwise).
-    #[arg(long)]
-    resume: bool,
-    /// Run the journalled jobs that failed again, keeping the finished ones
-    /// (e.g. after raising simulation.max_wall_time or max_steps).
-    #[arg(long)]
-    retry_failed: bool,
-    /// Run only shard K of N (for job arrays), e.g. --shard 2/8.
-    #[arg(long, value_parser = parse_shard)]
-    shard: Option<(usize, usize)>,
-    #[command(flatten)]
-    progress: ProgressArgs,
-    #[command(flatten)]
-    print: PrintArgs,
-}
-
-/// How progress is shown on stderr.
-#[derive(Debug, Args)]
-pub struct ProgressArgs {
-    /// auto: bars on a terminal, plain lines otherwise (logs); bars; lines; none.
-    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
-    pub progress: ProgressMode,
-    /// Seconds between progress lines.
-    #[arg(long, default_value_t = 60.0)]
-    pub progress_interval: f64,
-}
-
-/// Progress display modes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum ProgressMode {
-    /// Bars on a terminal, lines otherwise.
-    Auto,
-    /// Bars redrawn in place.
-    Bars,
-    /// A timestamped line at every interval.
-    Lines,
-    /// Nothing.
-    None,
-}
-
-impl ProgressArgs {
-    fn mode(&self) -> Result<quakejoint_sweep::Progress> {
-        use quakejoint_sweep::Progress;
-        let every = self.progress_interval;
-        if !(every.is_finite() && every > 0.0) {
-            return Err(InputError(format!("--progress-interval {every}: must be a positive number of seconds")).into());
-        }
-        let lines = Progress::Lines { every: std::time::Duration::from_secs_f64(every) };
-        Ok(match self.progress {
-            ProgressMode::Auto if std::io::stderr().is_terminal() => Progress::Bars,
-            ProgressMode::Auto | ProgressMode::Lines => lines,
-            ProgressMode::Bars => Progress::Bars,
-            ProgressMode::None => Progress::Quiet,
-        })
-    }
-}
-
-#[derive(Debug, Args)]
-struct MergeArgs {
-    /// The shard outputs.
-    #[arg(required = true)]
-    files: Vec<PathBuf>,
-    /// The merged file.
-    #[arg(long)]
-    output: PathBuf,
-    /// Write the merged file even if some jobs have no result (they stay
-    /// marked not run; the file says complete = 0).
-    #[arg(long)]
-    allow_partial: bool,
-    #[command(flatten)]
-    print: PrintArgs,
-}
-
-#[derive(Debug, Args)]
-struct PlanArgs {
-    /// The TOML config with a [sweep] table.
-    config: PathBuf,
-    /// Number of shards to estimate.
-    #[arg(long, default_value_t = 1)]
-    shards: usize,
-    /// Worker threads per shard process.
-    #[arg(long, default_value_t = 1)]
-    threads: usize,
-    /// Print only the sbatch resource options of the largest shard
-    /// (--cpus-per-task, --mem, --time).
-    #[arg(long, conflicts_with = "json")]
-    sbatch: bool,
-    #[command(flatten)]
-    print: PrintArgs,
-}
-
-#[derive(Debug, Args)]
-struct CompareArgs {
-    /// A sweep file.
-    a: PathBuf,
-    /// The other sweep file.
-    b: PathBuf,
-    #[command(flatten)]
-    print: PrintArgs,
-}
-
-fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
-    let err = || format!("{s}: expected K/N with 1 <= K <= N, e.g. 2/8");
-    let (k, n) = s.split_once('/').ok_or_else(err)?;
-    let (k, n): (usize, usize) = (k.trim().parse().map_err(|_| err())?, n.trim().parse().map_err(|_| err())?);
-    if n == 0 || k == 0 || k > n {
-        return Err(err());
-    }
-    Ok((k, n))
-}
-
-#[derive(Debug, Args)]
-struct SimulateArgs {
-    /// The TOML config.
-    config: PathBuf,
-    /// Bridge natural period [s] (default: from the config).
-    #[arg(long, allow_negative_numbers = true)]
-    period: Option<f64>,
-    /// Run the bridge alone (exact linear solution).
-    #[arg(long)]
-    no_joint: bool,
-    /// Record file to use instead of the config's (path relative to the current directory).
-    #[arg(long)]
-    record: Option<PathBuf>,
-    /// Write the time histories to this HDF5 file.
-    #[arg(long)]
-    output: Option<PathBuf>,
-    #[command(flatten)]
-    print: PrintArgs,
-}
-
-#[derive(Debug, Args)]
-struct ServiceArgs {
-    /// The TOML config.
-    config: PathBuf,
-    /// Opening speed [m/s] (default: the config's service.speed).
-    #[arg(long, allow_negative_numbers = true)]
-    speed: Option<f64>,
-    /// Amplitude of the opening [m] (default: service.amplitude).
-    #[arg(long, allow_negative_numbers = true)]
-    amplitude: Option<f64>,
-    /// Number of cycles (default: service.cycles).
-    #[arg(long)]
-    cycles: Option<u32>,
-    /// Write the hysteresis loop to this HDF5 file.
-    #[arg(long)]
-    output: Option<PathBuf>,
-    #[command(flatten)]
-    print: PrintArgs,
-}
-
-/// How to read a record file (shared by `record` and `spectrum`).
-#[derive(Debug, Args)]
-pub struct RecordFileArgs {
-    /// The record: PEER NGA-West2 .AT2, two-column time/acceleration text or
-    /// CSV, or one-column text (give --dt).
-    pub file: PathBuf,
-    /// File format.
-    #[arg(long, value_enum, default_value_t = FormatArg::Auto)]
-    pub format: FormatArg,
-    /// Units of the values in the file: required for a text file; an AT2
-    /// file states its own (if given, they must agree).
-    #[arg(long, value_enum)]
-    pub units: Option<UnitsArg>,
-    /// Time step of a one-column file [s].
-    #[arg(long, allow_negative_numbers = true)]
-    pub dt: Option<f64>,
-    /// Column holding the acceleration in a multi-column file (1-based).
-    #[arg(long)]
-    pub column: Option<usize>,
-    /// Scale factor applied after the unit conversion.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
-    pub scale: f64,
-    /// Scale the record to this peak ground acceleration [g].
-    #[arg(long, allow_negative_numbers = true)]
-    pub target_pga_g: Option<f64>,
-}
-
-/// Record file formats.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum FormatArg {
-    /// From the extension (.at2) and --dt.
-    Auto,
-    /// PEER NGA-West2 AT2.
-    At2,
-    /// Time and acceleration columns.
-    TwoColumn,
-    /// Acceleration only, with --dt.
-    OneColumn,
-}
-
-/// Acceleration units.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum UnitsArg {
-    /// Standard gravity (9.80665 m/s^2).
-    G,
-    /// m/s^2.
-    #[value(name = "m/s2")]
-    MetersPerSecond2,
-    /// cm/s^2 (gal).
-    #[value(name = "cm/s2", alias = "gal")]
-    CentimetersPerSecond2,
-}
-
-impl RecordFileArgs {
-    fn spec(&self) -> RecordSpec {
-        let mut spec = RecordSpec::new(&self.file);
-        spec.format = match self.format {
-            FormatArg::Auto => quakejoint_motion::Format::Auto,
-            FormatArg::At2 => quakejoint_motion::Format::At2,
-            FormatArg::TwoColumn => quakejoint_motion::Format::TwoColumn,
-            FormatArg::OneColumn => quakejoint_motion::Format::OneColumn,
-        };
-        spec.units = self.units.map(|u| match u {
-            UnitsArg::G => quakejoint_motion::Units::G,
-            UnitsArg::MetersPerSecond2 => quakejoint_motion::Units::MetersPerSecond2,
-            UnitsArg::CentimetersPerSecond2 => quakejoint_motion::Units::CentimetersPerSecond2,
-        });
-        spec.dt = self.dt;
-        spec.column = self.column;
-        spec.scale = self.scale;
-        spec.target_pga_g = self.target_pga_g;
-        spec
-    }
-}
-
-#[derive(Debug, Args)]
-struct RecordArgs {
-    #[command(flatten)]
-    record: RecordFileArgs,
-    #[command(flatten)]
-    print: PrintArgs,
-}
-
-#[derive(Debug, Args)]
-struct SpectrumArgs {
-    #[command(flatten)]
-    record: RecordFileArgs,
-    /// Damping ratios (several allowed: --damping 0.02 --damping 0.05, or 0.02,0.05).
-    #[arg(long, value_delimiter = ',', default_values_t = [0.05], allow_negative_numbers = true)]
-    damping: Vec<f64>,
-    /// Periods [s] (comma-separated); overrides --from/--to/--count.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
-    periods: Vec<f64>,
-    /// First period of the grid [s].
-    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
-    from: f64,
-    /// Last period of the grid [s].
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
-    to: f64,
-    /// Number of periods of the grid.
-    #[arg(long, default_value_t = 60)]
-    count: usize,
-    /// Space the grid logarithmically (default: linearly).
-    #[arg(long)]
-    log: bool,
-    /// Points per sample interval at which peaks are sought (1: the sample times).
-    #[arg(long, default_value_t = 1)]
-    subdivisions: u32,
-    /// Print CSV (the default) with the columns damping,period,sa,psa,sd,sv.
-    #[arg(long, conflicts_with = "json")]
-    csv: bool,
-    #[command(flatten)]
-    print: PrintArgs,
-}
 
 /// An error caused by the input (exit code 2).
 #[derive(Debug)]
@@ -402,6 +74,21 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
 }
 
 impl Command {
+    /// Whether the command prints JSON.
+    pub fn json(&self) -> bool {
+        match self {
+            Command::Model(a) => a.print.json,
+            Command::Simulate(a) => a.print.json,
+            Command::Service(a) => a.print.json,
+            Command::Record(a) => a.print.json,
+            Command::Spectrum(a) => a.print.json,
+            Command::Sweep(a) => a.print.json,
+            Command::Merge(a) => a.print.json,
+            Command::Plan(a) => a.print.json,
+            Command::Compare(a) => a.print.json,
+        }
+    }
+
     /// The config file the command reads, if any.
     fn config(&self) -> Option<&Path> {
         match self {
@@ -440,39 +127,6 @@ fn read_plan(config: &Path) -> Result<Plan> {
     Ok(plan)
 }
 
-/// Exit code of a sweep stopped by a signal: 128 + the signal's number.
-fn interrupted_code(signals: &Signals) -> u8 {
-    if signals.term.load(Ordering::Relaxed) {
-        143
-    } else {
-        130
-    }
-}
-
-/// SIGINT and SIGTERM (what Ctrl-C, `scancel` and a SLURM time limit send)
-/// ask the sweep to stop; a second signal ends the process at once (the
-/// journal is crash-safe either way).
-struct Signals {
-    stop: Arc<AtomicBool>,
-    term: Arc<AtomicBool>,
-}
-
-impl Signals {
-    fn install() -> Result<Self> {
-        use signal_hook::consts::{SIGINT, SIGTERM};
-        let stop = Arc::new(AtomicBool::new(false));
-        let term = Arc::new(AtomicBool::new(false));
-        for sig in [SIGINT, SIGTERM] {
-            // the second signal: exit at once with 128 + the signal
-            signal_hook::flag::register_conditional_shutdown(sig, 128 + sig, stop.clone())
-                .context("installing the signal handlers")?;
-            signal_hook::flag::register(sig, stop.clone()).context("installing the signal handlers")?;
-        }
-        signal_hook::flag::register(SIGTERM, term.clone()).context("installing the signal handlers")?;
-        Ok(Self { stop, term })
-    }
-}
-
 fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
     let plan = read_plan(&a.config)?;
     let output = a.output.clone().unwrap_or_else(|| {
@@ -490,16 +144,20 @@ fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
         command: command_line(),
         stop: Some(signals.stop.clone()),
     };
+    if a.check {
+        let check = quakejoint_sweep::runner::check_sweep(&plan, &opts)?;
+        output::sweep_check(&check, a.print.json);
+        return Ok(ExitCode::SUCCESS);
+    }
     let summary = run_sweep(&plan, &opts)?;
     output::sweep_summary(&summary, a.print.json);
     if summary.interrupted {
-        let mut command = format!("quakejoint sweep {} --output {}", a.config.display(), summary.output.display());
-        if let Some((k, n)) = a.shard {
-            command.push_str(&format!(" --shard {k}/{n}"));
+        // the same command continues; --resume insists on the journal
+        let mut words: Vec<String> = std::env::args().filter(|w| w != "--retry-failed").collect();
+        if !words.iter().any(|w| w == "--resume") {
+            words.push("--resume".into());
         }
-        if let Some(t) = a.threads {
-            command.push_str(&format!(" --threads {t}"));
-        }
+        let command = shell_words(&words);
         eprintln!(
             "interrupted: {} of {} jobs are done and kept in {} (and in {}); continue with:\n  {command}",
             summary.jobs - summary.not_run,
@@ -517,7 +175,11 @@ fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
 }
 
 fn merge_cmd(a: MergeArgs) -> Result<ExitCode> {
-    let options = quakejoint_sweep::MergeOptions { allow_partial: a.allow_partial, command: command_line() };
+    let expected = match &a.config {
+        Some(path) => Some(read_plan(path)?.config_sha256),
+        None => None,
+    };
+    let options = quakejoint_sweep::MergeOptions { allow_partial: a.allow_partial, command: command_line(), expected };
     let summary = quakejoint_sweep::merge(&a.files, &a.output, options)?;
     for n in &summary.notices {
         eprintln!("warning: {n}");
@@ -555,7 +217,11 @@ fn plan_cmd(a: PlanArgs) -> Result<ExitCode> {
 
 fn compare_cmd(a: CompareArgs) -> Result<ExitCode> {
     let read = |p: &Path| {
-        quakejoint_sweep::sweep_h5::read_sweep(p).map_err(|e| InputError(format!("{}: {}", p.display(), e.message)))
+        if !p.exists() {
+            return Err(InputError(format!("{}: no such file", p.display())));
+        }
+        quakejoint_sweep::sweep_h5::read_sweep(p)
+            .map_err(|e| InputError(format!("{}: not a readable sweep file ({})", p.display(), e.message)))
     };
     let (fa, fb) = (read(&a.a)?, read(&a.b)?);
     let diffs = quakejoint_sweep::compare::differences(&fa, &fb);
@@ -616,18 +282,25 @@ fn period_to_omega(period: Option<f64>) -> Result<Option<f64>> {
     }
 }
 
-/// The command line as typed (arguments with spaces or quotes quoted).
-fn command_line() -> String {
-    std::env::args()
+/// Words joined into a command a POSIX shell reads back as the same words
+/// (those with spaces, quotes or other special characters single-quoted).
+fn shell_words(words: &[String]) -> String {
+    words
+        .iter()
         .map(|a| {
-            if a.is_empty() || a.contains(|c: char| c.is_whitespace() || "'\"\\$`".contains(c)) {
+            if a.is_empty() || a.contains(|c: char| c.is_whitespace() || "'\"\\$`!*?;&|<>()[]{}~#".contains(c)) {
                 format!("'{}'", a.replace('\'', "'\\''"))
             } else {
-                a
+                a.clone()
             }
         })
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// The command line as typed.
+fn command_line() -> String {
+    shell_words(&std::env::args().collect::<Vec<_>>())
 }
 
 /// The provenance of a single run's output: the command, the config file
@@ -734,41 +407,4 @@ fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
     }
     output::service_result(&a.config, &result, a.print.json);
     Ok(ExitCode::SUCCESS)
-}
-
-/// A progress bar of a single run on a terminal, drawn once the run has
-/// taken more than a second (shorter runs print nothing extra).
-struct TerminalProgress {
-    bar: indicatif::ProgressBar,
-    start: std::time::Instant,
-}
-
-impl TerminalProgress {
-    /// `None` when stderr is not a terminal.
-    fn new(duration: f64) -> Option<Arc<Self>> {
-        if !std::io::stderr().is_terminal() {
-            return None;
-        }
-        let bar = indicatif::ProgressBar::with_draw_target(
-            Some((duration * 1000.0).max(1.0) as u64),
-            indicatif::ProgressDrawTarget::hidden(),
-        );
-        bar.set_style(
-            indicatif::ProgressStyle::with_template("simulate [{bar:30}] t = {msg} s, {elapsed} elapsed, ETA {eta}")
-                .expect("template")
-                .progress_chars("=> "),
-        );
-        Some(Arc::new(Self { bar, start: std::time::Instant::now() }))
-    }
-
-    fn callback(self: &Arc<Self>) -> quakejoint_model::run::ProgressFn {
-        let me = Arc::clone(self);
-        Arc::new(move |t| {
-            if me.bar.is_hidden() && me.start.elapsed().as_secs_f64() > 1.0 {
-                me.bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-            }
-            me.bar.set_message(format!("{t:.1}"));
-            me.bar.set_position((t * 1000.0) as u64);
-        })
-    }
 }

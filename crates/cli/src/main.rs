@@ -4,7 +4,9 @@
 //! crates and prints. Exit codes: 0 success, 1 a run failed, 2 bad input
 //! (the message names the file, field or value).
 
+mod args;
 mod commands;
+mod interrupt;
 mod output;
 
 use std::process::ExitCode;
@@ -12,7 +14,7 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
-    let cli = match commands::Cli::try_parse() {
+    let cli = match args::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
             // --help and --version print in full; errors quote bounded input
@@ -25,11 +27,18 @@ fn main() -> ExitCode {
             return ExitCode::from(e.exit_code() as u8);
         }
     };
+    let json = cli.command.json();
     match commands::run(cli) {
         Ok(code) => code,
         Err(err) => {
-            eprintln!("error: {}", bounded(&message(&err)));
-            ExitCode::from(commands::exit_code(&err))
+            let text = bounded(&message(&err));
+            let code = commands::exit_code(&err);
+            eprintln!("error: {text}");
+            if json {
+                // a reader of stdout gets one JSON object either way
+                println!("{}", serde_json::json!({"error": text, "exit_code": code}));
+            }
+            ExitCode::from(code)
         }
     }
 }

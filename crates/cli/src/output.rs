@@ -411,11 +411,30 @@ pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, json: bool) {
             "missing": s.missing,
             "complete": s.missing == 0,
             "notices": s.notices,
+            "failed_jobs": s.failed_jobs,
+            "flagged_jobs": s.flagged_jobs,
         });
         out!("{v}");
         return;
     }
     let state = if s.missing == 0 { "complete" } else { "PARTIAL" };
+    const SHOWN: usize = 10;
+    let list = |title: String, jobs: &[String]| {
+        if !jobs.is_empty() {
+            out!("{title}");
+            for j in jobs.iter().take(SHOWN) {
+                out!("  {j}");
+            }
+            if jobs.len() > SHOWN {
+                out!("  ... and {} more", jobs.len() - SHOWN);
+            }
+        }
+    };
+    list(
+        format!("{} jobs failed (after fixing the cause, `--retry-failed` on their shards runs them again):", s.failed),
+        &s.failed_jobs,
+    );
+    list(format!("{} jobs FLAGGED (outside what the model can stand behind):", s.flagged), &s.flagged_jobs);
     out!(
         "merged {} of {} jobs ({} failed, {} flagged), {state} -> {}",
         s.finished,
@@ -509,4 +528,37 @@ pub fn compare_summary(a: &Path, b: &Path, diffs: &[String], json: bool) {
             out!("  {d}");
         }
     }
+}
+
+/// `quakejoint sweep --check`.
+pub fn sweep_check(c: &quakejoint_sweep::runner::Check, json: bool) {
+    if json {
+        out!(
+            "{}",
+            json!({
+                "output": c.output.display().to_string(),
+                "jobs": c.jobs,
+                "done": c.done,
+                "failed": c.failed,
+                "journal": c.journal,
+                "cpu_seconds": c.cpu_seconds,
+            })
+        );
+        return;
+    }
+    let what = if !c.journal {
+        "would start".to_string()
+    } else if c.done == c.jobs {
+        "is complete".to_string()
+    } else {
+        format!("would continue: {} of {} jobs done", c.done, c.jobs)
+    };
+    out!(
+        "check {}: config, records and output are fine; the sweep {what} ({} jobs, {} failed so far, about {} of CPU \
+         time to go)",
+        c.output.display(),
+        c.jobs,
+        c.failed,
+        quakejoint_sweep::progress::format_duration(c.cpu_seconds)
+    );
 }

@@ -66,7 +66,7 @@ fn merge_refuses_incomplete_duplicate_and_unreadable_shards() {
     // an incomplete set: refused, nothing written, the missing shard named
     let res = merge(&[&s1, &s2], &all, &[]);
     assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
-    for fragment in ["incomplete", "shards 3/3 were not given", "have no result", "--allow-partial"] {
+    for fragment in ["incomplete", "missing shards: 3/3", "have no result", "--allow-partial"] {
         assert!(stderr(&res).contains(fragment), "{fragment}: {}", stderr(&res));
     }
     assert!(!all.exists());
@@ -280,16 +280,23 @@ fn sigterm_and_sigint_checkpoint_and_print_the_command_to_continue() {
         let took = sent.elapsed();
         assert!(took < Duration::from_secs(5), "{signal}: the sweep took {took:?} to stop");
         assert_eq!(res.status.code(), Some(code), "{signal}: {}", stderr(&res));
-        let expected = format!("quakejoint sweep {} --output {} --threads 1", cfg.display(), out.display());
-        assert!(stderr(&res).contains("continue with") && stderr(&res).contains(&expected), "{}", stderr(&res));
+        // the printed command is the one that was run (+ --resume), quoted
+        // for a shell: run as printed, it continues
+        let err = stderr(&res);
+        let command =
+            err.lines().skip_while(|l| !l.contains("continue with")).nth(1).unwrap_or_else(|| panic!("{err}"));
+        assert!(command.contains("--resume") && command.contains(&out.display().to_string()), "{command}");
+        let (interrupted, _) = quakejoint_sweep::journal::read(&journal).map(|(_, r)| (r.len(), 0)).unwrap();
         // the final checkpoint holds every journalled job
         let (_, journalled) = quakejoint_sweep::journal::read(&journal).unwrap();
         let file = read_sweep(&out).unwrap();
         assert_eq!(file.results.finished(), journalled.len(), "{signal}: checkpoint and journal agree");
         assert!(journalled.len() < 40, "{signal}: interrupted part way");
         assert!(stdout(&res).contains("sweep interrupted"), "{}", stdout(&res));
-        // continuing finishes the work to the same numbers
-        ok(&sweep(&cfg, &out, &["--threads", "2"]));
+        // the printed command, run by a shell, finishes the work to the same numbers
+        let resumed = Command::new("sh").arg("-c").arg(command.trim()).current_dir(root()).output().unwrap();
+        ok(&resumed);
+        assert!(stdout(&resumed).contains(&format!("({interrupted} from the journal")), "{}", stdout(&resumed));
         assert_identical(&read_sweep(&out).unwrap(), &read_sweep(&reference).unwrap(), signal);
     }
 }
@@ -345,7 +352,7 @@ fn outputs_never_overwrite_inputs_or_files_that_are_not_theirs() {
         ("the config", &cfg, "would overwrite the input"),
         ("a record", &record, "would overwrite the input"),
         ("another output's journal", &other_journal, "a quakejoint journal"),
-        ("an unrelated file", &notes, "has no journal: it is not overwritten"),
+        ("an unrelated file", &notes, "(it has no journal): it is not overwritten"),
     ];
     for (what, target, expect) in cases {
         let res = sweep(&cfg, target, &[]);
@@ -361,6 +368,8 @@ fn outputs_never_overwrite_inputs_or_files_that_are_not_theirs() {
     assert_eq!(std::fs::read(&record).unwrap(), record_before, "the record is untouched");
     assert_eq!(std::fs::read(&other_journal).unwrap(), journal_before, "the other journal is untouched");
     assert_eq!(std::fs::read_to_string(&notes).unwrap(), "my notes");
+    // and a refused output leaves nothing behind (no lock file either)
+    assert!(!d.join("notes.txt.lock").exists() && !d.join("other.h5.journal.lock").exists());
     // merging into a sweep's output (it has a journal) or over an input
     let res = merge(&[&other], &other, &[]);
     assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
@@ -382,4 +391,103 @@ fn the_main_job_can_be_run_twice() {
     let second = sweep(&cfg, &out, &[]);
     ok(&second);
     assert!(stdout(&second).contains("sweep already complete: 5 of 5 jobs done"), "{}", stdout(&second));
+}
+
+/// A changed config and old shards: the script refuses to submit (its
+/// `sweep --check` finds the shards' journals are of another sweep), and a
+/// merge told the config refuses the stale shards, so no merged file with
+/// old results is written and reported as fine. `--check` alone says what
+/// a sweep would do and writes nothing.
+#[test]
+fn stale_shards_of_a_changed_config_are_refused() {
+    let d = dir("stale");
+    let cfg = config(&d, "job.toml", "[sweep]\nperiods = [0.4, 0.8, 1.6]\ndamping = [0.05]\n", 1.0);
+    let script = |extra: &[&str]| {
+        Command::new("bash")
+            .arg(root().join("scripts/slurm_array.sh"))
+            .args([cfg.to_str().unwrap(), "2", "--local"])
+            .args(extra)
+            .env("QUAKEJOINT", env!("CARGO_BIN_EXE_quakejoint"))
+            .current_dir(&d)
+            .output()
+            .unwrap()
+    };
+    ok(&script(&[]));
+    let merged = std::fs::read(d.join("job.h5")).unwrap();
+    // the same sweep checked: complete
+    let shard1 = d.join("shards/job-1-of-2.h5");
+    let check =
+        run(&["sweep", cfg.to_str().unwrap(), "--shard", "1/2", "--output", shard1.to_str().unwrap(), "--check"]);
+    ok(&check);
+    assert!(stdout(&check).contains("the sweep is complete"), "{}", stdout(&check));
+    // change the grid: the script refuses before running anything
+    std::fs::write(&cfg, std::fs::read_to_string(&cfg).unwrap().replace("[0.4, 0.8, 1.6]", "[0.4, 0.8, 1.6, 3.2]"))
+        .unwrap();
+    let res = script(&[]);
+    assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
+    assert!(stderr(&res).contains("holds the results of a different sweep"), "{}", stderr(&res));
+    assert!(stderr(&res).contains("shard 1 cannot run"), "{}", stderr(&res));
+    assert_eq!(std::fs::read(d.join("job.h5")).unwrap(), merged, "the merged file is untouched");
+    // a merge told the current config refuses the old shards
+    let shards = [d.join("shards/job-1-of-2.h5"), d.join("shards/job-2-of-2.h5")];
+    let res = run(&[
+        "merge",
+        shards[0].to_str().unwrap(),
+        shards[1].to_str().unwrap(),
+        "--config",
+        cfg.to_str().unwrap(),
+        "--output",
+        d.join("new.h5").to_str().unwrap(),
+    ]);
+    assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
+    assert!(stderr(&res).contains("computed from another version of the config"), "{}", stderr(&res));
+    assert!(!d.join("new.h5").exists());
+}
+
+/// Small things a user ran into: `--threads 0`, an error in `--json` mode
+/// (a JSON object on stdout as well), `compare` of a shard with the whole
+/// (one line, not the same list for every field), a merge with failed
+/// jobs (listed, with the way to retry them).
+#[test]
+fn errors_and_summaries_read_well() {
+    let d = dir("read-well");
+    let cfg = config(&d, "c.toml", GRID, 1.0);
+    let res = run(&["sweep", cfg.to_str().unwrap(), "--threads", "0"]);
+    assert_eq!(res.status.code(), Some(2));
+    let res = run(&["simulate", d.join("missing.toml").to_str().unwrap(), "--json"]);
+    assert_eq!(res.status.code(), Some(2));
+    let v: serde_json::Value = serde_json::from_slice(&res.stdout).unwrap();
+    assert_eq!(v["exit_code"], 2);
+    assert!(v["error"].as_str().unwrap().contains("missing.toml"), "{v}");
+
+    let whole = d.join("whole.h5");
+    ok(&sweep(&cfg, &whole, &[]));
+    let part = d.join("part.h5");
+    ok(&sweep(&cfg, &part, &["--shard", "1/2"]));
+    let cmp = run(&["compare", whole.to_str().unwrap(), part.to_str().unwrap()]);
+    assert_eq!(cmp.status.code(), Some(1));
+    let text = stdout(&cmp);
+    let lines: Vec<&str> = text.lines().skip(1).collect();
+    assert_eq!(lines.len(), 1, "{}", stdout(&cmp));
+    assert!(lines[0].contains("results in the first file only"), "{}", stdout(&cmp));
+    let missing = run(&["compare", whole.to_str().unwrap(), d.join("nope.h5").to_str().unwrap()]);
+    assert_eq!(missing.status.code(), Some(2));
+    assert!(stderr(&missing).contains("nope.h5: no such file"), "{}", stderr(&missing));
+
+    // a merge whose shards hold failed jobs lists them
+    let failing = d.join("failing.h5");
+    let res = bin()
+        .args(["sweep", cfg.to_str().unwrap(), "--output", failing.to_str().unwrap()])
+        .env("QUAKEJOINT_TEST_FAIL_JOBS", "1,3")
+        .output()
+        .unwrap();
+    assert_eq!(res.status.code(), Some(3));
+    let merged = run(&["merge", failing.to_str().unwrap(), "--output", d.join("m.h5").to_str().unwrap()]);
+    assert_eq!(merged.status.code(), Some(3));
+    assert!(
+        stdout(&merged).contains("2 jobs failed") && stdout(&merged).contains("--retry-failed"),
+        "{}",
+        stdout(&merged)
+    );
+    assert!(stdout(&merged).contains("job 1 (base /"), "{}", stdout(&merged));
 }

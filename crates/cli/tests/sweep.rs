@@ -123,7 +123,7 @@ fn a_finished_sweep_run_again_says_so_and_a_changed_config_is_refused() {
         args.extend_from_slice(extra);
         let refused = run(&args);
         assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
-        assert!(stderr(&refused).contains("config changed"), "{}", stderr(&refused));
+        assert!(stderr(&refused).contains("config differs"), "{}", stderr(&refused));
     }
     // --resume insists on a journal
     let fresh = run(&["sweep", cfgs, "--output", d.join("new.h5").to_str().unwrap(), "--resume"]);
@@ -288,9 +288,23 @@ fn bad_sweep_tables_name_the_key() {
             String::from_utf8_lossy(&res.stderr)
         );
     }
+    // a folder that does not exist is bad input, refused before anything
     let res = run(&["sweep", "configs/quick.toml", "--output", "/nonexistent-dir/x.h5"]);
-    assert_eq!(res.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&res.stderr).contains("not writable"), "{}", String::from_utf8_lossy(&res.stderr));
+    assert_eq!(res.status.code(), Some(2));
+    assert!(stderr(&res).contains("the folder /nonexistent-dir does not exist"), "{}", stderr(&res));
+    // an unwritable one is the machine's
+    let locked = d.join("read-only");
+    std::fs::create_dir_all(&locked).unwrap();
+    let mut perms = std::fs::metadata(&locked).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o555);
+    std::fs::set_permissions(&locked, perms).unwrap();
+    let probe = locked.join("probe");
+    if std::fs::write(&probe, b"x").is_err() {
+        // (root may write anyway; then there is nothing to test)
+        let res = run(&["sweep", "configs/quick.toml", "--output", locked.join("x.h5").to_str().unwrap()]);
+        assert_eq!(res.status.code(), Some(1), "{}", stderr(&res));
+        assert!(stderr(&res).contains("not writable"), "{}", stderr(&res));
+    }
 }
 
 #[test]

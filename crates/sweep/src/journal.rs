@@ -59,27 +59,27 @@ impl Header {
         let mut out = Vec::new();
         if self.program_version != current.program_version {
             out.push(format!(
-                "the program version changed from {} to {}",
+                "it was written by quakejoint {}, this is {}",
                 self.program_version, current.program_version
             ));
         }
         if self.config_sha256 != current.config_sha256 {
-            out.push("the config changed (its parameters, not only comments or layout)".to_string());
+            out.push("its config differs (in its parameters, not only in comments or layout)".to_string());
         }
         for (name, hash) in &current.records {
             match self.records.iter().find(|(n, _)| n == name) {
-                Some((_, h)) if h != hash => out.push(format!("the contents of record {name:?} changed")),
-                None => out.push(format!("record {name:?} is new")),
+                Some((_, h)) if h != hash => out.push(format!("the contents of record {name:?} differ")),
+                None => out.push(format!("record {name:?} is not in it")),
                 _ => {}
             }
         }
         for (name, _) in &self.records {
             if !current.records.iter().any(|(n, _)| n == name) {
-                out.push(format!("record {name:?} was removed"));
+                out.push(format!("it has record {name:?}, this sweep does not"));
             }
         }
         if self.jobs != current.jobs && out.is_empty() {
-            out.push(format!("the number of jobs changed from {} to {}", self.jobs, current.jobs));
+            out.push(format!("it has {} jobs, this sweep {}", self.jobs, current.jobs));
         }
         if self.shard != current.shard {
             let name =
@@ -87,7 +87,7 @@ impl Header {
             out.push(format!("it was written for {}, this run is {}", name(self.shard), name(current.shard)));
         }
         if self.schema != current.schema {
-            out.push(format!("the journal format changed from {} to {}", self.schema, current.schema));
+            out.push(format!("its journal format is {}, this program's {}", self.schema, current.schema));
         }
         out
     }
@@ -254,6 +254,20 @@ fn replace_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     Ok(())
 }
 
+/// The error for a journal written by a different sweep than this one.
+pub fn another_sweep(path: &Path, diffs: &[String]) -> SweepError {
+    let output = path.display().to_string();
+    let output = output.trim_end_matches(".journal");
+    jerr(
+        path,
+        format!(
+            "{output} holds the results of a different sweep ({}): choose another --output for this one (or delete \
+             {output} and its journal if those results are no longer needed)",
+            diffs.join("; ")
+        ),
+    )
+}
+
 /// A journal opened to continue a sweep.
 #[derive(Debug)]
 pub struct Continued {
@@ -295,15 +309,7 @@ impl Journal {
         };
         let diffs = contents.header.differences(expected);
         if !diffs.is_empty() {
-            return Err(jerr(
-                path,
-                format!(
-                    "this output belongs to another sweep: {}; choose another --output, or remove {} and its \
-                     journal to start over",
-                    diffs.join("; "),
-                    path.display().to_string().trim_end_matches(".journal")
-                ),
-            ));
+            return Err(another_sweep(path, &diffs));
         }
         if let Some(r) = contents.results.iter().find(|r| r.job as u64 >= expected.jobs) {
             return Err(jerr(path, format!("job {} does not exist in this sweep", r.job)));
@@ -521,8 +527,8 @@ mod tests {
         other.config_sha256 = "def".into();
         other.records[0].1 = "x".into();
         let d = header().differences(&other);
-        assert!(d.iter().any(|s| s.contains("config changed")), "{d:?}");
-        assert!(d.iter().any(|s| s.contains("record \"r\" changed")), "{d:?}");
+        assert!(d.iter().any(|s| s.contains("config differs")), "{d:?}");
+        assert!(d.iter().any(|s| s.contains("record \"r\" differ")), "{d:?}");
         assert!(header().differences(&header()).is_empty());
     }
 }

@@ -36,6 +36,9 @@ pub struct MergeOptions {
     pub allow_partial: bool,
     /// The command line, for the merged file's provenance.
     pub command: String,
+    /// The config hash the shards must carry (the current config's), if
+    /// known: shards of an earlier version of the config are refused.
+    pub expected: Option<String>,
 }
 
 /// What a merge produced.
@@ -56,6 +59,10 @@ pub struct MergeSummary {
     /// What the merge noticed and dealt with (duplicates, overlaps, a
     /// partial result).
     pub notices: Vec<String>,
+    /// The failed jobs, each in words with its message.
+    pub failed_jobs: Vec<String>,
+    /// The flagged jobs, each in words with its findings.
+    pub flagged_jobs: Vec<String>,
 }
 
 fn same_bits(a: f64, b: f64) -> bool {
@@ -131,6 +138,17 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
     let _lock = OutputLock::acquire(output)?;
     let mut notices = Vec::new();
     let files = read_all(inputs, &mut notices)?;
+    if let Some(expected) = &options.expected {
+        let stale: Vec<String> =
+            files.iter().filter(|(_, f)| &f.config_sha256 != expected).map(|(p, _)| p.display().to_string()).collect();
+        if !stale.is_empty() {
+            return Err(SweepError::Merge(format!(
+                "these shards were computed from another version of the config: {}; run their shards again (into \
+                 new files, or after deleting these and their journals)",
+                stale.join(", ")
+            )));
+        }
+    }
     let (first_path, first) = &files[0];
     let results = Results { without: first.results.without.clone(), ..Results::new(first.results.dims) };
     let mut merged = SweepFile { results, scope: Vec::new(), ..first.clone() };
@@ -195,7 +213,18 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
     merged.scope = (0..r.status.len() as u32).collect();
     write_sweep(output, &merged)?;
     let results = &merged.results;
+    let n = results.status.len();
+    let failed_jobs = (0..n)
+        .filter(|&j| !matches!(results.status[j], status::OK | status::NOT_RUN))
+        .map(|j| format!("{}: {}", merged.describe_job(j), results.messages[j]))
+        .collect();
+    let flagged_jobs = (0..n)
+        .filter(|&j| results.status[j] == status::OK && results.validity[j] != 0)
+        .map(|j| format!("{}: {}", merged.describe_job(j), results.findings[j]))
+        .collect();
     Ok(MergeSummary {
+        failed_jobs,
+        flagged_jobs,
         output: output.to_path_buf(),
         jobs: results.status.len(),
         finished: results.finished(),
@@ -214,7 +243,7 @@ fn incomplete(merged: &SweepFile, files: &[(PathBuf, SweepFile)], missing: &[usi
     if let (1, Some(&n)) = (ns.len(), ns.first()) {
         let absent: Vec<String> = (1..=n).filter(|k| !shards.contains(&(*k, n))).map(|k| format!("{k}/{n}")).collect();
         if !absent.is_empty() {
-            parts.push(format!("shards {} were not given", absent.join(", ")));
+            parts.push(format!("missing shards: {}", absent.join(", ")));
         }
     }
     for (path, f) in files {

@@ -90,6 +90,10 @@ impl Reporter {
             cost_done: 0.0,
         };
         r.overall.set_message(r.eta());
+        if mode == Progress::Bars {
+            // the elapsed time and the spinners move between finished jobs
+            r.overall.enable_steady_tick(Duration::from_millis(500));
+        }
         if matches!(mode, Progress::Lines { .. }) {
             eprintln!("{}", r.line("started"));
         }
@@ -165,6 +169,8 @@ impl Reporter {
     }
 
     fn line(&self, state: &str) -> String {
+        let eta = if state == "running" || state == "started" { self.eta() } else { "stopped".into() };
+        let eta = if self.done >= self.scope { "done".into() } else { eta };
         format!(
             "[{}] sweep {} {state}: {} of {} jobs done ({} failed, {} flagged), {} elapsed, {}",
             crate::time::utc_now(),
@@ -174,7 +180,7 @@ impl Reporter {
             self.failed,
             self.flagged,
             format_duration(self.start.elapsed().as_secs_f64()),
-            self.eta()
+            eta
         )
     }
 }

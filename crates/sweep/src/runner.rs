@@ -352,9 +352,24 @@ fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
     Ok(())
 }
 
-/// Runs a sweep: starts it, or continues the one its journal records.
-pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError> {
-    let start = Instant::now();
+/// An existing file at the output name without a journal is not a sweep's
+/// output (a finished merge, another program's file, a journal itself).
+fn not_an_output(output: &Path) -> SweepError {
+    let what = describe(output);
+    SweepError::Config {
+        field: "--output".into(),
+        message: format!(
+            "{} exists and is {what}, not the output of this sweep (it has no journal): it is not overwritten; choose \
+             another output name",
+            output.display()
+        ),
+    }
+}
+
+/// The checks of an output before its lock is taken (they create nothing):
+/// the shard, inputs that would be overwritten, a folder that does not
+/// exist, an existing file that is not a sweep's output.
+fn check_output(plan: &Plan, opts: &SweepOptions) -> Result<(), SweepError> {
     if let Some((k, n)) = opts.shard {
         if n == 0 || k == 0 || k > n {
             return Err(SweepError::Config { field: "--shard".into(), message: format!("{k}/{n}: need 1 <= K <= N") });
@@ -364,6 +379,76 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let mut inputs = vec![opts.config_path.clone()];
     inputs.extend(plan.records.iter().chain(&plan.record_y).map(|r| r.path.clone()));
     check_not_an_input(output, &inputs)?;
+    let dir = output.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    if !dir.is_dir() {
+        return Err(SweepError::Config {
+            field: "--output".into(),
+            message: format!("{}: the folder {} does not exist", output.display(), dir.display()),
+        });
+    }
+    if output.exists() && !journal_path(output).exists() {
+        return Err(not_an_output(output));
+    }
+    Ok(())
+}
+
+/// What a sweep would do, found without running or writing anything
+/// (`quakejoint sweep --check`).
+#[derive(Debug, Clone)]
+pub struct Check {
+    /// The HDF5 output.
+    pub output: PathBuf,
+    /// Jobs in the run's scope.
+    pub jobs: usize,
+    /// Of these, finished in the journal.
+    pub done: usize,
+    /// Of the finished, failed.
+    pub failed: usize,
+    /// Whether a journal of this sweep exists.
+    pub journal: bool,
+    /// Estimated CPU time of the jobs to run [s] (cost model).
+    pub cpu_seconds: f64,
+}
+
+/// Checks a sweep as [`run_sweep`] would before its first job: the config,
+/// the records, the output and its journal (which must record this sweep).
+/// Nothing is created, changed or locked.
+pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError> {
+    check_output(plan, opts)?;
+    let jpath = journal_path(&opts.output);
+    let scope = scope(plan, opts.shard);
+    let mut status_of = std::collections::BTreeMap::new();
+    let journal = jpath.exists();
+    if journal {
+        let contents = crate::journal::read_contents(&jpath)?;
+        let diffs = contents.header.differences(&header(plan, opts.shard));
+        if !diffs.is_empty() {
+            return Err(crate::journal::another_sweep(&jpath, &diffs));
+        }
+        for r in contents.latest() {
+            status_of.insert(r.job as usize, r.status);
+        }
+    } else if opts.resume {
+        return Err(SweepError::Journal {
+            path: jpath.display().to_string(),
+            message: "--resume: there is no journal to continue".into(),
+        });
+    }
+    let done = scope.iter().filter(|j| status_of.contains_key(j)).count();
+    let failed = scope.iter().filter(|j| status_of.get(j).is_some_and(|&s| s != status::OK)).count();
+    let cpu_seconds = scope
+        .iter()
+        .filter(|j| !status_of.contains_key(j) || (opts.retry_failed && status_of[j] != status::OK))
+        .map(|&j| plan.cost(plan.job(j)))
+        .sum();
+    Ok(Check { output: opts.output.clone(), jobs: scope.len(), done, failed, journal, cpu_seconds })
+}
+
+/// Runs a sweep: starts it, or continues the one its journal records.
+pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError> {
+    let start = Instant::now();
+    let output = &opts.output;
+    check_output(plan, opts)?;
     // nothing of the output is created, read or deleted before the lock
     let lock = OutputLock::acquire(output)?;
     crate::fault::point(crate::fault::Point::Locked, output);
@@ -382,14 +467,8 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
             message: "--resume: there is no journal to continue (run without --resume to start the sweep)".into(),
         });
     } else if output.exists() {
-        return Err(SweepError::Config {
-            field: "--output".into(),
-            message: format!(
-                "{} exists ({}) and has no journal: it is not overwritten; remove it or choose another output name",
-                output.display(),
-                describe(output)
-            ),
-        });
+        // appeared since the check before the lock
+        return Err(not_an_output(output));
     } else {
         (Journal::create(&jpath, &head)?, Vec::new())
     };

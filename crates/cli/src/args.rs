@@ -1,0 +1,355 @@
+//! The command line's arguments (clap derive): the commands, their options
+//! and the option groups they share.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::{Args, Parser, Subcommand};
+use quakejoint_motion::RecordSpec;
+
+use crate::commands::InputError;
+
+/// Expansion joints on bridges in earthquakes.
+#[derive(Debug, Parser)]
+#[command(name = "quakejoint", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Build the model of a config and print its size.
+    Model(ModelArgs),
+    /// Run one earthquake on the bridge with the joint (or without it).
+    Simulate(SimulateArgs),
+    /// Drive the deck through opening and closing cycles (the service case).
+    Service(ServiceArgs),
+    /// Read a ground-motion record and print its statistics.
+    Record(RecordArgs),
+    /// Exact linear response spectrum of a record.
+    Spectrum(SpectrumArgs),
+    /// Run the spectrum sweep of a config ([sweep] table) on worker threads.
+    Sweep(SweepArgs),
+    /// Combine the outputs of sweep shards into one file.
+    Merge(MergeArgs),
+    /// Estimate a sweep's jobs, time and memory, whole or in shards.
+    Plan(PlanArgs),
+    /// Compare the results of two sweep files, bit for bit.
+    Compare(CompareArgs),
+}
+
+/// Options shared by the commands that print results.
+#[derive(Debug, Args)]
+pub struct PrintArgs {
+    /// Print one JSON object on stdout instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct ModelArgs {
+    /// The TOML config.
+    pub config: PathBuf,
+    /// Write the iteration matrix's sparsity pattern to this HDF5 file.
+    #[arg(long)]
+    pub sparsity: Option<PathBuf>,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// The TOML config with a [sweep] table.
+    pub config: PathBuf,
+    /// The HDF5 output (default: the config's name with .h5, in the current
+    /// directory); the journal is <output>.journal, the lock <output>.lock.
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_parser = at_least_one)]
+    pub threads: Option<usize>,
+    /// Check the config, its records and the output (its journal, if any,
+    /// must be of this sweep), say what a run would do, and exit without
+    /// running anything.
+    #[arg(long)]
+    pub check: bool,
+    /// Require a journal to continue (without this flag a sweep continues a
+    /// journal of the same sweep if there is one, and starts otherwise).
+    #[arg(long)]
+    pub resume: bool,
+    /// Run the journalled jobs that failed again, keeping the finished ones
+    /// (e.g. after raising simulation.max_wall_time or max_steps).
+    #[arg(long)]
+    pub retry_failed: bool,
+    /// Run only shard K of N (for job arrays), e.g. --shard 2/8.
+    #[arg(long, value_parser = parse_shard)]
+    pub shard: Option<(usize, usize)>,
+    #[command(flatten)]
+    pub progress: ProgressArgs,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+/// How progress is shown on stderr.
+#[derive(Debug, Args)]
+pub struct ProgressArgs {
+    /// auto: bars on a terminal, plain lines otherwise (logs); bars; lines; none.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+    /// Seconds between progress lines.
+    #[arg(long, default_value_t = 60.0)]
+    pub progress_interval: f64,
+}
+
+/// Progress display modes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ProgressMode {
+    /// Bars on a terminal, lines otherwise.
+    Auto,
+    /// Bars redrawn in place.
+    Bars,
+    /// A timestamped line at every interval.
+    Lines,
+    /// Nothing.
+    None,
+}
+
+impl ProgressArgs {
+    pub fn mode(&self) -> Result<quakejoint_sweep::Progress> {
+        use quakejoint_sweep::Progress;
+        let every = self.progress_interval;
+        if !(every.is_finite() && every > 0.0) {
+            return Err(InputError(format!("--progress-interval {every}: must be a positive number of seconds")).into());
+        }
+        let lines = Progress::Lines { every: std::time::Duration::from_secs_f64(every) };
+        Ok(match self.progress {
+            ProgressMode::Auto if std::io::stderr().is_terminal() => Progress::Bars,
+            ProgressMode::Auto | ProgressMode::Lines => lines,
+            ProgressMode::Bars => Progress::Bars,
+            ProgressMode::None => Progress::Quiet,
+        })
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The shard outputs.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// The merged file.
+    #[arg(long)]
+    pub output: PathBuf,
+    /// Write the merged file even if some jobs have no result (they stay
+    /// marked not run; the file says complete = 0).
+    #[arg(long)]
+    pub allow_partial: bool,
+    /// The config the shards must have been computed from (refuses shards
+    /// of an earlier version of it).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// The TOML config with a [sweep] table.
+    pub config: PathBuf,
+    /// Number of shards to estimate.
+    #[arg(long, default_value_t = 1)]
+    pub shards: usize,
+    /// Worker threads per shard process.
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+    /// Print only the sbatch resource options of the largest shard
+    /// (--cpus-per-task, --mem, --time).
+    #[arg(long, conflicts_with = "json")]
+    pub sbatch: bool,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// A sweep file.
+    pub a: PathBuf,
+    /// The other sweep file.
+    pub b: PathBuf,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+/// A whole number of at least 1 (thread counts).
+fn at_least_one(s: &str) -> std::result::Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("{s}: expected a whole number of at least 1")),
+    }
+}
+
+pub fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
+    let err = || format!("{s}: expected K/N with 1 <= K <= N, e.g. 2/8");
+    let (k, n) = s.split_once('/').ok_or_else(err)?;
+    let (k, n): (usize, usize) = (k.trim().parse().map_err(|_| err())?, n.trim().parse().map_err(|_| err())?);
+    if n == 0 || k == 0 || k > n {
+        return Err(err());
+    }
+    Ok((k, n))
+}
+
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// The TOML config.
+    pub config: PathBuf,
+    /// Bridge natural period [s] (default: from the config).
+    #[arg(long, allow_negative_numbers = true)]
+    pub period: Option<f64>,
+    /// Run the bridge alone (exact linear solution).
+    #[arg(long)]
+    pub no_joint: bool,
+    /// Record file to use instead of the config's (path relative to the current directory).
+    #[arg(long)]
+    pub record: Option<PathBuf>,
+    /// Write the time histories to this HDF5 file.
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct ServiceArgs {
+    /// The TOML config.
+    pub config: PathBuf,
+    /// Opening speed [m/s] (default: the config's service.speed).
+    #[arg(long, allow_negative_numbers = true)]
+    pub speed: Option<f64>,
+    /// Amplitude of the opening [m] (default: service.amplitude).
+    #[arg(long, allow_negative_numbers = true)]
+    pub amplitude: Option<f64>,
+    /// Number of cycles (default: service.cycles).
+    #[arg(long)]
+    pub cycles: Option<u32>,
+    /// Write the hysteresis loop to this HDF5 file.
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+/// How to read a record file (shared by `record` and `spectrum`).
+#[derive(Debug, Args)]
+pub struct RecordFileArgs {
+    /// The record: PEER NGA-West2 .AT2, two-column time/acceleration text or
+    /// CSV, or one-column text (give --dt).
+    pub file: PathBuf,
+    /// File format.
+    #[arg(long, value_enum, default_value_t = FormatArg::Auto)]
+    pub format: FormatArg,
+    /// Units of the values in the file: required for a text file; an AT2
+    /// file states its own (if given, they must agree).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
+    /// Time step of a one-column file [s].
+    #[arg(long, allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+    /// Column holding the acceleration in a multi-column file (1-based).
+    #[arg(long)]
+    pub column: Option<usize>,
+    /// Scale factor applied after the unit conversion.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub scale: f64,
+    /// Scale the record to this peak ground acceleration [g].
+    #[arg(long, allow_negative_numbers = true)]
+    pub target_pga_g: Option<f64>,
+}
+
+/// Record file formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FormatArg {
+    /// From the extension (.at2) and --dt.
+    Auto,
+    /// PEER NGA-West2 AT2.
+    At2,
+    /// Time and acceleration columns.
+    TwoColumn,
+    /// Acceleration only, with --dt.
+    OneColumn,
+}
+
+/// Acceleration units.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum UnitsArg {
+    /// Standard gravity (9.80665 m/s^2).
+    G,
+    /// m/s^2.
+    #[value(name = "m/s2")]
+    MetersPerSecond2,
+    /// cm/s^2 (gal).
+    #[value(name = "cm/s2", alias = "gal")]
+    CentimetersPerSecond2,
+}
+
+impl RecordFileArgs {
+    pub fn spec(&self) -> RecordSpec {
+        let mut spec = RecordSpec::new(&self.file);
+        spec.format = match self.format {
+            FormatArg::Auto => quakejoint_motion::Format::Auto,
+            FormatArg::At2 => quakejoint_motion::Format::At2,
+            FormatArg::TwoColumn => quakejoint_motion::Format::TwoColumn,
+            FormatArg::OneColumn => quakejoint_motion::Format::OneColumn,
+        };
+        spec.units = self.units.map(|u| match u {
+            UnitsArg::G => quakejoint_motion::Units::G,
+            UnitsArg::MetersPerSecond2 => quakejoint_motion::Units::MetersPerSecond2,
+            UnitsArg::CentimetersPerSecond2 => quakejoint_motion::Units::CentimetersPerSecond2,
+        });
+        spec.dt = self.dt;
+        spec.column = self.column;
+        spec.scale = self.scale;
+        spec.target_pga_g = self.target_pga_g;
+        spec
+    }
+}
+
+#[derive(Debug, Args)]
+pub struct RecordArgs {
+    #[command(flatten)]
+    pub record: RecordFileArgs,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct SpectrumArgs {
+    #[command(flatten)]
+    pub record: RecordFileArgs,
+    /// Damping ratios (several allowed: --damping 0.02 --damping 0.05, or 0.02,0.05).
+    #[arg(long, value_delimiter = ',', default_values_t = [0.05], allow_negative_numbers = true)]
+    pub damping: Vec<f64>,
+    /// Periods [s] (comma-separated); overrides --from/--to/--count.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub periods: Vec<f64>,
+    /// First period of the grid [s].
+    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+    pub from: f64,
+    /// Last period of the grid [s].
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    pub to: f64,
+    /// Number of periods of the grid.
+    #[arg(long, default_value_t = 60)]
+    pub count: usize,
+    /// Space the grid logarithmically (default: linearly).
+    #[arg(long)]
+    pub log: bool,
+    /// Points per sample interval at which peaks are sought (1: the sample times).
+    #[arg(long, default_value_t = 1)]
+    pub subdivisions: u32,
+    /// Print CSV (the default) with the columns damping,period,sa,psa,sd,sv.
+    #[arg(long, conflicts_with = "json")]
+    pub csv: bool,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
