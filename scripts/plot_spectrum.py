@@ -16,6 +16,7 @@ from pathlib import Path
 
 import h5py
 import matplotlib
+import matplotlib.ticker
 import numpy as np
 
 matplotlib.use("Agg")
@@ -36,6 +37,19 @@ def flag_names(meaning):
     return pairs
 
 
+# the `not_checked` bit of the validity flags
+NOT_CHECKED = 1 << 15
+
+
+def period_ticks(ax, periods):
+    """Plain-number period ticks (0.2, 0.5, 1, 2 s) on a log axis, no minor labels."""
+    lo, hi = periods.min(), periods.max()
+    ticks = [t for d in (0.01, 0.1, 1, 10) for t in (d, 2 * d, 5 * d) if lo * 0.9 <= t <= hi * 1.1]
+    ax.set_xticks(ticks)
+    ax.set_xticklabels([f"{t:g}" for t in ticks])
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+
+
 def main(src, dst=None):
     with h5py.File(src, "r") as f:
         s = f["spectrum"]
@@ -54,7 +68,8 @@ def main(src, dst=None):
     names = flag_names(meaning)
     for row, (c, r, z) in enumerate(rows):
         done = status[c, r, z] == 0
-        flagged = done & (validity[c, r, z] != 0)
+        # not_checked (a job that did not finish) is not a finding
+        flagged = done & ((validity[c, r, z].astype(np.int64) & ~NOT_CHECKED) != 0)
         ok = done & ~flagged
         failed = (status[c, r, z] != 0) & (status[c, r, z] != -1)
         ax, axr = axes[row]
@@ -64,20 +79,22 @@ def main(src, dst=None):
             bits = np.bitwise_or.reduce(validity[c, r, z][flagged])
             label = "flagged: " + ", ".join(n for b, n in names if bits & b)
             ax.plot(periods[flagged], sa_with[c, r, z][flagged], "o", ms=6, mfc="none", mec="k", label=label)
-            axr.plot(periods[flagged], 100 * reduction[c, r, z][flagged], "o", ms=6, mfc="none", mec="k")
+            axr.plot(periods[flagged], 100 * reduction[c, r, z][flagged], "o", ms=6, mfc="none", mec="k", label=label)
         if failed.any():
             ax.plot(periods[failed], np.zeros(failed.sum()), "x", color="k", ms=7, label=f"failed ({failed.sum()})")
         ax.set_xscale("log")
         ax.set_ylabel("Sa [m/s$^2$]")
         ax.set_title(f"{cases[c]} / {records[r]} / damping {damping[z]:g}", fontsize=9)
         ax.legend(fontsize=8)
-        axr.plot(periods[ok], 100 * reduction[c, r, z][ok], "o-", ms=4, color="tab:blue")
+        axr.plot(periods[ok], 100 * reduction[c, r, z][ok], "o-", ms=4, color="tab:blue", label="1 - Sa with / Sa without")
         axr.set_xscale("log")
+        axr.legend(fontsize=8)
         axr.axhline(0, color="0.6", lw=0.8)
         axr.set_ylabel("reduction of Sa [%]")
         for a in (ax, axr):
             a.set_xlabel("bridge period T [s]")
             a.grid(True, which="both", alpha=0.3)
+            period_ticks(a, periods)
     fig.tight_layout()
     out = dst or str(Path(src).with_name(Path(src).stem + "_spectrum.png"))
     fig.savefig(out, dpi=110)

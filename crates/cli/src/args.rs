@@ -209,9 +209,13 @@ pub struct SimulateArgs {
     /// Run the bridge alone (exact linear solution).
     #[arg(long)]
     pub no_joint: bool,
-    /// Record file to use instead of the config's (path relative to the current directory).
+    /// Record file to use instead of the config's [record] (path relative
+    /// to the current directory). It replaces the whole [record] table: say
+    /// how to read it with the options below, as for `quakejoint record`.
     #[arg(long)]
     pub record: Option<PathBuf>,
+    #[command(flatten)]
+    pub read: RecordReadArgs,
     /// Write the time histories to this HDF5 file.
     #[arg(long)]
     pub output: Option<PathBuf>,
@@ -239,12 +243,19 @@ pub struct ServiceArgs {
     pub print: PrintArgs,
 }
 
-/// How to read a record file (shared by `record` and `spectrum`).
+/// A record file and how to read it (`record` and `spectrum`).
 #[derive(Debug, Args)]
 pub struct RecordFileArgs {
-    /// The record: PEER NGA-West2 .AT2, two-column time/acceleration text or
-    /// CSV, or one-column text (give --dt).
+    /// The record: PEER NGA-West2 .AT2, ESM or K-NET ASCII, two-column
+    /// time/acceleration text or CSV, or one-column text (give --dt).
     pub file: PathBuf,
+    #[command(flatten)]
+    pub read: RecordReadArgs,
+}
+
+/// How to read a record file.
+#[derive(Debug, Args)]
+pub struct RecordReadArgs {
     /// File format.
     #[arg(long, value_enum, default_value_t = FormatArg::Auto)]
     pub format: FormatArg,
@@ -258,9 +269,9 @@ pub struct RecordFileArgs {
     /// Column holding the acceleration in a multi-column file (1-based).
     #[arg(long)]
     pub column: Option<usize>,
-    /// Scale factor applied after the unit conversion.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
-    pub scale: f64,
+    /// Scale factor applied after the unit conversion (default 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub scale: Option<f64>,
     /// Scale the record to this peak ground acceleration [g].
     #[arg(long, allow_negative_numbers = true)]
     pub target_pga_g: Option<f64>,
@@ -269,7 +280,7 @@ pub struct RecordFileArgs {
 /// Record file formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum FormatArg {
-    /// From the extension (.at2) and --dt.
+    /// From the extension (.at2), the header (ESM, K-NET, COSMOS) and --dt.
     Auto,
     /// PEER NGA-West2 AT2.
     At2,
@@ -277,6 +288,14 @@ pub enum FormatArg {
     TwoColumn,
     /// Acceleration only, with --dt.
     OneColumn,
+    /// ESM (ORFEUS) ASCII.
+    Esm,
+    /// K-NET / KiK-net ASCII.
+    Knet,
+    /// COSMOS V1/V2 acceleration.
+    Cosmos,
+    /// Values in reading order, any number per line, with --dt.
+    Sequence,
 }
 
 /// Acceleration units.
@@ -294,12 +313,33 @@ pub enum UnitsArg {
 
 impl RecordFileArgs {
     pub fn spec(&self) -> RecordSpec {
-        let mut spec = RecordSpec::new(&self.file);
+        self.read.spec(&self.file)
+    }
+}
+
+impl RecordReadArgs {
+    /// Whether any option was given.
+    pub fn any(&self) -> bool {
+        self.format != FormatArg::Auto
+            || self.units.is_some()
+            || self.dt.is_some()
+            || self.column.is_some()
+            || self.scale.is_some()
+            || self.target_pga_g.is_some()
+    }
+
+    /// The spec of `file` read with these options.
+    pub fn spec(&self, file: &std::path::Path) -> RecordSpec {
+        let mut spec = RecordSpec::new(file);
         spec.format = match self.format {
             FormatArg::Auto => quakejoint_motion::Format::Auto,
             FormatArg::At2 => quakejoint_motion::Format::At2,
             FormatArg::TwoColumn => quakejoint_motion::Format::TwoColumn,
             FormatArg::OneColumn => quakejoint_motion::Format::OneColumn,
+            FormatArg::Esm => quakejoint_motion::Format::Esm,
+            FormatArg::Knet => quakejoint_motion::Format::Knet,
+            FormatArg::Cosmos => quakejoint_motion::Format::Cosmos,
+            FormatArg::Sequence => quakejoint_motion::Format::Sequence,
         };
         spec.units = self.units.map(|u| match u {
             UnitsArg::G => quakejoint_motion::Units::G,
@@ -308,7 +348,7 @@ impl RecordFileArgs {
         });
         spec.dt = self.dt;
         spec.column = self.column;
-        spec.scale = self.scale;
+        spec.scale = self.scale.unwrap_or(1.0);
         spec.target_pga_g = self.target_pga_g;
         spec
     }

@@ -11,7 +11,7 @@ use quakejoint_model::linear::linear_response;
 use quakejoint_model::run::{load_records, simulate_records, RunOptions};
 use quakejoint_model::service::service;
 use quakejoint_model::{Config, ModelError};
-use quakejoint_motion::{load_record, period_range, spectrum, LoadedRecord, RecordSpec, RecordStats, SpectrumOptions};
+use quakejoint_motion::{load_record, period_range, spectrum, LoadedRecord, RecordStats, SpectrumOptions};
 use quakejoint_solver::{Assembly, AssemblyOptions};
 use quakejoint_sweep::run_h5::{Provenance, RecordSource};
 use quakejoint_sweep::{run_sweep, Plan, SweepOptions};
@@ -124,6 +124,9 @@ fn read_plan(config: &Path) -> Result<Plan> {
             eprintln!("warning: {w}");
         }
     }
+    for w in &plan.warnings {
+        eprintln!("warning: {w}");
+    }
     Ok(plan)
 }
 
@@ -234,7 +237,7 @@ fn record_cmd(a: RecordArgs) -> Result<ExitCode> {
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
     }
-    output::record_stats(&loaded.record, &RecordStats::of(&loaded.record), &loaded.warnings, a.print.json);
+    output::record_stats(&loaded, &RecordStats::of(&loaded.record), a.print.json);
     Ok(ExitCode::SUCCESS)
 }
 
@@ -264,7 +267,7 @@ fn model(a: ModelArgs) -> Result<ExitCode> {
     if let Some(path) = &a.sparsity {
         quakejoint_sweep::files::check_overwrite(path, "sparsity", &[&a.config]).map_err(InputError)?;
         let names: Vec<String> = model.system.bodies().iter().map(|b| b.name.clone()).collect();
-        let provenance = provenance_of(&a.config, &text, &config, Vec::new());
+        let provenance = provenance_of(&a.config, &text, &config, Vec::new(), Vec::new());
         quakejoint_sweep::run_h5::write_sparsity(path, &provenance, &asm, &names)
             .context("writing the sparsity pattern")?;
     }
@@ -305,13 +308,20 @@ fn command_line() -> String {
 
 /// The provenance of a single run's output: the command, the config file
 /// as read and as used (after command-line overrides), the records.
-fn provenance_of(path: &Path, text: &str, used: &Config, records: Vec<RecordSource>) -> Provenance {
+fn provenance_of(
+    path: &Path,
+    text: &str,
+    used: &Config,
+    records: Vec<RecordSource>,
+    warnings: Vec<String>,
+) -> Provenance {
     Provenance {
         command: command_line(),
         config_path: path.display().to_string(),
         config_file: text.to_string(),
         config: toml::to_string(used).unwrap_or_default(),
         records,
+        warnings,
     }
 }
 
@@ -330,12 +340,27 @@ const FLAGGED: u8 = 4;
 fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     let (mut config, text) = read_config(&a.config)?;
     let base = if let Some(path) = &a.record {
-        // the override is relative to the current directory; keep the other record settings
-        let mut spec = config.record.clone().unwrap_or_else(|| RecordSpec::new(path));
-        spec.file = std::path::absolute(path).unwrap_or_else(|_| path.clone());
-        spec.name = None;
-        config.record = Some(spec);
+        // the override is relative to the current directory and replaces the
+        // whole [record] table: its units, scale and columns described
+        // another file
+        let file = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+        if let Some(old) = &config.record {
+            eprintln!(
+                "note: --record replaces the config's [record] ({}) with all its settings; {} is read with the \
+                 options given on the command line",
+                old.file.display(),
+                path.display()
+            );
+        }
+        config.record = Some(a.read.spec(&file));
         PathBuf::new()
+    } else if a.read.any() {
+        return Err(InputError(
+            "--format, --units, --dt, --column, --scale and --target-pga-g describe the file of --record; without \
+             --record, set them in the config's [record]"
+                .into(),
+        )
+        .into());
     } else {
         base_dir(&a.config)
     };
@@ -357,8 +382,10 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         config.joint.enabled = false;
     }
     let histories = a.output.is_some();
+    // the bridge alone over the same window as a run with the joint
+    let window = quakejoint_model::run::run_window(&config, rx);
     let result = if a.no_joint {
-        linear_response(rx, omega.unwrap_or_else(|| config.bridge.omega()), config.bridge.damping, histories)
+        linear_response(&window, omega.unwrap_or_else(|| config.bridge.omega()), config.bridge.damping, histories)
     } else {
         let bar = TerminalProgress::new(quakejoint_model::run::run_duration(&config, rx));
         let options =
@@ -371,15 +398,16 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     };
     if let Some(path) = &a.output {
         let period = 2.0 * std::f64::consts::PI / result.omega;
-        let without = quakejoint_motion::history(&rx.acceleration, rx.dt, period, config.bridge.damping).a_abs;
+        let without = quakejoint_motion::history(&window.acceleration, rx.dt, period, config.bridge.damping).a_abs;
         let mut records = vec![RecordSource::of("x", rx, &lx.sha256)];
         records.extend(ly.as_ref().map(|l| RecordSource::of("y", &l.record, &l.sha256)));
-        let provenance = provenance_of(&a.config, &text, &config, records);
+        let warnings = lx.warnings.iter().chain(ly.iter().flat_map(|l| &l.warnings)).cloned().collect();
+        let provenance = provenance_of(&a.config, &text, &config, records, warnings);
         quakejoint_sweep::run_h5::write_run(path, &provenance, &result, Some(&without))
             .context("writing the time histories")?;
     }
-    output::run_result(&a.config, &rx.name, &result, a.print.json);
-    Ok(if result.validity.flags.is_ok() { ExitCode::SUCCESS } else { ExitCode::from(FLAGGED) })
+    output::run_result(&a.config, &lx, &result, a.print.json);
+    Ok(if result.validity.flags.is_flagged() { ExitCode::from(FLAGGED) } else { ExitCode::SUCCESS })
 }
 
 fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
@@ -402,9 +430,9 @@ fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
         eprintln!("warning: {w}");
     }
     if let Some(path) = &a.output {
-        let provenance = provenance_of(&a.config, &text, &config, Vec::new());
+        let provenance = provenance_of(&a.config, &text, &config, Vec::new(), result.warnings.clone());
         quakejoint_sweep::run_h5::write_service(path, &provenance, &result).context("writing the hysteresis loop")?;
     }
     output::service_result(&a.config, &result, a.print.json);
-    Ok(ExitCode::SUCCESS)
+    Ok(if result.validity.flags.is_flagged() { ExitCode::from(FLAGGED) } else { ExitCode::SUCCESS })
 }

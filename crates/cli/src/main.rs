@@ -49,8 +49,9 @@ fn bounded(text: &str) -> String {
     text.split_inclusive('\n').map(|line| quakejoint_motion::excerpt(line, MAX_LINE)).collect()
 }
 
-/// Longest line of an error message.
-const MAX_LINE: usize = 500;
+/// Longest line of an error message (a backstop: the libraries quote at
+/// most a short excerpt of any input, and their guidance must not be cut).
+const MAX_LINE: usize = 1500;
 
 /// The error and its causes, each cause once: the library errors already
 /// quote their source in their own message.

@@ -20,7 +20,7 @@ use quakejoint_model::run::RunResult;
 use quakejoint_model::service::ServiceResult;
 use quakejoint_model::validity::Flags;
 use quakejoint_model::Config;
-use quakejoint_motion::{Record, RecordStats, SpectrumRow};
+use quakejoint_motion::{LoadedRecord, RecordStats, SpectrumRow};
 use quakejoint_solver::Assembly;
 use serde_json::json;
 
@@ -101,12 +101,18 @@ fn extend(v: &mut serde_json::Value, more: serde_json::Value) {
 
 /// `quakejoint simulate`. Quantities not computed (the joint's, without
 /// it) are `null` in JSON and left out of the table.
-pub fn run_result(path: &Path, record: &str, r: &RunResult, json: bool) {
+pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool) {
     let v = &r.validity;
+    let record = &loaded.record;
     if json {
         let mut out = json!({
             "config": path.display().to_string(),
-            "record": record,
+            "record": record.name,
+            "record_file": record.source,
+            "record_format": loaded.format.name(),
+            "record_file_units": record.units.name(),
+            "record_scale": record.user_scale,
+            "record_pga_g": record.pga() / quakejoint_motion::G,
             "joint": !r.exact_linear,
             "method": if r.exact_linear { "exact linear" } else { "multibody" },
             "omega": r.omega,
@@ -148,13 +154,15 @@ pub fn run_result(path: &Path, record: &str, r: &RunResult, json: bool) {
         return;
     }
     let mode = if r.exact_linear { "bridge alone (exact linear solution)" } else { "bridge with joint" };
-    out!("{} under {record}: {mode}", path.display());
+    out!("{} under {}: {mode}", path.display(), record.name);
+    out!("  {}", record_line(loaded));
     out!("  w0 {:.4} rad/s, T {:.4} s, {:.2} s simulated", r.omega, 2.0 * std::f64::consts::PI / r.omega, r.duration);
     out!("  Sa   {:>12.5} m/s^2  at t = {:.3} s", r.sa, r.t_sa);
     out!("  PSa  {:>12.5} m/s^2", r.psa);
     out!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);
     out!("  Sv   {:>12.5} m/s    at t = {:.3} s", r.sv, r.t_sv);
     if r.exact_linear {
+        out!("validity: not checked (no joint)");
         return;
     }
     out!("joint demands");
@@ -170,14 +178,7 @@ pub fn run_result(path: &Path, record: &str, r: &RunResult, json: bool) {
             dev * 1e3
         );
     }
-    if v.flags.is_ok() {
-        out!("validity: ok (no collision, bearings on their supports, energy balance closed)");
-    } else {
-        out!("VALIDITY: {} (the model cannot stand behind these numbers)", v.flags.label());
-        for f in &v.findings {
-            out!("  {f}");
-        }
-    }
+    validity_lines(v);
     out!("quality");
     out!("  energy balance error          {:>12.2e} of the earthquake work", r.energy_error);
     let res = &r.residuals;
@@ -201,6 +202,39 @@ pub fn run_result(path: &Path, record: &str, r: &RunResult, json: bool) {
     );
 }
 
+/// The record as read, in one line: the file, its format and units, the
+/// scale and the PGA, so that a unit or scale slip shows.
+pub fn record_line(loaded: &LoadedRecord) -> String {
+    let record = &loaded.record;
+    format!(
+        "record {} ({}, numbers in {}, scale {}): PGA {:.4} g, dt {} s, {:.2} s",
+        record.source,
+        loaded.format.name(),
+        record.units.name(),
+        quakejoint_motion::number(record.user_scale),
+        record.pga() / quakejoint_motion::G,
+        record.dt,
+        record.duration()
+    )
+}
+
+/// The validity of a run in the table: ok, or the flags and findings.
+fn validity_lines(v: &quakejoint_model::validity::Validity) {
+    if v.flags.is_ok() {
+        out!("validity: ok (no collision, bearings on their supports, energy balance closed)");
+    } else if !v.flags.is_flagged() {
+        out!("validity: not checked");
+        for f in &v.findings {
+            out!("  {f}");
+        }
+    } else {
+        out!("VALIDITY: {} (the model cannot stand behind these numbers)", v.flags.label());
+        for f in &v.findings {
+            out!("  {f}");
+        }
+    }
+}
+
 /// `quakejoint service`.
 pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
     let deficit = r.compliance_deficit;
@@ -213,6 +247,13 @@ pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
             "loop_work_per_cycle": r.loop_work_per_cycle,
             "hand_calculation": r.hand_calculation,
             "compliance_deficit": deficit,
+            "damping_work_per_cycle": r.damping_work_per_cycle,
+            "min_subgap": r.min_subgap,
+            "max_subgap": r.max_subgap,
+            "validity": r.validity.flags.0,
+            "validity_label": r.validity.flags.label(),
+            "flags": r.validity.flags.names(),
+            "findings": r.validity.findings,
             "warnings": r.warnings,
             "peak_joint_force": r.peak_joint_force,
             "energy_error": r.energy_error,
@@ -223,28 +264,34 @@ pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
         out!("{v}");
         return;
     }
-    let pct = |x: f64| 100.0 * x / r.hand_calculation;
+    let against = if r.hand_calculation > 0.0 {
+        format!("{:+.1} % against the hand calculation", 100.0 * (r.friction_work_per_cycle / r.hand_calculation - 1.0))
+    } else {
+        "no friction in the hand calculation".to_string()
+    };
     out!("{}: service case, {} cycles of {:.3} s", path.display(), r.cycles, r.period);
-    out!(
-        "  friction work per cycle      {:>12.1} J (last cycle; {:+.1} % against the hand calculation)",
-        r.friction_work_per_cycle,
-        pct(r.friction_work_per_cycle - r.hand_calculation)
-    );
+    out!("  friction work per cycle      {:>12.1} J (last cycle; {against})", r.friction_work_per_cycle);
     out!(
         "  hand calculation             {:>12.1} J (sum of mu n_s F_N x sliding distance, rigid bushings)",
         r.hand_calculation
     );
     match deficit {
         Some(d) => out!(
-            "  bushing compliance           {:>12.1} J (closed form: expected between {:.1} and {:.1} J)",
-            -d,
+            "  bushing compliance deficit   {:>12.1} J (closed form: friction work expected between {:.1} and {:.1} J)",
+            d,
             r.hand_calculation - d,
             r.hand_calculation
         ),
         None => out!("  bushing compliance           not computable (a center beam is not held by its bearings)"),
     }
     out!("  hysteresis loop area         {:>12.1} J (work of the deck on the joint)", r.loop_work_per_cycle);
+    out!(
+        "  damper work per cycle        {:>12.1} J (bushing dampers; with friction, what the loop area equals)",
+        r.damping_work_per_cycle
+    );
     out!("  peak joint force on the deck {:>12.1} N", r.peak_joint_force);
+    out!("  sub-gaps                     {:>9.2} .. {:.2} mm", r.min_subgap * 1e3, r.max_subgap * 1e3);
+    validity_lines(&r.validity);
     let res = &r.residuals;
     out!(
         "  energy balance error {:.2e}, constraint residuals {:.1e} m, {:.1e} rad, {} steps, {:.2} s wall",
@@ -257,11 +304,16 @@ pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
 }
 
 /// `quakejoint record`.
-pub fn record_stats(record: &Record, s: &RecordStats, warnings: &[String], json: bool) {
+pub fn record_stats(loaded: &LoadedRecord, s: &RecordStats, json: bool) {
+    let (record, warnings) = (&loaded.record, &loaded.warnings);
     if json {
         let v = json!({
             "file": record.source,
             "name": record.name,
+            "format": loaded.format.name(),
+            "file_units": record.units.name(),
+            "file_pga": record.file_pga,
+            "user_scale": record.user_scale,
             "dt": s.dt,
             "samples": s.samples,
             "duration": s.duration,
@@ -272,15 +324,31 @@ pub fn record_stats(record: &Record, s: &RecordStats, warnings: &[String], json:
             "d5_95": s.d5_95, "t5": s.t5, "t95": s.t95,
             "scale": record.scale,
             "warnings": warnings,
+            "units": {
+                "dt": "s", "duration": "s", "pga": "m/s^2", "t_pga": "s", "pgv": "m/s", "t_pgv": "s",
+                "pgd": "m", "t_pgd": "s", "arias": "m/s", "d5_95": "s", "t5": "s", "t95": "s",
+                "file_pga": record.units.name(), "scale": "m/s^2 per file unit", "user_scale": "1",
+            },
         });
         out!("{v}");
         return;
     }
     let g = quakejoint_motion::G;
     out!("record {} ({})", record.name, record.source);
-    for h in record.header.iter().skip(1).take(1) {
-        out!("  {}", h.trim());
+    if loaded.format == quakejoint_motion::Format::At2 {
+        // the event and station line
+        for h in record.header.iter().skip(1).take(1) {
+            out!("  {}", h.trim());
+        }
     }
+    out!(
+        "  read as           {} file, numbers in {} (PGA in the file {:.5} {}), scale {}",
+        loaded.format.name(),
+        record.units.name(),
+        record.file_pga,
+        record.units.name(),
+        quakejoint_motion::number(record.user_scale)
+    );
     out!("  dt                {:>12.5} s", s.dt);
     out!("  samples           {:>12}", s.samples);
     out!("  duration          {:>12.3} s", s.duration);
@@ -540,6 +608,7 @@ pub fn sweep_check(c: &quakejoint_sweep::runner::Check, json: bool) {
                 "jobs": c.jobs,
                 "done": c.done,
                 "failed": c.failed,
+                "flagged": c.flagged,
                 "journal": c.journal,
                 "cpu_seconds": c.cpu_seconds,
             })
@@ -554,11 +623,12 @@ pub fn sweep_check(c: &quakejoint_sweep::runner::Check, json: bool) {
         format!("would continue: {} of {} jobs done", c.done, c.jobs)
     };
     out!(
-        "check {}: config, records and output are fine; the sweep {what} ({} jobs, {} failed so far, about {} of CPU \
-         time to go)",
+        "check {}: config, records and output are fine; the sweep {what} ({} jobs, {} failed and {} flagged so far, \
+         about {} of CPU time to go)",
         c.output.display(),
         c.jobs,
         c.failed,
+        c.flagged,
         quakejoint_sweep::progress::format_duration(c.cpu_seconds)
     );
 }

@@ -25,7 +25,7 @@ fn grid() -> String {
          periods = {{ from = 0.25, to = 2.5, count = 6, spacing = \"log\" }}\n\
          damping = [0.02, 0.05]\n\
          histories = [0.63]\n\
-         records = [{{ file = {:?}, scale = 0.2 }}, {{ file = {:?}, scale = 0.2 }}]\n\
+         records = [{{ file = {:?}, scale = 0.15 }}, {{ file = {:?}, scale = 0.15 }}]\n\
          [[sweep.cases]]\nname = \"reference\"\n\
          [[sweep.cases]]\nname = \"mu 0.1\"\njoint.friction.mu = 0.1\n",
         record("RSN753_LOMAP_CLS090-hor2.AT2"),

@@ -3,12 +3,15 @@
 //!
 //! The fault is real, not mocked: the sweep runs under a file-size limit
 //! (`ulimit -f`, with SIGXFSZ ignored so that the write returns EFBIG, as
-//! on a full disk or an exceeded quota). Two placements:
-//! - the HDF5 checkpoint fails (a checkpoint after every job, the limit
-//!   smaller than the output file);
-//! - the journal append fails (no checkpoint before the end, the limit
-//!   smaller than the journal, which grows by a time history per history
-//!   job).
+//! on a full disk or an exceeded quota). Two placements, each sized from an
+//! uninterrupted run's files:
+//! - the HDF5 checkpoint fails: a checkpoint after every job and no time
+//!   histories, so the journal stays small while the output holds the
+//!   record and every result array from the first checkpoint on; the limit
+//!   lies between the complete journal's size and the output's;
+//! - the journal append fails: no checkpoint before the end, time histories
+//!   at one period (the journal grows by one per history job), the limit
+//!   half the complete journal.
 //!
 //! Each must exit with code 1, name the file and the cause, say that the
 //! same command continues, leave the output name either empty or holding a complete
@@ -25,14 +28,14 @@ use quakejoint_sweep::journal;
 use quakejoint_sweep::runner::journal_path;
 use quakejoint_sweep::sweep_h5::read_sweep;
 
-/// 2 cases x 2 dampings x 6 periods, histories at one period; `checkpoint`
-/// seconds between HDF5 checkpoints.
-fn sweep_table(checkpoint: f64) -> String {
+/// 2 cases x 2 dampings x 6 periods, `histories` (a TOML list of periods);
+/// `checkpoint` seconds between HDF5 checkpoints.
+fn sweep_table(checkpoint: f64, histories: &str) -> String {
     format!(
         "[sweep]\n\
          periods = {{ from = 0.2, to = 3.0, count = 6, spacing = \"log\" }}\n\
          damping = [0.02, 0.05]\n\
-         histories = [1.02]\n\
+         histories = {histories}\n\
          checkpoint_seconds = {checkpoint}\n\
          [[sweep.cases]]\nname = \"reference\"\n\
          [[sweep.cases]]\nname = \"mu 0.1\"\njoint.friction.mu = 0.1\n"
@@ -42,21 +45,28 @@ fn sweep_table(checkpoint: f64) -> String {
 #[test]
 fn a_failing_write_stops_the_sweep_and_resume_finishes_it() {
     let d = dir("disk");
-    let reference = d.join("reference.h5");
-    let cfg = config(&d, "reference.toml", &sweep_table(60.0), 20.0);
-    ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", reference.to_str().unwrap(), "--json"]));
-    let reference = read_sweep(&reference).unwrap();
-
-    for (name, checkpoint, failing) in
-        [("checkpoint", 0.001, "checkpoint.h5: HDF5"), ("journal", 3600.0, "cannot append to the journal")]
-    {
-        let cfg = config(&d, &format!("{name}.toml"), &sweep_table(checkpoint), 20.0);
+    let kib = |p: &std::path::Path| std::fs::metadata(p).unwrap().len() / 1024;
+    for (name, checkpoint, histories, failing) in [
+        ("checkpoint", 0.001, "[]", "checkpoint.h5: HDF5"),
+        ("journal", 3600.0, "[1.02]", "cannot append to the journal"),
+    ] {
+        let reference = d.join(format!("{name}-reference.h5"));
+        let cfg = config(&d, &format!("{name}-reference.toml"), &sweep_table(60.0, histories), 20.0);
+        ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", reference.to_str().unwrap(), "--json"]));
+        let (output_kib, journal_kib) = (kib(&reference), kib(&journal_path(&reference)));
+        let limit = if name == "checkpoint" {
+            assert!(output_kib > journal_kib + 20, "output {output_kib} KiB, journal {journal_kib} KiB");
+            (output_kib + journal_kib) / 2
+        } else {
+            journal_kib / 2
+        };
+        let reference = read_sweep(&reference).unwrap();
+        let cfg = config(&d, &format!("{name}.toml"), &sweep_table(checkpoint, histories), 20.0);
         let out = d.join(format!("{name}.h5"));
         let args = format!("sweep {} --output {} --threads 2 --json", cfg.display(), out.display());
-        // 300 KiB: a few jobs fit, the output (about 600 KiB) and the journal do not
         let limited = Command::new("bash")
             .arg("-c")
-            .arg(format!("trap '' XFSZ; ulimit -f 300; exec {} {args}", env!("CARGO_BIN_EXE_quakejoint")))
+            .arg(format!("trap '' XFSZ; ulimit -f {limit}; exec {} {args}", env!("CARGO_BIN_EXE_quakejoint")))
             .output()
             .unwrap();
         let stderr = String::from_utf8_lossy(&limited.stderr);

@@ -140,25 +140,25 @@ fn every_file_says_what_produced_it_and_carries_units() {
 
     // service with options from the command line
     let loop_h5 = d.join("loop.h5");
-    let small = root().join("configs/small.toml");
+    let medium = root().join("configs/medium.toml");
     ok(&run(&[
         "service",
-        small.to_str().unwrap(),
+        medium.to_str().unwrap(),
         "--speed",
         "0.1",
         "--amplitude",
-        "0.1",
+        "0.05",
         "--cycles",
-        "1",
+        "3",
         "--output",
         loop_h5.to_str().unwrap(),
     ]));
     let f = hdf5::File::open(&loop_h5).unwrap();
     let used: toml::Table = toml::from_str(&attr_string(&f, "config")).unwrap();
     assert_eq!(used["service"]["speed"].as_float(), Some(0.1));
-    assert_eq!(used["service"]["amplitude"].as_float(), Some(0.1));
-    assert_eq!(used["service"]["cycles"].as_integer(), Some(1));
-    assert_eq!(f.dataset("service/center_beam_dx").unwrap().shape()[0], 3);
+    assert_eq!(used["service"]["amplitude"].as_float(), Some(0.05));
+    assert_eq!(used["service"]["cycles"].as_integer(), Some(3));
+    assert_eq!(f.dataset("service/center_beam_dx").unwrap().shape()[0], 9);
     all.extend(paths_of(&loop_h5));
 
     // a sweep, with dimension scales on its arrays
@@ -188,7 +188,7 @@ fn every_file_says_what_produced_it_and_carries_units() {
 
     // a sparsity file
     let sparsity = d.join("sparsity.h5");
-    ok(&run(&["model", small.to_str().unwrap(), "--sparsity", sparsity.to_str().unwrap()]));
+    ok(&run(&["model", medium.to_str().unwrap(), "--sparsity", sparsity.to_str().unwrap()]));
     all.extend(paths_of(&sparsity));
 
     assert!(all.len() > 100, "{} paths in the files", all.len());

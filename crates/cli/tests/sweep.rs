@@ -235,6 +235,10 @@ fn failing_jobs_are_recorded_and_the_sweep_goes_on() {
     assert!(r.messages[4].contains("time limit of 0.5 s wall clock"), "{}", r.messages[4]);
     assert_eq!(&r.status[6..8], &[status::FAILED, status::OK]);
     assert!(r.messages[6].contains("integration failed at t ="), "{}", r.messages[6]);
+    // a failed job was not checked, which is not the same as valid (0)
+    let not_checked = quakejoint_model::validity::Flags::NOT_CHECKED.0;
+    assert_eq!((r.validity[6], r.validity[0]), (not_checked, 0), "{:?}", r.validity);
+    assert!(r.findings[6].starts_with("not_checked"), "{}", r.findings[6]);
     assert!(r.values[0][2].is_nan() && r.values[0][0] > 0.0);
     // the time-limited jobs (2 x 0.5 s on 2 threads) bound the sweep
     assert!(wall.as_secs_f64() < 30.0, "the sweep took {wall:?}");
@@ -246,7 +250,7 @@ fn a_case_that_cannot_work_is_bad_input_and_nothing_is_written() {
     for (case, expect) in [
         ("joint.center_beam.length = 2.0", "outside the center beam"),
         ("joint.bushing.kx = 1e25", "joint.bushing.kx = 1e25"),
-        ("simulation.extra_time = 86400.0", "output samples"),
+        ("simulation.extra_time = 86400.0", "share its run window"),
     ] {
         let sweep = format!(
             "[sweep]\nperiods = [0.5]\n[[sweep.cases]]\nname = \"fine\"\n[[sweep.cases]]\nname = \"bad\"\n{case}\n"
@@ -367,4 +371,52 @@ fn slurm_script_runs_shards_locally_and_merges_them() {
         &read_sweep(&reference).unwrap(),
         "script shards vs one run",
     );
+}
+
+/// The bridge without the joint is solved over the runs' window, not over
+/// the whole record. Closed form: an undamped oscillator of period T at
+/// rest under a ground acceleration a0 switched on at t = 0 has
+/// `a_abs(t) = a0 (1 - cos(2 pi t / T))`, so over a window of T/4 its peak
+/// is a0, and over the whole (longer) record 2 a0. A run with the joint
+/// disabled is the same oscillator integrated by the multibody solver.
+#[test]
+fn the_spectrum_without_the_joint_covers_the_runs_window() {
+    let d = dir("window");
+    let record = d.join("step.txt");
+    std::fs::write(&record, "1.0\n".repeat(4001)).unwrap(); // 4 s of 1 m/s^2 at 1 ms
+    let cfg = d.join("c.toml");
+    std::fs::write(
+        &cfg,
+        "[joint]\nenabled = false\n[bridge]\ndamping = 0.0\n\
+         [record]\nfile = \"step.txt\"\ndt = 0.001\nunits = \"m/s2\"\n\
+         [simulation]\nduration = 0.25\n[sweep]\nperiods = [1.0]\ndamping = [0.0]\n",
+    )
+    .unwrap();
+    let out = d.join("out.h5");
+    let res = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()]);
+    ok(&res);
+    let f = read_sweep(&out).unwrap();
+    let without = f.results.without[0][0];
+    assert!((without - 1.0).abs() < 1e-9, "Sa without the joint over T/4: {without}, expected a0 = 1");
+    let with = f.results.values[0][0];
+    assert!((with - 1.0).abs() < 1e-4, "Sa of the bridge alone in the multibody solver: {with}");
+    let warning = f.provenance.warnings.join("\n");
+    assert!(warning.contains("first 0.25 s of 4 s") && warning.contains("100.0 % more"), "{warning}");
+    assert!(stderr(&res).contains("100.0 % more"), "{}", stderr(&res));
+}
+
+/// A stored history carries its job's validity, as the spectrum arrays do.
+#[test]
+fn stored_histories_say_whether_their_job_was_valid() {
+    let d = dir("history-validity");
+    let cfg = config(&d, "c.toml", "[sweep]\nperiods = [0.5, 1.0]\ndamping = [0.05]\nhistories = [1.0]\n", 2.0);
+    let out = d.join("out.h5");
+    ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()]));
+    let file = hdf5::File::open(&out).unwrap();
+    let g = file.group("histories/job_1").unwrap();
+    assert_eq!(g.attr("validity").unwrap().read_scalar::<u32>().unwrap(), 0);
+    let label: hdf5::types::VarLenUnicode = g.attr("validity_label").unwrap().read_scalar().unwrap();
+    assert_eq!(label.as_str(), "ok");
+    let gaps = g.dataset("subgaps").unwrap();
+    assert_eq!(gaps.shape()[0], 4, "Nc + 1 sub-gaps");
 }

@@ -381,13 +381,24 @@ impl Config {
             if j.support_beams.is_empty() {
                 return Err(invalid("joint.support_beams", 0.0, "the list of support beams is empty"));
             }
+            if j.friction.surfaces.fract() != 0.0 {
+                return Err(invalid("joint.friction.surfaces", j.friction.surfaces, "must be a whole number"));
+            }
             for (k, sb) in j.support_beams.iter().enumerate() {
                 check_as("joint.support_beams[k].y", &format!("joint.support_beams[{k}].y"), sb.y)?;
-                check_as(
-                    "joint.support_beams[k].angle_deg",
-                    &format!("joint.support_beams[{k}].angle_deg"),
-                    sb.angle_deg,
-                )?;
+                let field = format!("joint.support_beams[{k}].angle_deg");
+                check_as("joint.support_beams[k].angle_deg", &field, sb.angle_deg)?;
+                if sb.kind == SupportKind::Joist && sb.angle_deg.abs() < MIN_JOIST_ANGLE_DEG {
+                    return Err(invalid(
+                        &field,
+                        sb.angle_deg,
+                        &format!(
+                            "a swivel joist turns as the gap opens only if it is inclined: at least \
+                             {MIN_JOIST_ANGLE_DEG} degrees either way (is the angle in radians? 13 degrees is \
+                             0.227 rad)"
+                        ),
+                    ));
+                }
             }
         }
         let b = &self.bridge;
@@ -400,7 +411,18 @@ impl Config {
                     reason: "give either bridge.w0 or bridge.period, not both".to_string(),
                 })
             }
-            (Some(w), None) => check("bridge.w0", w)?,
+            (Some(w), None) => {
+                check("bridge.w0", w)?;
+                let t = 2.0 * std::f64::consts::PI / w;
+                let (lo, hi) = crate::limits::PERIOD_RANGE;
+                if !(lo..=hi).contains(&t) {
+                    return Err(invalid(
+                        "bridge.w0",
+                        w,
+                        &format!("is a period of {} s, outside {lo} to {hi} s", quakejoint_motion::number(t)),
+                    ));
+                }
+            }
             (None, Some(t)) => check("bridge.period", t)?,
             (None, None) => {}
         }
@@ -439,6 +461,10 @@ impl Config {
         self.record.clone().unwrap_or_else(|| RecordSpec::new(quakejoint_motion::builtin::DEFAULT))
     }
 }
+
+/// Smallest inclination of a swivel joist to the bridge axis [deg]; built
+/// joints incline them by 10 to 30 degrees.
+pub const MIN_JOIST_ANGLE_DEG: f64 = 1.0;
 
 /// A TOML error naming the file, with each quoted line of the input cut to
 /// 200 characters.

@@ -40,6 +40,8 @@ pub struct Geometry {
     pub gap: f64,
     /// Center beam width [m].
     pub width: f64,
+    /// Half the center beam length [m]: the ends are at y = ±half_length.
+    pub half_length: f64,
     /// x of each center beam's axis [m].
     pub center_x: Vec<f64>,
     /// The support beams.
@@ -129,19 +131,39 @@ impl Geometry {
             }
             bearing_y.push(row);
         }
-        Ok(Self { center_beams: nc, pitch: s0, gap, width: j.center_beam.width, center_x, supports, bearing_y })
+        Ok(Self {
+            center_beams: nc,
+            pitch: s0,
+            gap,
+            width: j.center_beam.width,
+            half_length: half,
+            center_x,
+            supports,
+            bearing_y,
+        })
     }
 
-    /// Clear sub-gaps for center-beam centre lines `x` and opening `u`: from
-    /// the abutment line to the first beam, between beams, and from the last
-    /// beam to the deck line, each minus the beam width [m].
-    pub fn subgaps(&self, x: &[f64], u: f64, out: &mut Vec<f64>) {
+    /// Clear sub-gaps at both ends of the center beams (y = ±L/2), for
+    /// center-beam axes at `x` turned by `phi` [rad] and deck opening `u`:
+    /// from the abutment's edge beam to the first beam, between beams, and
+    /// from the last beam to the deck's edge beam, `[at y = -L/2, at y =
+    /// +L/2]` [m]. A beam turned by phi has its faces at `x ∓ y sin(phi) ±
+    /// (w/2) cos(phi)`; the edge beams do not turn. Turning makes one end
+    /// of a sub-gap close before its middle: 1 mrad on a 15 m beam moves its
+    /// ends by 7.5 mm.
+    pub fn subgaps(&self, x: &[f64], phi: &[f64], u: f64, out: &mut Vec<[f64; 2]>) {
         out.clear();
-        let mut prev = 0.0;
-        for &xi in x {
-            out.push(xi - prev - self.width);
-            prev = xi;
+        let half_w = 0.5 * self.width;
+        let ends = [-self.half_length, self.half_length];
+        // faces of the abutment's edge beam (axis x = 0)
+        let mut prev = [half_w; 2];
+        for (&xi, &p) in x.iter().zip(phi) {
+            let (sin, cos) = p.sin_cos();
+            let back = ends.map(|y| xi - y * sin - half_w * cos);
+            out.push([back[0] - prev[0], back[1] - prev[1]]);
+            prev = ends.map(|y| xi - y * sin + half_w * cos);
         }
-        out.push(self.gap + u - prev - self.width);
+        let deck = self.gap + u - half_w;
+        out.push([deck - prev[0], deck - prev[1]]);
     }
 }

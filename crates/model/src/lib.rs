@@ -20,6 +20,7 @@ pub mod resources;
 pub mod run;
 pub mod service;
 pub mod validity;
+mod watch;
 
 pub use config::Config;
 pub use error::ModelError;

@@ -61,34 +61,52 @@ impl Bound {
     }
 }
 
+/// Shortest and longest bridge period of the model [s]: the range of
+/// design response spectra (Eurocode 8 to 4 s, ASCE 7 to 10 s) from a
+/// stiff pier to a base-isolated deck.
+pub const PERIOD_RANGE: (f64, f64) = (0.01, 10.0);
+
 /// Every numeric key: name, unit (`1` for ratios and counts), admissible
 /// range. `joint.support_beams[k].*` stands for every support beam.
+///
+/// The ranges span the modular expansion joints that are built and the
+/// bridges that carry them, with a margin; their edges are where a value
+/// in the wrong unit lands: a center-beam mass in tonnes (0.9), a preload
+/// in kN (20), a regularisation velocity in mm/s (1), a damping ratio in
+/// percent (5), a pitch in m written for mm.
 pub const LIMITS: &[(&str, &str, Bound)] = &[
     ("joint.center_beams", "1", closed(1.0, 1000.0)),
-    ("joint.pitch", "m", above(0.0, 10.0)),
-    ("joint.center_beam.length", "m", above(0.0, 100.0)),
-    ("joint.center_beam.width", "m", below(0.0, 10.0)),
-    ("joint.center_beam.mass", "kg", above(0.0, 1e6)),
+    // a clear sub-gap of at most 80 mm plus a beam of up to 0.3 m
+    ("joint.pitch", "m", closed(0.02, 1.0)),
+    ("joint.center_beam.length", "m", closed(0.5, 100.0)),
+    ("joint.center_beam.width", "m", below(0.0, 1.0)),
+    // steel center beams weigh 20 to 300 kg per metre
+    ("joint.center_beam.mass", "kg", closed(10.0, 1e5)),
     ("joint.center_beam.inertia", "kg m^2", above(0.0, 1e9)),
-    ("joint.support_beam.length", "m", above(0.0, 100.0)),
-    ("joint.support_beam.mass", "kg", above(0.0, 1e6)),
+    ("joint.support_beam.length", "m", closed(0.5, 100.0)),
+    ("joint.support_beam.mass", "kg", closed(10.0, 1e5)),
     ("joint.support_beam.inertia", "kg m^2", above(0.0, 1e9)),
-    ("joint.bearing.mass", "kg", above(0.0, 1e5)),
-    ("joint.bearing.inertia", "kg m^2", above(0.0, 1e6)),
+    ("joint.bearing.mass", "kg", closed(0.1, 1000.0)),
+    ("joint.bearing.inertia", "kg m^2", above(0.0, 1e4)),
     ("joint.support_beams[k].y", "m", closed(-1000.0, 1000.0)),
     ("joint.support_beams[k].angle_deg", "deg", open(-90.0, 90.0)),
-    ("joint.bushing.kx", "N/m", closed(0.0, 1e12)),
-    ("joint.bushing.ky", "N/m", closed(0.0, 1e12)),
-    ("joint.bushing.cx", "N s/m", closed(0.0, 1e9)),
-    ("joint.bushing.cy", "N s/m", closed(0.0, 1e9)),
-    ("joint.friction.mu", "1", closed(0.0, 2.0)),
-    ("joint.friction.normal_force", "N", closed(0.0, 1e8)),
-    ("joint.friction.surfaces", "1", closed(0.0, 100.0)),
-    ("joint.friction.v_eps", "m/s", closed(1e-9, 1.0)),
-    ("bridge.mass", "kg", above(0.0, 1e12)),
-    ("bridge.w0", "rad/s", above(0.0, 1e4)),
-    ("bridge.period", "s", closed(1e-3, 1e3)),
-    ("bridge.damping", "1", below(0.0, 1.0)),
+    // a bushing without stiffness disconnects its center beam
+    ("joint.bushing.kx", "N/m", closed(1e4, 1e11)),
+    ("joint.bushing.ky", "N/m", closed(1e4, 1e11)),
+    ("joint.bushing.cx", "N s/m", closed(0.0, 1e8)),
+    ("joint.bushing.cy", "N s/m", closed(0.0, 1e8)),
+    ("joint.friction.mu", "1", closed(0.0, 1.0)),
+    // a preload of a few kN to some MN per surface (mu = 0 for no friction)
+    ("joint.friction.normal_force", "N", closed(100.0, 1e7)),
+    ("joint.friction.surfaces", "1", closed(1.0, 4.0)),
+    // a regularisation velocity far below the sliding speeds (0.01 to 1 m/s)
+    ("joint.friction.v_eps", "m/s", closed(1e-6, 0.01)),
+    ("bridge.mass", "kg", closed(1e4, 1e10)),
+    // 2 pi / 10 s to 2 pi / 0.01 s, rounded inwards (checked as a period)
+    ("bridge.w0", "rad/s", closed(0.6284, 628.3)),
+    ("bridge.period", "s", closed(PERIOD_RANGE.0, PERIOD_RANGE.1)),
+    // bridges with added dampers reach about 0.3
+    ("bridge.damping", "1", closed(0.0, 0.3)),
     ("simulation.extra_time", "s", closed(0.0, 86_400.0)),
     ("simulation.duration", "s", closed(1e-3, 86_400.0)),
     ("simulation.rtol", "1", closed(1e-12, 0.1)),
@@ -97,8 +115,9 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     ("simulation.h_max", "s", closed(1e-9, 86_400.0)),
     ("simulation.max_wall_time", "s", above(0.0, 1e7)),
     ("simulation.max_steps", "1", closed(1.0, 1e12)),
-    ("service.speed", "m/s", above(0.0, 10.0)),
-    ("service.amplitude", "m", above(0.0, 10.0)),
+    // the service case is quasi-static: movements of the deck, not shocks
+    ("service.speed", "m/s", above(0.0, 1.0)),
+    ("service.amplitude", "m", above(0.0, 2.0)),
     ("service.cycles", "1", closed(1.0, 1000.0)),
     ("service.blend", "s", above(0.0, 1e4)),
 ];

@@ -21,8 +21,8 @@ use quakejoint_solver::{
 use crate::config::{Config, LinearSolverConfig};
 use crate::error::ModelError;
 use crate::generator::{build, Bridge, Drive, JointModel};
-use crate::geometry::Geometry;
 use crate::validity::{Monitor, Validity};
+use crate::watch::Gaps;
 
 /// Called with the simulated time as a run advances.
 pub type ProgressFn = Arc<dyn Fn(f64) + Send + Sync>;
@@ -72,6 +72,9 @@ pub struct Histories {
     /// x displacement of each center beam from its reference position,
     /// `[beam][time]` [m].
     pub center_beam_dx: Vec<Vec<f64>>,
+    /// Clear sub-gaps, the smaller of the two beam ends, abutment side
+    /// first, `[gap][time]` [m] (Nc + 1 of them).
+    pub subgaps: Vec<Vec<f64>>,
 }
 
 /// Results of one earthquake run (SI units).
@@ -105,11 +108,13 @@ pub struct RunResult {
     pub damping_energy: f64,
     /// Work of the earthquake load on the whole system [J].
     pub earthquake_work: f64,
-    /// Smallest clear sub-gap [m] (below zero: the beams would collide).
+    /// Smallest clear sub-gap [m] (below zero: the beams would collide),
+    /// at either end of the center beams ([`crate::geometry::Geometry::subgaps`]), checked
+    /// at least every [`CHECK_INTERVAL`].
     pub min_subgap: Option<f64>,
-    /// Largest clear sub-gap [m].
+    /// Largest clear sub-gap [m], at either end of the center beams.
     pub max_subgap: Option<f64>,
-    /// Largest deviation of a sub-gap from equal spacing [m].
+    /// Largest deviation of a sub-gap (at either end) from equal spacing [m].
     pub max_subgap_deviation: Option<f64>,
     /// Largest energy-balance error divided by the largest earthquake work [-].
     pub energy_error: f64,
@@ -191,6 +196,21 @@ fn series(record: &Record) -> Result<TimeSeries, ModelError> {
 /// record's duration plus `simulation.extra_time`.
 pub fn run_duration(config: &Config, record_x: &Record) -> f64 {
     config.simulation.duration.unwrap_or(record_x.duration() + config.simulation.extra_time)
+}
+
+/// The ground motion over the run's window, `[0, run_duration]`: the record
+/// cut at the last sample inside the window (`simulation.duration` shorter
+/// than the record), or followed by zeros (`extra_time`: the ground is at
+/// rest after the record ends, as in the coupled run). The bridge without
+/// the joint is solved under this, so that both spectra cover the same
+/// time: the peaks of a 40 s record's response are not compared with those
+/// of a run that stopped after 10 s.
+pub fn run_window(config: &Config, record: &Record) -> Record {
+    let duration = run_duration(config, record);
+    let samples = (duration / record.dt * (1.0 + 1e-12)).floor() as usize + 1;
+    let mut acceleration = record.acceleration.clone();
+    acceleration.resize(samples.max(2), 0.0);
+    Record { acceleration, ..record.clone() }
 }
 
 /// Most output samples a run may write (its duration over the record's time
@@ -280,6 +300,11 @@ pub fn simulate_records(
     })
 }
 
+/// Longest interval between two checks of the sub-gaps and the validity
+/// limits [s]: 5 ms, the time step of most records; a beam closing a sub-gap
+/// at 1 m/s moves 5 mm in it.
+pub const CHECK_INTERVAL: f64 = 0.005;
+
 /// A running maximum of |x| with its time.
 #[derive(Debug, Clone, Copy, Default)]
 struct Peak {
@@ -294,17 +319,6 @@ impl Peak {
             self.time = t;
         }
     }
-}
-
-#[derive(Debug, Clone)]
-struct Gaps {
-    geometry: Geometry,
-    beams: Vec<usize>,
-    x: Vec<f64>,
-    buf: Vec<f64>,
-    min: f64,
-    max: f64,
-    deviation: f64,
 }
 
 /// Evaluates the reported quantities at the output times.
@@ -326,6 +340,11 @@ struct EarthquakeObserver {
     histories: Option<Histories>,
     progress: Option<ProgressFn>,
     cancel: Option<Arc<AtomicBool>>,
+    /// Interval of the sub-gap and validity checks between output times
+    /// [s]: the record's time step divided into pieces of at most
+    /// [`CHECK_INTERVAL`] (a coarse record must not hide a collision).
+    check_dt: f64,
+    next_check: u64,
     /// The run's start and wall-clock limit [s], checked as output samples
     /// are written too (a long free vibration is many samples per step).
     deadline: Option<(Instant, f64)>,
@@ -345,25 +364,15 @@ impl EarthquakeObserver {
         dt: f64,
         histories: bool,
     ) -> Result<Self, ModelError> {
-        let coord = |b: BodyId| {
-            asm.coordinate(b, quakejoint_solver::Coord::X)
-                .ok_or_else(|| ModelError::Geometry(format!("body {} has no x coordinate", b.index())))
-        };
-        let deck = coord(model.deck)?;
-        let gaps = match &model.geometry {
-            Some(g) => Some(Gaps {
-                geometry: g.clone(),
-                beams: model.center_beams.iter().map(|&b| coord(b)).collect::<Result<_, _>>()?,
-                x: vec![0.0; g.center_beams],
-                buf: Vec::with_capacity(g.center_beams + 1),
-                min: f64::INFINITY,
-                max: f64::NEG_INFINITY,
-                deviation: 0.0,
-            }),
-            None => None,
-        };
-        let histories = histories
-            .then(|| Histories { center_beam_dx: vec![Vec::new(); model.center_beams.len()], ..Histories::default() });
+        let deck = asm
+            .coordinate(model.deck, quakejoint_solver::Coord::X)
+            .ok_or_else(|| ModelError::Geometry("the deck has no x coordinate".into()))?;
+        let gaps = Gaps::new(model, asm)?;
+        let histories = histories.then(|| Histories {
+            center_beam_dx: vec![Vec::new(); model.center_beams.len()],
+            subgaps: vec![Vec::new(); model.geometry.as_ref().map_or(0, |g| g.center_beams + 1)],
+            ..Histories::default()
+        });
         let (n, m) = (asm.coordinates(), asm.equations());
         Ok(Self {
             deck,
@@ -381,6 +390,8 @@ impl EarthquakeObserver {
             friction: 0.0,
             gaps,
             histories,
+            check_dt: dt / (dt / CHECK_INTERVAL).ceil().max(1.0),
+            next_check: 0,
             progress: None,
             cancel: None,
             deadline: None,
@@ -391,6 +402,34 @@ impl EarthquakeObserver {
             v: vec![0.0; n],
             l: vec![0.0; m],
         })
+    }
+
+    /// The sub-gaps and the validity limits at time `t` (positions `q`).
+    fn check(&mut self, t: f64, q: &[f64]) {
+        if let Some(g) = &mut self.gaps {
+            g.check(t, q, q[self.deck], self.monitor.as_mut());
+        }
+    }
+
+    /// The checks between the output times up to the step's end (none when
+    /// the record's time step is already at most [`CHECK_INTERVAL`]).
+    fn check_between(&mut self, view: &mut StepView<'_>) {
+        if self.gaps.is_none() || self.check_dt >= self.dt {
+            return;
+        }
+        loop {
+            let k = self.next_check + 1;
+            let tk = k as f64 * self.check_dt;
+            if tk > view.t + 1e-9 * self.check_dt {
+                break;
+            }
+            self.next_check = k;
+            let (mut q, mut v, mut l) =
+                (std::mem::take(&mut self.q), std::mem::take(&mut self.v), std::mem::take(&mut self.l));
+            view.interpolate(tk, &mut q, &mut v, &mut l);
+            self.check(tk, &q);
+            (self.q, self.v, self.l) = (q, v, l);
+        }
     }
 
     /// Quantities at one output time.
@@ -411,20 +450,8 @@ impl EarthquakeObserver {
         self.sd.update(u, t);
         self.sv.update(ud, t);
         self.joint_force.update(fj, t);
-        if let Some(g) = &mut self.gaps {
-            for (x, &c) in g.x.iter_mut().zip(&g.beams) {
-                *x = q[c];
-            }
-            g.geometry.subgaps(&g.x, u, &mut g.buf);
-            let equal = (g.geometry.gap + u) / (g.geometry.center_beams + 1) as f64 - g.geometry.width;
-            for &s in &g.buf {
-                g.min = g.min.min(s);
-                g.max = g.max.max(s);
-                g.deviation = g.deviation.max((s - equal).abs());
-            }
-            if let Some(m) = &mut self.monitor {
-                m.sample(t, q, u, &g.buf);
-            }
+        self.check(t, q);
+        if self.gaps.is_some() {
             let x = asm.force_extremes(ws, q, v);
             self.bushing = self.bushing.max(x.bushing);
             self.friction = self.friction.max(x.friction);
@@ -440,6 +467,9 @@ impl EarthquakeObserver {
             if let Some(g) = &self.gaps {
                 for (i, &c) in g.beams.iter().enumerate() {
                     h.center_beam_dx[i].push(q[c] - g.geometry.center_x[i]);
+                }
+                for (series, &gap) in h.subgaps.iter_mut().zip(&g.smallest) {
+                    series.push(gap);
                 }
             }
         }
@@ -457,6 +487,7 @@ impl Observer for EarthquakeObserver {
                 p(view.t);
             }
         }
+        self.check_between(view);
         loop {
             let j = self.next + 1;
             let tj = j as f64 * self.dt;

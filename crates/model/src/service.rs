@@ -34,6 +34,8 @@ use crate::error::ModelError;
 use crate::generator::{build, Drive};
 use crate::geometry::Geometry;
 use crate::run::integrator_options;
+use crate::validity::{Monitor, Validity};
+use crate::watch::Gaps;
 
 /// Results of a service run (SI units).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -60,6 +62,18 @@ pub struct ServiceResult {
     /// x, y and angle of each center beam at the output times, from their
     /// reference positions, `[beam][time]` [m, m, rad].
     pub center_beams: [Vec<Vec<f64>>; 3],
+    /// Energy dissipated by the bushings' dampers during the last cycle [J]
+    /// (with the friction work, what the loop area should equal).
+    pub damping_work_per_cycle: f64,
+    /// Smallest and largest clear sub-gap over the run, at either end of
+    /// the center beams [m].
+    pub min_subgap: f64,
+    /// Largest clear sub-gap [m].
+    pub max_subgap: f64,
+    /// Whether the run stayed inside what the model can stand behind
+    /// (collision, bearing off its support, joist pulled out, energy
+    /// balance), as for an earthquake run.
+    pub validity: Validity,
     /// Largest force of the joint on the deck [N].
     pub peak_joint_force: f64,
     /// Output times [s].
@@ -244,8 +258,43 @@ fn service_warnings(config: &Config, work: f64, hand: f64, deficit: Option<f64>)
     out
 }
 
+/// Largest difference between the loop area and the work dissipated in
+/// the same cycle (friction and dampers), as a fraction of the latter [-].
+pub const LOOP_TOLERANCE: f64 = 0.05;
+
+/// Warnings on the hysteresis loop itself: over a closed cycle of a steady
+/// state the deck's work on the joint (the loop area) equals the work
+/// dissipated by friction and dampers, whatever the compliance; if not,
+/// the cycle is not a steady quasi-static loop (reversals so abrupt that the
+/// beams are still swinging, or too few cycles), and the loop says little.
+fn loop_warnings(config: &Config, loop_work: f64, dissipated: f64) -> Vec<String> {
+    let s = &config.service;
+    let mut out = Vec::new();
+    if loop_work < 0.0 {
+        out.push(format!(
+            "the hysteresis loop has a negative area ({loop_work:.1} J): the joint gave work back to the deck over \
+              the cycle, which a dissipative joint in a steady cycle cannot; the reversals are too abrupt for a \
+              quasi-static service loop (service.speed = {} m/s, service.blend = {} s: the deck's acceleration at a \
+              reversal is {:.3} m/s^2); lower the speed or lengthen the blend",
+            s.speed,
+            s.blend,
+            2.0 * s.speed / s.blend
+        ));
+    } else if (loop_work - dissipated).abs() > LOOP_TOLERANCE * dissipated.abs().max(1e-9) {
+        out.push(format!(
+            "the loop area ({loop_work:.1} J) differs from the work dissipated in the same cycle ({dissipated:.1} J \
+             by friction and dampers) by more than {} %: the last cycle is not a steady quasi-static loop (raise \
+              service.cycles, lower service.speed or lengthen service.blend)",
+            100.0 * LOOP_TOLERANCE
+        ));
+    }
+    out
+}
+
 struct LoopObserver {
     deck: usize,
+    gaps: Gaps,
+    monitor: Option<Monitor>,
     /// x, y, phi coordinates of each center beam and their reference values.
     beams: Vec<[(usize, f64); 3]>,
     center_beams: [Vec<Vec<f64>>; 3],
@@ -271,6 +320,7 @@ impl Observer for LoopObserver {
             self.next += 1;
             view.interpolate(tj, &mut self.q, &mut self.v, &mut self.l);
             let fj = view.assembly.reaction_sum(view.workspace, tj, &self.q, &self.l, &self.boxes, self.deck_body)[0];
+            self.gaps.check(tj, &self.q, self.q[self.deck], self.monitor.as_mut());
             self.t.push(tj);
             self.u.push(self.q[self.deck]);
             self.f.push(fj);
@@ -289,7 +339,12 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
     let tri = opening(config)?;
     let period = tri.period();
     let cycles = config.service.cycles;
-    let model = build(config, None, Drive::Service(tri))?;
+    // the deck's motion is prescribed: its own spring and damper do not act
+    // on the joint, and without the damper the energy balance's damping
+    // term is the joint's dampers alone
+    let mut driven = config.clone();
+    driven.bridge.damping = 0.0;
+    let model = build(&driven, None, Drive::Service(tri))?;
     if model.joist_boxes.is_empty() && model.geometry.is_none() {
         return Err(ModelError::Invalid {
             field: "joint.enabled".to_string(),
@@ -310,8 +365,13 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
         .map(|(&b, &x)| Ok([(coord(b, Coord::X)?, x), (coord(b, Coord::Y)?, 0.0), (coord(b, Coord::Phi)?, 0.0)]))
         .collect::<Result<Vec<_>, ModelError>>()?;
     let nb = beams.len();
+    let gaps =
+        Gaps::new(&model, &asm)?.ok_or_else(|| ModelError::Geometry("the service case needs the joint".into()))?;
+    let monitor = Monitor::new(&model, &asm, config.joint.support_beam.length)?;
     let mut obs = LoopObserver {
         deck,
+        gaps,
+        monitor,
         beams,
         center_beams: [vec![Vec::new(); nb], vec![Vec::new(); nb], vec![Vec::new(); nb]],
         deck_body: model.deck,
@@ -329,7 +389,7 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
     let mut sim = Radau5::new(asm, integrator_options(config))?;
     let t_end = cycles as f64 * period;
     sim.run(t_end - period, &mut obs)?;
-    let before = sim.energy().friction;
+    let before = *sim.energy();
     let first_sample = obs.t.len();
     sim.run(t_end, &mut obs)?;
     let e = sim.energy();
@@ -339,9 +399,17 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
     for k in k0..obs.t.len().saturating_sub(1) {
         loop_work -= 0.5 * (obs.f[k] + obs.f[k + 1]) * (obs.u[k + 1] - obs.u[k]);
     }
-    let work = e.friction - before;
+    let work = e.friction - before.friction;
+    let damping_work = e.damping - before.damping;
     let hand = hand_friction_work_per_cycle(config)?;
     let deficit = compliance_deficit(config)?;
+    let energy_error = e.error_relative_to_input();
+    let validity = match &obs.monitor {
+        Some(m) => m.validity(energy_error),
+        None => Validity::not_checked("no joint"),
+    };
+    let mut warnings = service_warnings(config, work, hand, deficit);
+    warnings.extend(loop_warnings(config, loop_work, work + damping_work));
     Ok(ServiceResult {
         period,
         cycles,
@@ -349,13 +417,17 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
         loop_work_per_cycle: loop_work,
         hand_calculation: hand,
         compliance_deficit: deficit,
-        warnings: service_warnings(config, work, hand, deficit),
+        warnings,
+        damping_work_per_cycle: damping_work,
+        min_subgap: obs.gaps.min,
+        max_subgap: obs.gaps.max,
+        validity,
         center_beams: obs.center_beams,
         peak_joint_force: obs.f.iter().fold(0.0, |m, x| m.max(x.abs())),
         t: obs.t,
         u: obs.u,
         joint_force: obs.f,
-        energy_error: e.error_relative_to_input(),
+        energy_error,
         residuals: sim.constraint_residuals(),
         stats: sim.stats(),
         wall_time_s: start.elapsed().as_secs_f64(),

@@ -16,6 +16,10 @@
 //! | 2 | `bearing_off_support` | a bearing left the part of its support beam between the pivot (or abutment) and the joist box (or deck) |
 //! | 4 | `joist_pulled_out` | the distance from a joist's pivot to its box exceeded the joist's length (`joint.support_beam.length`) |
 //! | 8 | `energy_balance` | the energy balance error exceeded [`ENERGY_TOLERANCE`] of the earthquake's work |
+//! | 32768 | `not_checked` | nothing was checked: the run failed or did not run (a sweep job), or had no joint (the exact linear solution) |
+//!
+//! `not_checked` is not a finding about the model: a run that carries only
+//! it is not "flagged" ([`Flags::is_flagged`]), but it is not "ok" either.
 
 use quakejoint_solver::{Assembly, BodyId, Coord};
 
@@ -43,17 +47,26 @@ impl Flags {
     pub const JOIST_PULLED_OUT: Flags = Flags(4);
     /// The energy balance does not close.
     pub const ENERGY_BALANCE: Flags = Flags(8);
+    /// Nothing was checked (a failed job, a run without the joint).
+    pub const NOT_CHECKED: Flags = Flags(1 << 15);
     /// Every flag with its name.
-    pub const ALL: [(Flags, &'static str); 4] = [
+    pub const ALL: [(Flags, &'static str); 5] = [
         (Flags::COLLISION, "collision"),
         (Flags::BEARING_OFF_SUPPORT, "bearing_off_support"),
         (Flags::JOIST_PULLED_OUT, "joist_pulled_out"),
         (Flags::ENERGY_BALANCE, "energy_balance"),
+        (Flags::NOT_CHECKED, "not_checked"),
     ];
 
-    /// Whether no flag is set.
+    /// Whether the run was checked and no flag is set.
     pub fn is_ok(self) -> bool {
         self.0 == 0
+    }
+
+    /// Whether the run crossed a limit of the model (any flag but
+    /// [`Flags::NOT_CHECKED`]).
+    pub fn is_flagged(self) -> bool {
+        self.0 & !Flags::NOT_CHECKED.0 != 0
     }
 
     /// Whether every flag of `other` is set.
@@ -98,6 +111,11 @@ pub struct Validity {
 }
 
 impl Validity {
+    /// A run of which nothing was checked, and why.
+    pub fn not_checked(reason: &str) -> Self {
+        Validity { flags: Flags::NOT_CHECKED, findings: vec![format!("not_checked: {reason}")] }
+    }
+
     /// The findings as one line.
     pub fn message(&self) -> String {
         self.findings.join("; ")
@@ -286,5 +304,7 @@ mod tests {
         assert_eq!(f.label(), "collision+energy_balance");
         assert_eq!(f.0, 9);
         assert!(Flags::legend().contains("1 collision") && Flags::legend().contains("8 energy_balance"));
+        assert!(!Flags::NOT_CHECKED.is_ok() && !Flags::NOT_CHECKED.is_flagged());
+        assert!(Flags(Flags::NOT_CHECKED.0 | 1).is_flagged());
     }
 }

@@ -48,7 +48,7 @@ fn crossing_or_coinciding_joists_are_refused() {
 
 #[test]
 fn non_positive_dimensions_and_masses_are_refused() {
-    assert_mentions(&error_of("[joint]\npitch = 0.0\n"), &["joint.pitch = 0", "must be within 0 < x <= 10 m"]);
+    assert_mentions(&error_of("[joint]\npitch = 0.0\n"), &["joint.pitch = 0", "must be within 0.02 <= x <= 1 m"]);
     assert_mentions(&error_of("[joint]\npitch = -0.1\n"), &["joint.pitch = -0.1"]);
     assert_mentions(&error_of("[joint.center_beam]\nlength = -15.0\n"), &["joint.center_beam.length = -15"]);
     assert_mentions(&error_of("[joint.bearing]\nmass = 0.0\n"), &["joint.bearing.mass = 0"]);

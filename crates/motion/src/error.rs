@@ -94,6 +94,21 @@ pub enum RecordError {
         /// what is wrong
         message: String,
     },
+    /// A number written with a decimal comma (`0,005`): never read, since
+    /// a comma also separates values and which one it is would be a guess.
+    #[error(
+        "{file}:{line}: decimal commas are not read: {} (write every number with a decimal point; a comma also \
+         separates the values of a CSV file, so which one a comma is would be a guess)",
+        decimal_hint(token)
+    )]
+    DecimalComma {
+        /// path as given
+        file: String,
+        /// 1-based line number
+        line: usize,
+        /// the number as written (shortened)
+        token: String,
+    },
     /// The time column of a two-column file is not uniform.
     #[error(
         "{file}:{line}: the time column is not uniform: t = {found} s where {expected} s was expected \
@@ -141,6 +156,17 @@ pub enum RecordError {
         /// what is wrong
         message: String,
     },
+}
+
+/// What to do about a number with a comma, for
+/// [`RecordError::DecimalComma`]: `convert `0,005` to `0.005``, or the
+/// generic example for a token with several commas or a point too.
+fn decimal_hint(token: &str) -> String {
+    if token.matches(',').count() == 1 && !token.contains('.') {
+        format!("convert `{token}` to `{}`", token.replace(',', "."))
+    } else {
+        format!("`{token}` has a comma inside a number: convert `0,5` to `0.5` and remove thousands separators")
+    }
 }
 
 /// Invalid arguments to the spectrum functions.

@@ -1,7 +1,8 @@
 //! Ground-motion records and exact linear response spectra.
 //!
-//! Read a record (PEER NGA-West2 `.AT2`, two-column time/acceleration text or
-//! CSV, one-column text with a given time step) described by a
+//! Read a record (PEER NGA-West2 `.AT2`, ESM and K-NET/KiK-net ASCII,
+//! COSMOS V1/V2, two-column time/acceleration text or CSV, one-column text
+//! or a sequence of values with a given time step) described by a
 //! [`RecordSpec`], get a [`Record`] in m/s² with a uniform time step, its
 //! [`RecordStats`] (PGA, PGV, PGD, Arias intensity, significant duration) and
 //! its exact linear response spectrum:
@@ -46,6 +47,8 @@
 pub mod at2;
 pub mod builtin;
 pub mod error;
+pub mod formats;
+mod label;
 pub mod oscillator;
 pub mod record;
 pub mod spec;
@@ -55,6 +58,7 @@ pub mod text;
 
 pub use at2::parse_at2;
 pub use error::{RecordError, SpectrumError};
+pub use formats::{cosmos::parse_cosmos, detect_format, esm::parse_esm, knet::parse_knet, sniff_format};
 pub use oscillator::Oscillator;
 pub use record::{
     load_record, load_record_from_str, sha256_hex, LoadedRecord, RawRecord, Record, MAX_ACCELERATION_G, MAX_DT,
@@ -66,7 +70,7 @@ pub use spectrum::{
     MAX_PERIODS, MAX_SUBDIVISIONS,
 };
 pub use stats::RecordStats;
-pub use text::{excerpt, number, parse_number, parse_one_column, parse_two_column};
+pub use text::{excerpt, number, parse_number, parse_one_column, parse_sequence, parse_two_column};
 
 /// Standard gravity [m/s²] used for the unit `g` and for Arias intensity.
 pub const G: f64 = 9.80665;

@@ -5,8 +5,9 @@ use std::path::Path;
 
 use crate::at2::parse_at2;
 use crate::error::RecordError;
+use crate::formats::{cosmos::parse_cosmos, detect_format, esm::parse_esm, knet::parse_knet};
 use crate::spec::{Format, HeaderUnits, RecordSpec, Units};
-use crate::text::{parse_one_column, parse_two_column};
+use crate::text::{parse_one_column, parse_sequence, parse_two_column};
 
 /// A record as parsed from a file, before unit conversion and scaling.
 #[derive(Debug, Clone, PartialEq)]
@@ -15,12 +16,19 @@ pub struct RawRecord {
     pub dt: f64,
     /// acceleration samples in the file's units
     pub values: Vec<f64>,
-    /// header lines (AT2: the 4 header lines, trailing blanks removed; else empty)
+    /// header lines, trailing blanks removed (AT2: the 4 header lines; ESM:
+    /// the `KEY: value` lines; K-NET: up to `Memo.`; COSMOS: the text
+    /// header; plain text: empty)
     pub header: Vec<String>,
     /// time of the first sample \[s\] (two-column files only)
     pub first_time: Option<f64>,
-    /// what the file says about its units (AT2 header line 3)
+    /// what the file says about its units (AT2 header line 3, ESM `UNITS`,
+    /// K-NET scale factor, COSMOS units code, a text column header)
     pub header_units: HeaderUnits,
+    /// what the reader found worth saying (a K-NET mean removed, a header
+    /// peak that disagrees with the data, a vertical component, ...), each
+    /// starting with the file's name
+    pub warnings: Vec<String>,
 }
 
 /// A record ready for use: uniform time step, acceleration in m/s² after
@@ -36,11 +44,18 @@ pub struct Record {
     /// ground acceleration [m/s²] at t = i·dt, i = 0..n
     pub acceleration: Vec<f64>,
     /// total factor [m/s² per file unit] from the numbers in the file to
-    /// `acceleration` (unit conversion times scale)
+    /// `acceleration`: the unit factor ([`Record::unit_factor`]) times
+    /// `user_scale`
     pub scale: f64,
+    /// the user's factor [-] alone: the spec's `scale`, or the factor that
+    /// gives `target_pga_g` (1 for [`Record::new`])
+    pub user_scale: f64,
     /// units of the numbers in the file (m/s² for [`Record::new`])
     pub units: Units,
-    /// AT2 header lines, else empty
+    /// the file's own PGA, max |value| as read, in the file's `units` (for
+    /// K-NET after the mean is removed), before any scaling
+    pub file_pga: f64,
+    /// the file's header lines (AT2, ESM, K-NET, COSMOS), else empty
     pub header: Vec<String>,
 }
 
@@ -51,15 +66,24 @@ impl Record {
     pub fn new(name: impl Into<String>, dt: f64, acceleration: Vec<f64>) -> Result<Self, RecordError> {
         let name = name.into();
         validate(&name, dt, &acceleration)?;
+        let file_pga = acceleration.iter().fold(0.0f64, |m, a| m.max(a.abs()));
         Ok(Record {
             name,
             source: "(memory)".into(),
             dt,
             acceleration,
             scale: 1.0,
+            user_scale: 1.0,
             units: Units::MetersPerSecond2,
+            file_pga,
             header: Vec::new(),
         })
+    }
+
+    /// Factor [m/s² per file unit] of the file's units alone
+    /// (`units.to_si()`): `scale / user_scale`.
+    pub fn unit_factor(&self) -> f64 {
+        self.units.to_si()
     }
 
     /// Peak ground acceleration max |a_i| [m/s²] (0 for an empty record).
@@ -84,10 +108,12 @@ pub const MIN_DT: f64 = 1e-5;
 /// Largest admissible time step [s]: coarser sampling misses the motion a
 /// bridge responds to.
 pub const MAX_DT: f64 = 1.0;
-/// Largest admissible |acceleration| [g]: the strongest recorded ground
-/// motions peak near 4 g; 20 g is beyond any earthquake (a number this large
-/// is a unit error: cm/s² read as g, say).
-pub const MAX_ACCELERATION_G: f64 = 20.0;
+/// Largest admissible |acceleration| [g], of the file as read (after unit
+/// conversion) and of the scaled record: the strongest ground motions
+/// recorded peak at about 4 g (2008 Iwate-Miyagi, KiK-net IWTH25); a
+/// number beyond 5 g is a unit or scale error (m/s² read as g is 9.8 times
+/// too strong, cm/s² read as g 981 times).
+pub const MAX_ACCELERATION_G: f64 = 5.0;
 /// Longest admissible record [s]: one day.
 pub const MAX_DURATION: f64 = 86_400.0;
 
@@ -112,11 +138,10 @@ fn validate(name: &str, dt: f64, acceleration: &[f64]) -> Result<(), RecordError
             crate::text::number(duration)
         ));
     }
-    let limit = MAX_ACCELERATION_G * crate::G;
-    if let Some(i) = acceleration.iter().position(|a| a.abs() > limit) {
+    if let Some(i) = beyond_limit(acceleration, 1.0) {
         return invalid(format!(
-            "sample {i} (t = {} s) is {:.4e} m/s² ({:.3e} g), beyond {MAX_ACCELERATION_G} g: no earthquake is that \
-             strong; are the units right?",
+            "sample {i} (t = {} s) is {:.4e} m/s² ({:.3e} g), beyond {MAX_ACCELERATION_G} g: no recorded ground \
+             motion is that strong (the strongest peak at about 4 g); check the units and the scale",
             i as f64 * dt,
             acceleration[i],
             acceleration[i] / crate::G
@@ -125,9 +150,19 @@ fn validate(name: &str, dt: f64, acceleration: &[f64]) -> Result<(), RecordError
     Ok(())
 }
 
+/// The first sample whose |value| × `factor` [m/s²] is beyond
+/// [`MAX_ACCELERATION_G`].
+fn beyond_limit(values: &[f64], factor: f64) -> Option<usize> {
+    let limit = MAX_ACCELERATION_G * crate::G;
+    values.iter().position(|v| (v * factor).abs() > limit)
+}
+
 /// A loaded record and the warnings raised while reading it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadedRecord {
+    /// the format the file was read as ([`Format::Auto`] resolved by
+    /// [`crate::detect_format`])
+    pub format: Format,
     /// the record
     pub record: Record,
     /// warnings, each naming the file (e.g. a record that does not start
@@ -170,25 +205,37 @@ pub fn load_record(spec: &RecordSpec, base_dir: &Path) -> Result<LoadedRecord, R
 }
 
 /// As [`load_record`] with the file's text given (no IO): parse `text` as
-/// the file named by `spec`.
+/// the file named by `spec`, in the format [`detect_format`] finds.
 pub fn load_record_from_str(spec: &RecordSpec, text: &str) -> Result<LoadedRecord, RecordError> {
     spec.validate()?;
+    let format = detect_format(spec, text);
+    if format != spec.resolved_format() {
+        // `dt` or `column` given for a file that turns out to be ESM, say
+        spec.validate_for(format)?;
+    }
     let file = spec.file.display().to_string();
-    let raw = match spec.resolved_format() {
+    // validate_for() guarantees dt for one-column and sequence files
+    let dt = spec.dt.unwrap_or(f64::NAN);
+    let raw = match format {
         Format::At2 => parse_at2(text, &file)?,
-        Format::OneColumn => {
-            // validate() guarantees dt for one-column files
-            let dt = spec.dt.unwrap_or(f64::NAN);
-            parse_one_column(text, &file, dt, spec.column)?
-        }
+        Format::OneColumn => parse_one_column(text, &file, dt, spec.column)?,
+        Format::Sequence => parse_sequence(text, &file, dt)?,
         Format::TwoColumn | Format::Auto => parse_two_column(text, &file, spec.column.unwrap_or(2))?,
+        Format::Esm => parse_esm(text, &file)?,
+        Format::Knet => parse_knet(text, &file)?,
+        Format::Cosmos => parse_cosmos(text, &file)?,
     };
-    from_raw(spec, raw, sha256_hex(text.as_bytes()))
+    from_raw(spec, format, raw, sha256_hex(text.as_bytes()))
 }
 
 /// The units of a parsed record: from the header, or the spec where the
-/// header states none; never a default.
-fn units_of(spec: &RecordSpec, raw: &RawRecord, warnings: &mut Vec<String>) -> Result<Units, RecordError> {
+/// header states none; never a default, never a column header's alone.
+fn units_of(
+    spec: &RecordSpec,
+    format: Format,
+    raw: &RawRecord,
+    warnings: &mut Vec<String>,
+) -> Result<Units, RecordError> {
     let file = spec.file.display().to_string();
     let err = |message: String| Err(RecordError::Spec { file: file.clone(), field: "units", message });
     let names = "`g`, `m/s2` or `cm/s2`";
@@ -204,6 +251,18 @@ fn units_of(spec: &RecordSpec, raw: &RawRecord, warnings: &mut Vec<String>) -> R
             ))
         }
         (HeaderUnits::Stated(h), _) => Ok(*h),
+        (HeaderUnits::Label { units, label }, Some(given)) if *units != given => err(format!(
+            "the column header `{label}` says {} but the config says `units = \"{}\"`: one of the two is wrong; fix \
+             `units` or the column header (rename the column if `{label}` does not name its unit)",
+            units.name(),
+            given.name()
+        )),
+        (HeaderUnits::Label { .. }, Some(given)) => Ok(given),
+        (HeaderUnits::Label { units, label }, None) => err(format!(
+            "a text record cannot say its units, and a column header is informal: the column header `{label}` \
+             suggests `units = \"{}\"`; confirm it with `units`",
+            units.name()
+        )),
         (HeaderUnits::Unrecognised(text), Some(given)) => {
             warnings.push(format!(
                 "{file}: the header's units `{text}` are not recognised; the config's `units = \"{}\"` are used",
@@ -219,9 +278,14 @@ fn units_of(spec: &RecordSpec, raw: &RawRecord, warnings: &mut Vec<String>) -> R
             warnings.push(format!("{file}: the header states no units; the config's `{}` are used", given.name()));
             Ok(given)
         }
-        (HeaderUnits::Missing, None) => err(format!(
-            "the header (line 3) states no units: say the units of the numbers in the file with `units` ({names})"
-        )),
+        (HeaderUnits::Missing, None) => {
+            let place = match format {
+                Format::At2 => "the header (line 3) states no units",
+                Format::Esm => "the header states no units (no `UNITS:` value)",
+                _ => "the header states no units",
+            };
+            err(format!("{place}: say the units of the numbers in the file with `units` ({names})"))
+        }
         (HeaderUnits::NotInFormat, Some(given)) => Ok(given),
         (HeaderUnits::NotInFormat, None) => {
             err(format!("a text record cannot say its units: give them with `units` ({names})"))
@@ -230,11 +294,12 @@ fn units_of(spec: &RecordSpec, raw: &RawRecord, warnings: &mut Vec<String>) -> R
 }
 
 /// Unit conversion, scaling and warnings for a parsed record.
-fn from_raw(spec: &RecordSpec, raw: RawRecord, sha256: String) -> Result<LoadedRecord, RecordError> {
+fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -> Result<LoadedRecord, RecordError> {
     let file = spec.file.display().to_string();
     let name = spec.label();
     let mut warnings = Vec::new();
-    let units = units_of(spec, &raw, &mut warnings)?;
+    let units = units_of(spec, format, &raw, &mut warnings)?;
+    warnings.extend(raw.warnings.iter().cloned());
     if let Some(t0) = raw.first_time {
         if t0.abs() > 0.5 * raw.dt {
             warnings.push(format!(
@@ -243,9 +308,31 @@ fn from_raw(spec: &RecordSpec, raw: RawRecord, sha256: String) -> Result<LoadedR
         }
     }
     let to_si = units.to_si();
-    let factor = match spec.target_pga_g {
+    // the file as read: a record beyond any earthquake is a unit error,
+    // even if a target PGA would scale it down to a plausible one
+    if let Some(i) = beyond_limit(&raw.values, to_si) {
+        return Err(RecordError::Invalid {
+            name: file,
+            message: format!(
+                "sample {i} (t = {} s) is {} {} in the file{}, beyond {MAX_ACCELERATION_G} g: no recorded ground \
+                 motion is that strong (the strongest peak at about 4 g); check `units` (the numbers are read as {})",
+                i as f64 * raw.dt,
+                crate::text::number(raw.values[i]),
+                units.name(),
+                if units == Units::G { String::new() } else { format!(" ({:.3} g)", raw.values[i] * to_si / crate::G) },
+                units.name()
+            ) + if raw.values.iter().all(|v| v.fract() == 0.0) {
+                "; every value is a whole number: digitiser counts? (read a K-NET file with its header, which gives \
+                 the factor to gal)"
+            } else {
+                ""
+            },
+        });
+    }
+    let file_pga = raw.values.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    let user_scale = match spec.target_pga_g {
         Some(target) => {
-            let pga_si = raw.values.iter().fold(0.0f64, |m, a| m.max(a.abs())) * to_si;
+            let pga_si = file_pga * to_si;
             if pga_si == 0.0 {
                 return Err(RecordError::Spec {
                     file,
@@ -257,7 +344,7 @@ fn from_raw(spec: &RecordSpec, raw: RawRecord, sha256: String) -> Result<LoadedR
         }
         None => spec.scale,
     };
-    let scale = to_si * factor;
+    let scale = to_si * user_scale;
     let acceleration: Vec<f64> = raw.values.iter().map(|v| v * scale).collect();
     if let Some(i) = acceleration.iter().position(|a| !a.is_finite()) {
         return Err(RecordError::Invalid {
@@ -265,7 +352,17 @@ fn from_raw(spec: &RecordSpec, raw: RawRecord, sha256: String) -> Result<LoadedR
             message: format!("sample {i} overflows after scaling by {scale} (m/s² per file unit)"),
         });
     }
-    let record = Record { name, source: file.clone(), dt: raw.dt, acceleration, scale, units, header: raw.header };
+    let record = Record {
+        name,
+        source: file.clone(),
+        dt: raw.dt,
+        acceleration,
+        scale,
+        user_scale,
+        units,
+        file_pga,
+        header: raw.header,
+    };
     validate(&file, record.dt, &record.acceleration)?;
     let pga = record.pga();
     let a0 = record.acceleration[0];
@@ -278,5 +375,5 @@ fn from_raw(spec: &RecordSpec, raw: RawRecord, sha256: String) -> Result<LoadedR
             100.0 * START_WARNING_FRACTION
         ));
     }
-    Ok(LoadedRecord { record, warnings, sha256 })
+    Ok(LoadedRecord { format, record, warnings, sha256 })
 }

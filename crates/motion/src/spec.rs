@@ -34,6 +34,15 @@ pub enum HeaderUnits {
     /// The header states something not recognised (the text as written,
     /// shortened).
     Unrecognised(String),
+    /// A text file's column header names a unit for the acceleration column
+    /// (`acc_m_s2`, `acc [g]`, `Beschleunigung [m/s2]`): informal, so it is
+    /// never used on its own, only checked against the spec's `units`.
+    Label {
+        /// the unit the label names
+        units: Units,
+        /// the column header as written (shortened)
+        label: String,
+    },
 }
 
 impl Units {
@@ -84,9 +93,11 @@ impl Units {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Format {
-    /// Decide from the file: an `.at2` extension (any case) means
-    /// [`Format::At2`]; otherwise [`Format::OneColumn`] if `dt` is given,
-    /// else [`Format::TwoColumn`].
+    /// Decide from the file ([`crate::detect_format`]): an `.at2` extension
+    /// (any case) means [`Format::At2`]; else the first line of the content
+    /// names ESM (`EVENT_NAME:`), K-NET/KiK-net (`Origin Time`) or COSMOS
+    /// (`... (Format v01.20 ...)`); else plain text: [`Format::OneColumn`]
+    /// if `dt` is given, else [`Format::TwoColumn`].
     #[default]
     Auto,
     /// PEER NGA `.AT2`: 4 header lines, line 4 holds NPTS and DT, then the
@@ -98,6 +109,54 @@ pub enum Format {
     /// Text with one acceleration value per line and the time step given
     /// in the spec (`dt`).
     OneColumn,
+    /// ESM (Engineering Strong Motion database, ORFEUS) ASCII: `KEY: value`
+    /// header lines, then one value per line ([`crate::formats::esm`]).
+    Esm,
+    /// K-NET / KiK-net (NIED) ASCII: header up to `Memo.`, then integer
+    /// counts ([`crate::formats::knet`]).
+    #[serde(alias = "k-net", alias = "kik-net")]
+    Knet,
+    /// COSMOS Strong-Motion Data Format v1.20, V1 or V2 acceleration
+    /// (CESMD, CSMIP, USGS; [`crate::formats::cosmos`]).
+    Cosmos,
+    /// Numbers in reading order, any number per line (the body of a K-NET,
+    /// COSMOS or PEER file without its header), at the spec's `dt`.
+    Sequence,
+}
+
+impl Format {
+    /// The name used in configuration files (`"auto"`, `"at2"`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Auto => "auto",
+            Format::At2 => "at2",
+            Format::TwoColumn => "two-column",
+            Format::OneColumn => "one-column",
+            Format::Esm => "esm",
+            Format::Knet => "knet",
+            Format::Cosmos => "cosmos",
+            Format::Sequence => "sequence",
+        }
+    }
+
+    /// What the format is, for messages (`"PEER NGA AT2"`, `"ESM ASCII"`, ...).
+    pub fn description(self) -> &'static str {
+        match self {
+            Format::Auto => "automatically detected",
+            Format::At2 => "PEER NGA AT2",
+            Format::TwoColumn => "two-column text (time, acceleration)",
+            Format::OneColumn => "one-column text",
+            Format::Esm => "ESM ASCII",
+            Format::Knet => "K-NET/KiK-net ASCII",
+            Format::Cosmos => "COSMOS V1/V2",
+            Format::Sequence => "sequence of values",
+        }
+    }
+
+    /// Whether the file carries its own time step (then `dt` is an error).
+    pub fn has_own_time_step(self) -> bool {
+        matches!(self, Format::At2 | Format::TwoColumn | Format::Esm | Format::Knet | Format::Cosmos)
+    }
 }
 
 fn one() -> f64 {
@@ -108,18 +167,23 @@ fn one() -> f64 {
 /// (unknown fields are rejected).
 ///
 /// Units are never guessed:
-/// - an AT2 file states them in header line 3 (`UNITS OF G`, `UNITS OF
-///   CM/S/S`, ...); `units`, if given, must agree with the header, and is
-///   required when the header states none or states something unknown;
-/// - a text file cannot state them: `units` is required.
+/// - an AT2, ESM, K-NET or COSMOS file states them in its header (AT2 line
+///   3 `UNITS OF G`, ESM `UNITS: cm/s^2`, the K-NET scale factor's `(gal)`,
+///   the COSMOS units code); `units`, if given, must agree with the header,
+///   and is required when the header states none or states something
+///   unknown;
+/// - a text file cannot state them: `units` is required. A column header
+///   naming a unit (`acc_m_s2`, `acc [g]`) is checked against `units` and
+///   suggested when `units` is missing, never used on its own.
 ///
 /// Other choices:
-/// - `dt` is only for one-column files; giving it for an AT2 or
-///   two-column file is an error (the file carries its own time step).
+/// - `dt` is only for one-column and sequence files (and required there);
+///   giving it for a file that carries its own time step (AT2, two-column,
+///   ESM, K-NET, COSMOS) is an error.
 /// - `column` is for text files: the acceleration column of a two-column
 ///   file (default 2, at least 2), or the column to take from each line of
 ///   a one-column file that has several (default: the line must hold
-///   exactly one value). Giving it for an AT2 file is an error.
+///   exactly one value). Giving it for any other format is an error.
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RecordSpec {
@@ -130,11 +194,11 @@ pub struct RecordSpec {
     #[serde(default)]
     pub format: Format,
     /// Units of the numbers in the file: required for text files, checked
-    /// against the header of an AT2 file.
+    /// against the header of an AT2, ESM, K-NET or COSMOS file.
     #[serde(default)]
     pub units: Option<Units>,
-    /// Time step \[s\] of a one-column file (required for it, rejected for
-    /// other formats).
+    /// Time step \[s\] of a one-column or sequence file (required there,
+    /// rejected for formats that carry their own time step).
     #[serde(default)]
     pub dt: Option<f64>,
     /// 1-based column of the acceleration in a multi-column text/CSV file
@@ -169,13 +233,15 @@ impl RecordSpec {
         }
     }
 
-    /// The format after resolving [`Format::Auto`].
+    /// The format after resolving [`Format::Auto`] without the file's
+    /// content: `.at2` extension (any case) means [`Format::At2`], else
+    /// [`Format::OneColumn`] if `dt` is given, else [`Format::TwoColumn`].
+    /// [`crate::detect_format`] also looks at the content (ESM, K-NET,
+    /// COSMOS headers); [`crate::load_record`] uses that.
     pub fn resolved_format(&self) -> Format {
         match self.format {
             Format::Auto => {
-                let is_at2 =
-                    self.file.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("at2"));
-                if is_at2 {
+                if self.has_at2_extension() {
                     Format::At2
                 } else if self.dt.is_some() {
                     Format::OneColumn
@@ -185,6 +251,11 @@ impl RecordSpec {
             }
             f => f,
         }
+    }
+
+    /// Whether the file name ends in `.at2` (any case).
+    pub fn has_at2_extension(&self) -> bool {
+        self.file.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("at2"))
     }
 
     /// The record's label: `name`, else the file stem, else the path.
@@ -209,9 +280,16 @@ impl RecordSpec {
         }
     }
 
-    /// Check the fields against each other (without reading the file).
-    /// Errors name the file and the field.
+    /// Check the fields against each other (without reading the file),
+    /// for the format [`RecordSpec::resolved_format`] gives. Errors name the
+    /// file and the field.
     pub fn validate(&self) -> Result<(), RecordError> {
+        self.validate_for(self.resolved_format())
+    }
+
+    /// As [`RecordSpec::validate`] for the file read as `format` (the one
+    /// [`crate::detect_format`] found in the file's content, say).
+    pub fn validate_for(&self, format: Format) -> Result<(), RecordError> {
         let file = self.file.display().to_string();
         let err = |field: &'static str, message: String| Err(RecordError::Spec { file: file.clone(), field, message });
         if crate::builtin::is_builtin(&self.file) && crate::builtin::bytes(&self.file).is_none() {
@@ -220,24 +298,36 @@ impl RecordSpec {
                 format!("no such built-in record (the built-in record is `{}`)", crate::builtin::DEFAULT),
             );
         }
-        let format = self.resolved_format();
         match (format, self.dt) {
             (Format::OneColumn, None) => return err("dt", "a one-column file needs the time step `dt` [s]".into()),
-            (Format::OneColumn, Some(dt)) if !(dt.is_finite() && dt > 0.0) => {
+            (Format::Sequence, None) => {
+                return err("dt", "a sequence of values needs the time step `dt` [s] (and `units`)".into())
+            }
+            (Format::OneColumn | Format::Sequence, Some(dt)) if !(dt.is_finite() && dt > 0.0) => {
                 return err("dt", format!("dt = {dt} s must be finite and > 0"))
             }
-            (Format::At2 | Format::TwoColumn, Some(_)) => {
-                return err("dt", "`dt` is only for one-column files (this file carries its own time step)".into())
+            (f, Some(dt)) if f.has_own_time_step() => {
+                return err(
+                    "dt",
+                    format!(
+                        "`dt` is only for one-column and sequence files (this file, read as {}, carries its own \
+                         time step): remove `dt = {dt}`",
+                        f.description()
+                    ),
+                )
             }
             _ => {}
         }
         match (format, self.column) {
-            (Format::At2, Some(_)) => return err("column", "`column` is only for text files, not AT2".into()),
             (Format::TwoColumn, Some(c)) if c < 2 => {
                 return err("column", format!("column {c}: the acceleration column is 2 or more (time is column 1)"))
             }
             (Format::OneColumn, Some(0)) => return err("column", "columns are counted from 1".into()),
-            _ => {}
+            (Format::TwoColumn | Format::OneColumn | Format::Auto, _) | (_, None) => {}
+            (f, Some(_)) => {
+                let message = format!("`column` is only for one- and two-column text files, not {}", f.description());
+                return err("column", message);
+            }
         }
         if !self.scale.is_finite() || self.scale == 0.0 {
             return err("scale", format!("scale = {} must be finite and not zero", self.scale));
@@ -246,7 +336,11 @@ impl RecordSpec {
             if !(t.is_finite() && t > 0.0 && t <= crate::record::MAX_ACCELERATION_G) {
                 return err(
                     "target_pga_g",
-                    format!("target_pga_g = {t} g must be above 0 and at most {} g", crate::record::MAX_ACCELERATION_G),
+                    format!(
+                        "target_pga_g = {t} g must be above 0 and at most {} g (no recorded ground motion is \
+                         stronger)",
+                        crate::record::MAX_ACCELERATION_G
+                    ),
                 );
             }
             if self.scale != 1.0 {

@@ -1,15 +1,24 @@
-//! Plain-text records: two-column (time, acceleration) text or CSV and
-//! one-column text with a given time step, plus the number reader shared
-//! with the AT2 parser.
+//! Plain-text records: two-column (time, acceleration) text or CSV,
+//! one-column text with a given time step and a sequence of values in
+//! reading order, plus the number reader shared with the other parsers.
 //!
 //! Text rules: blank lines and lines starting with `#`, `%` or `!` are
 //! skipped; the first remaining line is taken as a column header (and
-//! skipped) if none of its fields reads as a number. A line holding a comma
-//! or semicolon is split there (CSV; an empty field is an error), any other
-//! line at white space. Numbers may omit the leading zero (`-.83E-03`) and
-//! use a Fortran `D` exponent (`1.0D-03`).
+//! skipped) if none of its fields reads as a number; a later line that
+//! starts with a word is not numeric data, and the error names the formats
+//! read. A line holding a semicolon is split there, else a line holding a
+//! comma is split there (CSV; an empty field is an error, and every line
+//! of a CSV file must have as many fields as the first), any other line at
+//! white space. Decimal commas (`0,005;0,0173`, `0,005\t0,0173`) are
+//! refused, never read: a comma also separates values. Numbers may omit the
+//! leading zero (`-.83E-03`) and use a Fortran `D` exponent (`1.0D-03`).
+
+mod lines;
+
+pub(crate) use lines::{data_lines, Table};
 
 use crate::error::RecordError;
+use crate::label::time_label_unit;
 use crate::record::RawRecord;
 use crate::spec::HeaderUnits;
 
@@ -70,59 +79,23 @@ pub(crate) fn number_at(token: &str, file: &str, line: usize) -> Result<f64, Rec
     })
 }
 
-/// A data line of a text file: its 1-based number and its fields.
-struct DataLine<'a> {
-    line: usize,
-    fields: Vec<&'a str>,
-}
-
-fn is_comment(trimmed: &str) -> bool {
-    trimmed.starts_with(['#', '%', '!'])
-}
-
-fn split_fields<'a>(trimmed: &'a str, file: &str, line: usize) -> Result<Vec<&'a str>, RecordError> {
-    if trimmed.contains([',', ';']) {
-        let fields: Vec<&str> = trimmed.split([',', ';']).map(str::trim).collect();
-        // a trailing separator ("1.0, 2.0,") is tolerated
-        let used = match fields.last() {
-            Some(last) if last.is_empty() && fields.len() > 1 => &fields[..fields.len() - 1],
-            _ => &fields[..],
-        };
-        if used.iter().any(|f| f.is_empty()) {
-            return Err(RecordError::Columns { file: file.into(), line, message: "empty field in CSV line".into() });
-        }
-        Ok(used.to_vec())
-    } else {
-        Ok(trimmed.split_whitespace().collect())
+/// Refuse a two-column file whose time column's header says it is not in
+/// seconds (`time_ms`).
+fn check_time_label(table: &Table, file: &str) -> Result<(), RecordError> {
+    let Some(h) = &table.header else { return Ok(()) };
+    let Some(label) = h.labels.first() else { return Ok(()) };
+    match time_label_unit(label) {
+        Some(unit) => Err(RecordError::Header {
+            file: file.into(),
+            line: h.line,
+            message: format!(
+                "the time column's header `{}` says {unit}: the time column must be in seconds (convert it, or read \
+                 the acceleration alone with `format = \"one-column\"`, `column` and `dt`)",
+                excerpt(label, 40)
+            ),
+        }),
+        None => Ok(()),
     }
-}
-
-/// The data lines of a text file (header and comments skipped).
-fn data_lines<'a>(text: &'a str, file: &str) -> Result<Vec<DataLine<'a>>, RecordError> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    if text.trim().is_empty() {
-        return Err(RecordError::Empty { file: file.into() });
-    }
-    let mut out = Vec::new();
-    let mut first = true;
-    for (i, raw) in text.lines().enumerate() {
-        let trimmed = raw.trim();
-        if trimmed.is_empty() || is_comment(trimmed) {
-            continue;
-        }
-        let fields = split_fields(trimmed, file, i + 1)?;
-        if first {
-            first = false;
-            if fields.iter().all(|f| parse_number(f).is_err()) {
-                continue; // a column header such as "time,accel"
-            }
-        }
-        out.push(DataLine { line: i + 1, fields });
-    }
-    if out.is_empty() {
-        return Err(RecordError::TooShort { file: file.into(), message: "the file holds no data lines".into() });
-    }
-    Ok(out)
 }
 
 /// Largest allowed drift of a time-column entry from the uniform grid,
@@ -134,7 +107,9 @@ pub const TIME_TOLERANCE: f64 = 0.01;
 ///
 /// dt = (t_last - t_first) / (n - 1); every time must lie within
 /// [`TIME_TOLERANCE`] · dt of t_first + i·dt. Columns other than these
-/// two are not read.
+/// two are not read. A unit named in the acceleration column's header
+/// (`acc_m_s2`, `acc [g]`) is returned as [`HeaderUnits::Label`]; a time
+/// column whose header names milliseconds or minutes is refused.
 pub fn parse_two_column(text: &str, file: &str, column: usize) -> Result<RawRecord, RecordError> {
     if column < 2 {
         return Err(RecordError::Spec {
@@ -143,19 +118,25 @@ pub fn parse_two_column(text: &str, file: &str, column: usize) -> Result<RawReco
             message: format!("column {column}: the acceleration column is 2 or more (time is column 1)"),
         });
     }
-    let lines = data_lines(text, file)?;
+    let table = data_lines(text, file)?;
+    check_time_label(&table, file)?;
+    let lines = &table.lines;
     let mut times = Vec::with_capacity(lines.len());
     let mut values = Vec::with_capacity(lines.len());
-    for dl in &lines {
+    for dl in lines {
         if dl.fields.len() < column {
-            return Err(RecordError::Columns {
-                file: file.into(),
-                line: dl.line,
-                message: format!(
-                    "the line has {} field(s) but the acceleration is read from column {column}",
+            let message = if lines[0].fields.len() == 1 && column == 2 {
+                "the line has 1 field but a two-column file (time, acceleration) is read because no `dt` was given: \
+                 a file with one value per line needs the time step `dt` [s] (and `units`)"
+                    .to_string()
+            } else {
+                let hint = table.layout_hint().map(|h| format!("; {h}")).unwrap_or_default();
+                format!(
+                    "the line has {} field(s) but the acceleration is read from column {column}{hint}",
                     dl.fields.len()
-                ),
-            });
+                )
+            };
+            return Err(RecordError::Columns { file: file.into(), line: dl.line, message });
         }
         times.push(number_at(dl.fields[0], file, dl.line)?);
         values.push(number_at(dl.fields[column - 1], file, dl.line)?);
@@ -171,20 +152,112 @@ pub fn parse_two_column(text: &str, file: &str, column: usize) -> Result<RawReco
     let t0 = times[0];
     let dt = (times[n - 1] - t0) / (n - 1) as f64;
     if !(dt.is_finite() && dt > 0.0) {
+        if let Some(hint) = table.layout_hint() {
+            let message = format!("column 1 is not a time axis: it gives a time step dt = {dt} s; {hint}");
+            return Err(RecordError::Columns { file: file.into(), line: last_line, message });
+        }
         return Err(RecordError::BadDt { file: file.into(), line: last_line, dt });
     }
-    for (i, (t, dl)) in times.iter().zip(&lines).enumerate() {
+    for (i, (t, dl)) in times.iter().zip(lines).enumerate() {
         let expected = t0 + i as f64 * dt;
         if (t - expected).abs() > TIME_TOLERANCE * dt {
+            if let Some(hint) = table.layout_hint() {
+                let message = format!(
+                    "the time column is not uniform: t = {t} s where {expected} s was expected (dt = {dt} s from the \
+                     first and last times; tolerance 1 % of dt); {hint}"
+                );
+                return Err(RecordError::Columns { file: file.into(), line: dl.line, message });
+            }
             return Err(RecordError::NonUniformTime { file: file.into(), line: dl.line, expected, found: *t, dt });
         }
     }
-    Ok(RawRecord { dt, values, header: Vec::new(), first_time: Some(t0), header_units: HeaderUnits::NotInFormat })
+    Ok(RawRecord {
+        dt,
+        values,
+        header: Vec::new(),
+        first_time: Some(t0),
+        header_units: table.units_of_column(column),
+        warnings: Vec::new(),
+    })
+}
+
+/// A warning for a one-column or sequence file of whole numbers only: they
+/// may be digitiser counts (a K-NET body), to be read with their header.
+fn counts_warning(values: &[f64], file: &str) -> Option<String> {
+    let max = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    (values.len() >= 10 && max >= 100.0 && values.iter().all(|v| v.fract() == 0.0)).then(|| {
+        format!(
+            "{file}: every value is a whole number (up to {max}): if these are digitiser counts (the body of a \
+             K-NET/KiK-net file), read the K-NET file itself, whose header gives the factor to gal and whose offset \
+             is then removed"
+        )
+    })
+}
+
+/// Refuse `column` with `dt` on a file whose column 1 is a time axis
+/// (uniform, increasing, from 0) with a step other than `dt`, or whose
+/// lines look like one sequence wrapped k per line (the last one shorter),
+/// where `column` would read every k-th sample.
+fn check_column_pick(table: &Table, file: &str, dt: f64, column: usize) -> Result<(), RecordError> {
+    let lines = &table.lines;
+    let spec_err = |field, message| Err(RecordError::Spec { file: file.into(), field, message });
+    let counts: Vec<usize> = lines.iter().map(|l| l.fields.len()).collect();
+    let (k, last) = (counts[0], counts[counts.len() - 1]);
+    if lines.len() >= 2 && k >= 2 && counts[..counts.len() - 1].iter().all(|&c| c == k) && last < k {
+        return spec_err(
+            "column",
+            format!(
+                "line {} (the last) holds {last} values where the others hold {k}: the values look like one \
+                 sequence written {k} per line, and `column = {column}` would read one sample in {k}: if they are \
+                 successive samples, read them with `format = \"sequence\"` (and no `column`)",
+                lines[lines.len() - 1].line
+            ),
+        );
+    }
+    if lines.len() < 3 || counts.iter().any(|&c| c < 2) {
+        return Ok(());
+    }
+    let Ok(t) = lines.iter().map(|l| parse_number(l.fields[0])).collect::<Result<Vec<f64>, _>>() else {
+        return Ok(());
+    };
+    let n = t.len();
+    let step = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let uniform = step > 0.0
+        && t[0].abs() <= TIME_TOLERANCE * step
+        && t.iter().enumerate().all(|(i, x)| (x - (t[0] + i as f64 * step)).abs() <= TIME_TOLERANCE * step);
+    if !uniform {
+        return Ok(());
+    }
+    if column == 1 {
+        return spec_err(
+            "column",
+            format!(
+                "column 1 is a time axis (0, {}, {} ... s): the acceleration is in another column; better, drop \
+                 `dt` and `column` so that the file is read as time and acceleration",
+                number(t[1]),
+                number(t[2])
+            ),
+        );
+    }
+    if (step - dt).abs() > TIME_TOLERANCE * step {
+        return spec_err(
+            "dt",
+            format!(
+                "column 1 is a time axis with a step of {} s but `dt = {dt}` s is given: drop `dt` (and \
+                 `format = \"one-column\"`) so that the file's time column is used, with `column = {column}` for the \
+                 acceleration",
+                number(step)
+            ),
+        );
+    }
+    Ok(())
 }
 
 /// Parse a text file of accelerations (in file units) at time step `dt`
 /// \[s\]: one value per line, or, with `column` (1-based), that column of
-/// each line.
+/// each line. With `column`, a file whose column 1 is a time axis of
+/// another step than `dt`, or whose lines look like one sequence wrapped
+/// (the last line shorter), is refused.
 pub fn parse_one_column(text: &str, file: &str, dt: f64, column: Option<usize>) -> Result<RawRecord, RecordError> {
     if !(dt.is_finite() && dt > 0.0) {
         return Err(RecordError::Spec { file: file.into(), field: "dt", message: format!("dt = {dt} s must be > 0") });
@@ -192,9 +265,12 @@ pub fn parse_one_column(text: &str, file: &str, dt: f64, column: Option<usize>) 
     if column == Some(0) {
         return Err(RecordError::Spec { file: file.into(), field: "column", message: "columns count from 1".into() });
     }
-    let lines = data_lines(text, file)?;
-    let mut values = Vec::with_capacity(lines.len());
-    for dl in &lines {
+    let table = data_lines(text, file)?;
+    if let Some(c) = column {
+        check_column_pick(&table, file, dt, c)?;
+    }
+    let mut values = Vec::with_capacity(table.lines.len());
+    for dl in &table.lines {
         let token = match column {
             None if dl.fields.len() == 1 => dl.fields[0],
             None => {
@@ -202,11 +278,13 @@ pub fn parse_one_column(text: &str, file: &str, dt: f64, column: Option<usize>) 
                     file: file.into(),
                     line: dl.line,
                     message: format!(
-                        "the line has {} fields; a one-column file holds one value per line \
-                         (set `column` to pick one)",
+                        "the line has {} fields; a one-column file holds one value per line. If the values on a line \
+                         are successive samples (the body of a K-NET, COSMOS or PEER file), read them with \
+                         `format = \"sequence\"`; if the columns are different quantities, set `column` to the \
+                         acceleration's",
                         dl.fields.len()
                     ),
-                })
+                });
             }
             Some(c) if dl.fields.len() >= c => dl.fields[c - 1],
             Some(c) => {
@@ -219,7 +297,57 @@ pub fn parse_one_column(text: &str, file: &str, dt: f64, column: Option<usize>) 
         };
         values.push(number_at(token, file, dl.line)?);
     }
-    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units: HeaderUnits::NotInFormat })
+    let header_units = match (column, &table.header) {
+        (None, Some(h)) if h.labels.len() == 1 => table.units_of_column(1),
+        (Some(c), _) => table.units_of_column(c),
+        _ => HeaderUnits::NotInFormat,
+    };
+    let warnings = counts_warning(&values, file).into_iter().collect();
+    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units, warnings })
+}
+
+/// `field` cut before every `+` or `-` that follows a digit or a point:
+/// Fortran fixed-width fields written without a space between them
+/// (`-90.15800-109.02749` is `-90.15800` and `-109.02749`); an exponent's
+/// sign follows a letter and is kept.
+fn split_glued(field: &str) -> Vec<&str> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    let bytes = field.as_bytes();
+    for i in 1..bytes.len() {
+        if matches!(bytes[i], b'+' | b'-') && (bytes[i - 1].is_ascii_digit() || bytes[i - 1] == b'.') {
+            out.push(&field[start..i]);
+            start = i;
+        }
+    }
+    out.push(&field[start..]);
+    out
+}
+
+/// Parse a sequence of accelerations (in file units) at time step `dt`
+/// \[s\]: every number of every line in reading order, any number per line
+/// (the body of a K-NET, COSMOS or PEER file with its header removed).
+/// Fortran fields written without a space between them
+/// (`-90.15800-109.02749`) are cut at the sign of the second.
+pub fn parse_sequence(text: &str, file: &str, dt: f64) -> Result<RawRecord, RecordError> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(RecordError::Spec { file: file.into(), field: "dt", message: format!("dt = {dt} s must be > 0") });
+    }
+    let table = data_lines(text, file)?;
+    let mut values = Vec::new();
+    for dl in &table.lines {
+        for field in &dl.fields {
+            for token in split_glued(field) {
+                values.push(number_at(token, file, dl.line)?);
+            }
+        }
+    }
+    let header_units = match &table.header {
+        Some(h) if h.labels.len() == 1 => table.units_of_column(1),
+        _ => HeaderUnits::NotInFormat,
+    };
+    let warnings = counts_warning(&values, file).into_iter().collect();
+    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units, warnings })
 }
 
 #[cfg(test)]
@@ -251,5 +379,13 @@ mod tests {
     fn csv_empty_field() {
         let e = parse_two_column("0,,1\n1,2,3\n", "f.csv", 2).unwrap_err().to_string();
         assert!(e.starts_with("f.csv:1:"), "{e}");
+    }
+
+    #[test]
+    fn glued_fortran_fields() {
+        assert_eq!(split_glued("-90.15800-109.02749-125.62034"), vec!["-90.15800", "-109.02749", "-125.62034"]);
+        assert_eq!(split_glued("1.5E-03"), vec!["1.5E-03"]);
+        assert_eq!(split_glued("-.5D+02+1."), vec!["-.5D+02", "+1."]);
+        assert_eq!(split_glued("12"), vec!["12"]);
     }
 }

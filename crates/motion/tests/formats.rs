@@ -189,7 +189,7 @@ fn load_from_disk_relative_absolute_and_auto_format() {
 /// recognised needs `units`.
 #[test]
 fn at2_units_are_read_from_the_header_and_never_guessed() {
-    let body = "NPTS=   3, DT=   .0100 SEC\n0.0 10.0 -5.0\n";
+    let body = "NPTS=   3, DT=   .0100 SEC\n0.0 1.0 -0.5\n";
     let at2 = |line3: &str| format!("PEER-like DATABASE\nEVENT, STATION\n{line3}\n{body}");
     for (line3, units, factor) in [
         ("ACCELERATION TIME SERIES IN UNITS OF G", Units::G, G),
@@ -201,7 +201,7 @@ fn at2_units_are_read_from_the_header_and_never_guessed() {
         let text = at2(line3);
         let mut spec = RecordSpec::new("h.AT2");
         let rec = load_record_from_str(&spec, &text).unwrap_or_else(|e| panic!("{line3}: {e}")).record;
-        assert_eq!((rec.units, rec.acceleration[1]), (units, 10.0 * factor), "{line3}");
+        assert_eq!((rec.units, rec.acceleration[1]), (units, factor), "{line3}");
         spec.units = Some(units);
         assert!(load_record_from_str(&spec, &text).is_ok(), "{line3}: agreeing units are accepted");
         let other = if units == Units::G { Units::CentimetersPerSecond2 } else { Units::G };
@@ -219,13 +219,14 @@ fn at2_units_are_read_from_the_header_and_never_guessed() {
         assert!(err.starts_with("h.AT2: field `units`") && err.contains(why), "{line3}: {err}");
         spec.units = Some(Units::CentimetersPerSecond2);
         let loaded = load_record_from_str(&spec, &text).unwrap();
-        assert_eq!(loaded.record.acceleration[1], 0.1, "{line3}: the config's units are used");
+        assert_eq!(loaded.record.acceleration[1], 0.01, "{line3}: the config's units are used");
         assert!(loaded.warnings.iter().any(|w| w.contains("the config's")), "{line3}: {:?}", loaded.warnings);
     }
 }
 
 /// Records no earthquake produces are refused with the value named: a time
-/// step outside 1e-5..1 s, a sample beyond 20 g, a duration over a day.
+/// step outside 1e-5..1 s, a sample beyond 5 g (in the file as read or
+/// after scaling; the limit was 20 g), a duration over a day.
 #[test]
 fn physically_absurd_records_are_refused() {
     let mut spec = RecordSpec::new("a.txt");
@@ -233,16 +234,18 @@ fn physically_absurd_records_are_refused() {
     for (text, expect) in [
         ("0 0\n1e-300 0.1\n", "dt = 1e-300 s is outside"),
         ("0 0\n1e300 0.1\n", "dt = 1e300 s is outside"),
-        ("0 0\n0.01 1e300\n", "beyond 20 g"),
-        ("0 0\n0.01 25\n", "beyond 20 g"),
+        ("0 0\n0.01 1e300\n", "beyond 5 g"),
+        ("0 0\n0.01 25\n", "beyond 5 g"),
+        ("0 0\n0.01 5.1\n", "sample 1 (t = 0.01 s) is 5.1 g in the file, beyond 5 g: no recorded ground motion"),
     ] {
         let err = load_record_from_str(&spec, text).unwrap_err().to_string();
         assert!(err.contains(expect), "{text:?}: {err}");
     }
-    // 20 g itself and a scale that pushes a record beyond it
-    assert!(load_record_from_str(&spec, "0 0\n0.01 20\n").is_ok());
+    // 5 g itself and a scale that pushes a record beyond it
+    assert!(load_record_from_str(&spec, "0 0\n0.01 5\n").is_ok());
     spec.scale = 2.0;
-    assert!(load_record_from_str(&spec, "0 0\n0.01 15\n").unwrap_err().to_string().contains("beyond 20 g"));
+    let e = load_record_from_str(&spec, "0 0\n0.01 3\n").unwrap_err().to_string();
+    assert!(e.contains("beyond 5 g") && e.contains("check the units and the scale"), "{e}");
     // a day and a bit at 1 s
     let long = quakejoint_motion::Record::new("long", 1.0, vec![0.0; 86_402]).unwrap_err().to_string();
     assert!(long.contains("more than a day"), "{long}");

@@ -1,14 +1,16 @@
 //! Fuzzing of the record readers with proptest (cargo-fuzz needs a nightly
 //! toolchain; these properties run on stable in `cargo test`).
 //!
-//! Fuzzed: [`parse_at2`], [`parse_two_column`], [`parse_one_column`] and
+//! Fuzzed: [`parse_at2`], [`parse_two_column`], [`parse_one_column`],
+//! [`parse_sequence`], [`parse_esm`], [`parse_knet`], [`parse_cosmos`] and
 //! [`load_record_from_str`] (every [`Format`], random specs) on
 //! - arbitrary bytes, made text with `String::from_utf8_lossy` as
 //!   [`quakejoint_motion::load_record`] does;
 //! - "token soup": lines of tokens a record file is made of (numbers in
 //!   every spelling, NaN, infinity, header words, separators, BOM, CR);
-//! - valid PEER AT2 files (checked to read back exactly), and the same
-//!   files after 1 to 4 structured mutations: truncation at a byte, a line
+//! - valid PEER AT2 files (checked to read back exactly), valid ESM,
+//!   K-NET and COSMOS files, and the same files after 1 to 4 structured
+//!   mutations: truncation at a byte, a line
 //!   deleted, duplicated or replaced, a token replaced or inserted
 //!   (`nan`, `inf`, `1e400`, `-0`, `1.2.3`, `NPTS= -3`, `DT= 0`, ...),
 //!   header line 4 rewritten (NPTS off by a few, negative, zero, huge up
@@ -26,29 +28,43 @@
 //! capacity-overflow panic at `u64::MAX`); the allocation is now bounded by
 //! the text's length, and [`huge_npts_is_an_error`] keeps it so.
 //!
-//! Inputs tried: each of the 4 properties runs `QUAKEJOINT_FUZZ_CASES`
-//! cases (default 20 000), so a default run tries 80 000 inputs, each through
-//! every reader. A long run:
+//! Inputs tried: each of the 5 properties runs `QUAKEJOINT_FUZZ_CASES`
+//! cases (default 20 000), so a default run tries 100 000 inputs, each
+//! through every reader. A long run:
 //!
 //! ```text
 //! QUAKEJOINT_FUZZ_CASES=1200000 cargo test --release -p quakejoint-motion --test fuzz_records
 //! ```
 //!
-//! tries 4.8 million inputs in about 4 minutes on 2 cores.
+//! tries 6 million inputs.
 //!
 //! Failures are not persisted (no regression files in the source tree);
 //! proptest prints the shrunk input of a failing case.
 
 #[path = "../../../tests/support/fuzz.rs"]
 mod fuzz;
+#[path = "fuzz_support/other_formats.rs"]
+mod other_formats;
 
 use proptest::collection::vec;
 use proptest::prelude::*;
 use proptest::sample::{select, Index};
 use quakejoint_motion::{
-    load_record_from_str, parse_at2, parse_one_column, parse_two_column, Format, RawRecord, RecordError, RecordSpec,
-    Units, G,
+    load_record_from_str, parse_at2, parse_cosmos, parse_esm, parse_knet, parse_one_column, parse_sequence,
+    parse_two_column, Format, RawRecord, RecordError, RecordSpec, Units, G,
 };
+
+/// Every format.
+const FORMATS: [Format; 8] = [
+    Format::Auto,
+    Format::At2,
+    Format::TwoColumn,
+    Format::OneColumn,
+    Format::Esm,
+    Format::Knet,
+    Format::Cosmos,
+    Format::Sequence,
+];
 
 /// Cases per property without `QUAKEJOINT_FUZZ_CASES`: a few seconds per
 /// property in `cargo test`.
@@ -137,7 +153,7 @@ fn spec_strategy(file: &'static str) -> impl Strategy<Value = RecordSpec> {
     let column = prop_oneof![Just(None), select(vec![0usize, 1, 2, 3, 4, usize::MAX]).prop_map(Some)];
     let scale = select(vec![1.0, -1.0, 2.0, 0.0, 1e-308, 1e308, -1e308, f64::NAN, f64::INFINITY]);
     let target = prop_oneof![Just(None), select(vec![0.3, 0.0, -0.3, 1e-320, 1e308, f64::NAN]).prop_map(Some)];
-    let format = select(vec![Format::Auto, Format::At2, Format::TwoColumn, Format::OneColumn]);
+    let format = select(FORMATS.to_vec());
     let units = select(vec![None, Some(Units::G), Some(Units::MetersPerSecond2), Some(Units::CentimetersPerSecond2)]);
     (format, units, dt, column, scale, target).prop_map(move |(format, units, dt, column, scale, target_pga_g)| {
         let mut spec = RecordSpec::new(file);
@@ -154,7 +170,7 @@ fn spec_strategy(file: &'static str) -> impl Strategy<Value = RecordSpec> {
 /// A file name for [`load_record_from_str`] (the extension decides the
 /// format under [`Format::Auto`]).
 fn file_strategy() -> impl Strategy<Value = &'static str> {
-    select(vec![AT2_FILE, "f.at2", "f.txt", "f.csv", "dir/f.AT2", "f"])
+    select(vec![AT2_FILE, "f.at2", "f.txt", "f.csv", "dir/f.AT2", "f", "f.ASC", "f.EW", "f.V2"])
 }
 
 /// Checks a reader's result: a usable record, or an error whose message
@@ -202,8 +218,12 @@ fn all_readers(text: &str, spec: &RecordSpec, column: usize, dt: f64) -> Result<
     check_raw(parse_two_column(text, "f.csv", column), "f.csv")?;
     check_raw(parse_one_column(text, "f.txt", dt, None), "f.txt")?;
     check_raw(parse_one_column(text, "f.txt", dt, Some(column)), "f.txt")?;
+    check_raw(parse_sequence(text, "f.txt", dt), "f.txt")?;
+    check_raw(parse_esm(text, "f.ASC"), "f.ASC")?;
+    check_raw(parse_knet(text, "f.EW"), "f.EW")?;
+    check_raw(parse_cosmos(text, "f.V2"), "f.V2")?;
     check_load(spec, text)?;
-    for format in [Format::Auto, Format::At2, Format::TwoColumn, Format::OneColumn] {
+    for format in FORMATS {
         let mut s = spec.clone();
         s.format = format;
         check_load(&s, text)?;
@@ -211,7 +231,7 @@ fn all_readers(text: &str, spec: &RecordSpec, column: usize, dt: f64) -> Result<
         // text is parsed rather than the spec refused
         let mut s = RecordSpec::new(spec.file.clone());
         s.format = format;
-        if s.resolved_format() == Format::OneColumn {
+        if matches!(s.resolved_format(), Format::OneColumn | Format::Sequence) {
             s.dt = Some(0.01);
         }
         check_load(&s, text)?;
@@ -219,9 +239,14 @@ fn all_readers(text: &str, spec: &RecordSpec, column: usize, dt: f64) -> Result<
     Ok(())
 }
 
+/// [`TOKENS`] and the header words of ESM, K-NET and COSMOS files.
+fn tokens() -> Vec<&'static str> {
+    TOKENS.iter().chain(other_formats::TOKENS).copied().collect()
+}
+
 /// Lines of tokens joined by random separators and line ends.
 fn token_soup() -> impl Strategy<Value = String> {
-    let token = select(TOKENS.to_vec());
+    let token = select(tokens());
     let sep = select(vec![" ", "   ", ",", ", ", ";", "\t"]);
     let line =
         vec((token, sep), 0..8).prop_map(|parts| parts.into_iter().flat_map(|(t, s)| [t, s]).collect::<String>());
@@ -361,7 +386,7 @@ enum Mutation {
 }
 
 fn mutation() -> impl Strategy<Value = Mutation> {
-    let token = || select(TOKENS.to_vec());
+    let token = || select(tokens());
     prop_oneof![
         any::<Index>().prop_map(Mutation::Truncate),
         any::<Index>().prop_map(Mutation::DeleteLine),
@@ -523,6 +548,35 @@ proptest! {
                 prop_assert!(msg.starts_with(AT2_FILE), "the error does not start with `{}`: {}", AT2_FILE, msg);
             }
         }
+        all_readers(&text, &spec, 2, 0.01)?;
+    }
+}
+
+proptest! {
+    #![proptest_config(fuzz_config())]
+
+    /// A valid ESM, K-NET or COSMOS file reads (auto-detected) with its
+    /// count of values; after 1 to 4 mutations no reader panics, an `Ok`
+    /// record is usable and an error names the file.
+    #[test]
+    fn mutated_other_formats_never_panic(
+        valid in other_formats::valid_other(),
+        mutations in vec(mutation(), 0..=4),
+        spec in file_strategy().prop_flat_map(spec_strategy),
+    ) {
+        if mutations.is_empty() {
+            let loaded = load_record_from_str(&RecordSpec::new(valid.file), &valid.text)
+                .map_err(|e| TestCaseError::fail(format!("{}: {e}", valid.file)))?;
+            prop_assert_eq!(loaded.record.acceleration.len(), valid.count);
+            let want_dt = if valid.file == "f.EW" { 0.01 } else { 0.005 };
+            prop_assert_eq!(loaded.record.dt, want_dt);
+        }
+        let mut bytes = valid.text.clone().into_bytes();
+        for m in &mutations {
+            m.apply(&mut bytes, valid.count);
+        }
+        let text = String::from_utf8_lossy(&bytes);
+        check_load(&RecordSpec::new(valid.file), &text)?;
         all_readers(&text, &spec, 2, 0.01)?;
     }
 }

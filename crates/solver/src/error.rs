@@ -156,7 +156,7 @@ pub enum SolverError {
         time: f64,
     },
     /// The wall-clock limit in the options was reached.
-    #[error("time limit of {limit_s:.1} s wall clock reached at t = {time:.6} s")]
+    #[error("time limit of {limit_s} s wall clock reached at t = {time:.6} s")]
     WallClockLimit {
         /// The limit [s].
         limit_s: f64,

@@ -219,7 +219,9 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         .map(|j| format!("{}: {}", merged.describe_job(j), results.messages[j]))
         .collect();
     let flagged_jobs = (0..n)
-        .filter(|&j| results.status[j] == status::OK && results.validity[j] != 0)
+        .filter(|&j| {
+            results.status[j] == status::OK && quakejoint_model::validity::Flags(results.validity[j]).is_flagged()
+        })
         .map(|j| format!("{}: {}", merged.describe_job(j), results.findings[j]))
         .collect();
     Ok(MergeSummary {

@@ -82,6 +82,12 @@ pub struct Plan {
     pub history_periods: Vec<usize>,
     /// Seconds between HDF5 checkpoints.
     pub checkpoint_seconds: f64,
+    /// The config as used: every default filled in, the `[sweep]` table
+    /// as given (TOML).
+    pub config_used: String,
+    /// What a user should know about the sweep before reading its results
+    /// (a run window shorter than a record, say); kept in the output.
+    pub warnings: Vec<String>,
     /// The config file's text.
     pub config_text: String,
     /// SHA-256 of the parsed config (independent of comments and layout).
@@ -158,12 +164,72 @@ fn periods_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
     if periods.is_empty() {
         return Err(sweep_err(field, "no periods"));
     }
-    for (i, &t) in periods.iter().enumerate() {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(sweep_err(&format!("{field}[{i}]"), format!("{t}: a period must be positive")));
+    check_swept(&periods, field, "bridge.period", "a bridge period")?;
+    Ok(periods)
+}
+
+/// Checks swept values (`field`, a list) against the range of the config
+/// key `key` they stand for, each once; `what` names one in messages.
+fn check_swept(values: &[f64], field: &str, key: &str, what: &str) -> Result<(), SweepError> {
+    for (i, &x) in values.iter().enumerate() {
+        if let Some((unit, range)) = quakejoint_model::limits::limit(key) {
+            if !range.contains(x) {
+                let unit = if unit == "1" { String::new() } else { format!(" {unit}") };
+                return Err(sweep_err(
+                    &format!("{field}[{i}]"),
+                    format!("{}: {what} must be within {}{unit}", quakejoint_motion::number(x), range.describe()),
+                ));
+            }
+        }
+        if let Some(k) = values[..i].iter().position(|&y| y == x) {
+            return Err(sweep_err(
+                &format!("{field}[{i}]"),
+                format!("{x} is already {field}[{k}]: each is swept once"),
+            ));
         }
     }
-    Ok(periods)
+    Ok(())
+}
+
+/// A warning when the run window ([`quakejoint_model::run::run_window`])
+/// cuts `record` short: both spectra cover the window only, and how much
+/// the spectrum without the joint over the whole record is larger says how
+/// much of the record's effect the window leaves out.
+fn window_warning(config: &Config, record: &Record, periods: &[f64], damping: &[f64]) -> Option<String> {
+    use quakejoint_motion::{spectrum, SpectrumOptions};
+    let window = quakejoint_model::run::run_window(config, record);
+    if window.acceleration.len() >= record.acceleration.len() {
+        return None;
+    }
+    let sa = |r: &Record| -> Vec<f64> {
+        spectrum(r, periods, damping, SpectrumOptions::default())
+            .map(|rows| rows.iter().map(|row| row.peaks.sa).collect())
+            .unwrap_or_default()
+    };
+    let (whole, cut) = (sa(record), sa(&window));
+    let worst = whole
+        .iter()
+        .zip(&cut)
+        .enumerate()
+        .map(|(i, (w, c))| (i, if *c > 0.0 { w / c - 1.0 } else { 0.0 }))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let missed = match worst {
+        Some((i, excess)) if excess > 1e-3 => format!(
+            "; over the whole record the bridge without the joint would respond up to {:.1} % more (T = {:.4} s, \
+              damping {})",
+            100.0 * excess,
+            periods[i % periods.len()],
+            damping[i / periods.len()]
+        ),
+        _ => "; the record's remainder changes no peak of the spectrum without the joint".to_string(),
+    };
+    Some(format!(
+        "record {}: the runs cover its first {} s of {} s (simulation.duration); both spectra, with and without \
+          the joint, are taken over that window{missed}",
+        record.name,
+        quakejoint_motion::number(window.duration()),
+        quakejoint_motion::number(record.duration())
+    ))
 }
 
 /// Recursively merges `over` into `base` (tables merge, other values replace).
@@ -236,11 +302,7 @@ impl Plan {
         if damping.is_empty() {
             return Err(sweep_err("sweep.damping", "no damping ratio"));
         }
-        for (i, &z) in damping.iter().enumerate() {
-            if !(z.is_finite() && (0.0..1.0).contains(&z)) {
-                return Err(sweep_err(&format!("sweep.damping[{i}]"), format!("{z}: must be at least 0 and below 1")));
-            }
-        }
+        check_swept(&damping, "sweep.damping", "bridge.damping", "a damping ratio")?;
         // each requested period picks the nearest swept one (within 5 %)
         let history_periods = match sweep.get("histories") {
             Some(v) => {
@@ -287,6 +349,17 @@ impl Plan {
             Some(_) => return Err(sweep_err("sweep.records", "must be a list of tables")),
             None => vec![base_config.record_x()],
         };
+        if let (Some(_), Some(r)) = (sweep.get("records"), &base_config.record) {
+            // [record]'s settings (its scale, say) would silently not apply
+            return Err(sweep_err(
+                "sweep.records",
+                format!(
+                    "the config has both [record] ({}) and sweep.records: a sweep runs the records of sweep.records \
+                      only, with their own settings; remove [record], or list it in sweep.records",
+                    r.file.display()
+                ),
+            ));
+        }
         if specs.is_empty() {
             return Err(sweep_err("sweep.records", "the list of records is empty"));
         }
@@ -350,6 +423,16 @@ impl Plan {
                 .try_into()
                 .map_err(|e: toml::de::Error| sweep_err(&key, format!("case {name:?}: {}", e.message())))?;
             config.validate().map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
+            let (a, b) = (&config.simulation, &base_config.simulation);
+            if (a.duration, a.extra_time) != (b.duration, b.extra_time) {
+                return Err(sweep_err(
+                    &format!("{key}.simulation"),
+                    format!(
+                        "case {name:?}: the cases of a sweep share its run window (simulation.duration and \
+                          extra_time): the spectrum without the joint is computed once per record over that window"
+                    ),
+                ));
+            }
             cases.push(Case { name, bodies: bodies_of(&config), config });
         }
         // what can be checked before any job runs is bad input, not a failed
@@ -372,6 +455,12 @@ impl Plan {
                 quakejoint_model::run::check_run_length(&case.config, &r.record).map_err(context)?;
             }
         }
+        let mut warnings = Vec::new();
+        for r in &records {
+            warnings.extend(window_warning(&base_config, &r.record, &periods, &damping));
+        }
+        let mut used = base_config.clone();
+        used.sweep = Some(sweep.clone());
         let canonical = toml::to_string(&without_run_settings(&table)).unwrap_or_default()
             + &toml::to_string(&without_run_settings(&sweep)).unwrap_or_default();
         Ok(Self {
@@ -382,6 +471,8 @@ impl Plan {
             periods,
             history_periods,
             checkpoint_seconds,
+            config_used: toml::to_string(&used).unwrap_or_default(),
+            warnings,
             config_text: config_text.to_string(),
             config_sha256: sha256_hex(canonical.as_bytes()),
         })
@@ -471,7 +562,9 @@ impl Plan {
         let longest = self.records.iter().map(samples).fold(0.0, f64::max);
         let result_bytes = self.job_count() as f64 * ((crate::results::FIELDS.len() as f64 + 4.0) * 8.0) * 3.0;
         let histories = self.history_periods.len() * self.job_count() / self.periods.len().max(1);
-        let history_bytes = histories as f64 * longest * 7.0 * 8.0 * 3.0;
+        // seven series and the clear sub-gaps, Nc + 1 of them
+        let gaps = self.cases.iter().filter(|c| c.config.joint.enabled).map(|c| c.config.joint.center_beams + 1).max();
+        let history_bytes = histories as f64 * longest * (7 + gaps.unwrap_or(0)) as f64 * 8.0 * 3.0;
         let bodies = self.cases.iter().map(|c| c.bodies).max().unwrap_or(0) as f64;
         let worker_mb = MEMORY_PER_WORKER_MB + MEMORY_PER_BODY_MB * bodies + longest * 8.0 * 6.0 * MB;
         let memory_mb = MEMORY_BASE_MB

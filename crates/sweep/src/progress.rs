@@ -57,7 +57,7 @@ impl Reporter {
     pub(crate) fn new(
         mode: Progress,
         label: String,
-        (scope, done, failed): (usize, usize, usize),
+        (scope, done, failed, flagged): (usize, usize, usize, usize),
         cost_left: f64,
         threads: usize,
     ) -> Self {
@@ -84,7 +84,7 @@ impl Reporter {
             scope,
             done,
             failed,
-            flagged: 0,
+            flagged,
             threads,
             cost_left,
             cost_done: 0.0,

@@ -1,5 +1,6 @@
 //! Results of a sweep: one record per job and the arrays they fill.
 
+use quakejoint_model::validity::Flags;
 use serde::{Deserialize, Serialize};
 
 /// Per-job values stored in `/spectrum/with_joint/<name>`, in this order.
@@ -74,6 +75,9 @@ pub struct JobHistory {
     pub joint_force: Vec<f64>,
     /// Friction power [W].
     pub friction_power: Vec<f64>,
+    /// Clear sub-gaps, the smaller of the two beam ends, `[gap][time]`,
+    /// abutment side first [m].
+    pub subgaps: Vec<Vec<f64>>,
 }
 
 /// The outcome of one job, as journalled.
@@ -127,7 +131,7 @@ impl Results {
             values: vec![vec![f64::NAN; n]; FIELDS.len()],
             status: vec![status::NOT_RUN; n],
             messages: vec![String::new(); n],
-            validity: vec![0; n],
+            validity: vec![quakejoint_model::validity::Flags::NOT_CHECKED.0; n],
             findings: vec![String::new(); n],
             histories: Default::default(),
             without: [vec![f64::NAN; m], vec![f64::NAN; m], vec![f64::NAN; m], vec![f64::NAN; m]],
@@ -156,7 +160,7 @@ impl Results {
         }
         self.status[job] = status::NOT_RUN;
         self.messages[job].clear();
-        self.validity[job] = 0;
+        self.validity[job] = quakejoint_model::validity::Flags::NOT_CHECKED.0;
         self.findings[job].clear();
         self.histories.remove(&(job as u32));
     }
@@ -173,7 +177,7 @@ impl Results {
 
     /// Finished jobs flagged as outside the model's validity.
     pub fn flagged(&self) -> usize {
-        self.validity.iter().zip(&self.status).filter(|&(&v, &s)| v != 0 && s == status::OK).count()
+        self.validity.iter().zip(&self.status).filter(|&(&v, &s)| Flags(v).is_flagged() && s == status::OK).count()
     }
 
     /// Index of a field in [`FIELDS`].

@@ -64,6 +64,9 @@ pub struct Provenance {
     pub config: String,
     /// The records read.
     pub records: Vec<RecordSource>,
+    /// The warnings printed while reading the inputs and running (root
+    /// attribute `warnings`, one per line; empty if none).
+    pub warnings: Vec<String>,
 }
 
 /// Root attributes and `/inputs` of every file.
@@ -75,6 +78,7 @@ pub fn write_provenance(file: &hdf5::File, kind: &str, p: &Provenance) -> hdf5::
     attr_str(file, "config_path", &p.config_path)?;
     attr_str(file, "config_file", &p.config_file)?;
     attr_str(file, "config", &p.config)?;
+    attr_str(file, "warnings", &p.warnings.join("\n"))?;
     if p.records.is_empty() {
         return Ok(());
     }
@@ -175,6 +179,9 @@ pub fn write_run(
             if !h.center_beam_dx.is_empty() {
                 dataset_2d(&g, "center_beam_dx", &h.center_beam_dx, "m")?;
             }
+            if !h.subgaps.is_empty() {
+                dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
+            }
         }
         Ok(())
     })
@@ -184,6 +191,7 @@ pub fn write_run(
 pub fn write_service(path: &Path, provenance: &Provenance, result: &ServiceResult) -> Result<(), OutputError> {
     write_atomically(path, |file| {
         write_provenance(file, "service", provenance)?;
+        write_validity(file, &result.validity)?;
         let g = file.create_group("service")?;
         dataset_1d(&g, "t", &result.t, "s")?;
         dataset_1d(&g, "u", &result.u, "m")?;
@@ -201,6 +209,9 @@ pub fn write_service(path: &Path, provenance: &Provenance, result: &ServiceResul
         scalar(&g, "loop_work_per_cycle", result.loop_work_per_cycle, "J")?;
         scalar(&g, "hand_calculation", result.hand_calculation, "J")?;
         scalar(&g, "compliance_deficit", result.compliance_deficit.unwrap_or(f64::NAN), "J")?;
+        scalar(&g, "damping_work_per_cycle", result.damping_work_per_cycle, "J")?;
+        scalar(&g, "min_subgap", result.min_subgap, "m")?;
+        scalar(&g, "max_subgap", result.max_subgap, "m")?;
         scalar(&g, "peak_joint_force", result.peak_joint_force, "N")?;
         scalar(&g, "energy_error", result.energy_error, "1")?;
         let r = &result.residuals;

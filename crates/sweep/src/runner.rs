@@ -38,8 +38,9 @@ use crate::run_h5::{Provenance, RecordSource};
 use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 
 /// Version of the journal format (2: the config's hash leaves out the
-/// per-job limits; 3: validity flags and split constraint residuals).
-const JOURNAL_SCHEMA: u32 = 3;
+/// per-job limits; 3: validity flags and split constraint residuals; 4:
+/// sub-gap histories, `not_checked` for failed jobs).
+const JOURNAL_SCHEMA: u32 = 4;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
@@ -140,8 +141,15 @@ pub fn provenance(plan: &Plan, command: &str, config_path: &Path) -> Provenance 
         command: command.to_string(),
         config_path: config_path.display().to_string(),
         config_file: plan.config_text.clone(),
-        config: plan.config_text.clone(),
+        config: plan.config_used.clone(),
         records,
+        warnings: plan
+            .records
+            .iter()
+            .chain(&plan.record_y)
+            .flat_map(|r| r.warnings.clone())
+            .chain(plan.warnings.clone())
+            .collect(),
     }
 }
 
@@ -178,7 +186,9 @@ pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>, provenance: Proven
 pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepError> {
     let [_, _, nz, nt] = plan.dims();
     for (r, rec) in plan.records.iter().enumerate() {
-        let rows = spectrum(&rec.record, &plan.periods, &plan.damping, SpectrumOptions::default())
+        // over the runs' window, which every case shares (Plan::new)
+        let window = quakejoint_model::run::run_window(&plan.cases[0].config, &rec.record);
+        let rows = spectrum(&window, &plan.periods, &plan.damping, SpectrumOptions::default())
             .map_err(|e| SweepError::Config { field: "sweep".into(), message: e.to_string() })?;
         for (i, row) in rows.iter().enumerate() {
             let (z, t) = (i / nt, i % nt);
@@ -257,7 +267,8 @@ pub fn run_job(
     match outcome {
         Ok(r) => {
             let history = r.histories.as_ref().map(|h| {
-                let exact = history(&rec.acceleration, rec.dt, t, plan.damping[damping]).a_abs;
+                let window = quakejoint_model::run::run_window(&config, rec);
+                let exact = history(&window.acceleration, window.dt, t, plan.damping[damping]).a_abs;
                 let mut without: Vec<f64> = exact.into_iter().take(h.t.len()).collect();
                 without.resize(h.t.len(), f64::NAN);
                 JobHistory {
@@ -268,6 +279,7 @@ pub fn run_job(
                     a_abs_without_joint: without,
                     joint_force: h.joint_force.clone(),
                     friction_power: h.friction_power.clone(),
+                    subgaps: h.subgaps.clone(),
                 }
             });
             Some(JobResult {
@@ -292,8 +304,8 @@ pub fn run_job(
                 status: code,
                 message: e.to_string(),
                 values: vec![f64::NAN; FIELDS.len()],
-                validity: 0,
-                findings: String::new(),
+                validity: quakejoint_model::validity::Flags::NOT_CHECKED.0,
+                findings: "not_checked: the job did not finish".to_string(),
                 history: None,
             })
         }
@@ -404,6 +416,8 @@ pub struct Check {
     pub done: usize,
     /// Of the finished, failed.
     pub failed: usize,
+    /// Of the finished, flagged as outside the model's validity.
+    pub flagged: usize,
     /// Whether a journal of this sweep exists.
     pub journal: bool,
     /// Estimated CPU time of the jobs to run [s] (cost model).
@@ -426,7 +440,8 @@ pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError
             return Err(crate::journal::another_sweep(&jpath, &diffs));
         }
         for r in contents.latest() {
-            status_of.insert(r.job as usize, r.status);
+            let flagged = quakejoint_model::validity::Flags(r.validity).is_flagged();
+            status_of.insert(r.job as usize, (r.status, flagged));
         }
     } else if opts.resume {
         return Err(SweepError::Journal {
@@ -435,13 +450,15 @@ pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError
         });
     }
     let done = scope.iter().filter(|j| status_of.contains_key(j)).count();
-    let failed = scope.iter().filter(|j| status_of.get(j).is_some_and(|&s| s != status::OK)).count();
+    let failed = scope.iter().filter(|j| status_of.get(j).is_some_and(|&(s, _)| s != status::OK)).count();
+    let flagged = scope.iter().filter(|j| status_of.get(j).is_some_and(|&(s, f)| s == status::OK && f)).count();
+    // from +0 (an empty sum of floats is -0)
     let cpu_seconds = scope
         .iter()
-        .filter(|j| !status_of.contains_key(j) || (opts.retry_failed && status_of[j] != status::OK))
+        .filter(|j| !status_of.contains_key(j) || (opts.retry_failed && status_of[j].0 != status::OK))
         .map(|&j| plan.cost(plan.job(j)))
-        .sum();
-    Ok(Check { output: opts.output.clone(), jobs: scope.len(), done, failed, journal, cpu_seconds })
+        .fold(0.0, |a, c| a + c);
+    Ok(Check { output: opts.output.clone(), jobs: scope.len(), done, failed, flagged, journal, cpu_seconds })
 }
 
 /// Runs a sweep: starts it, or continues the one its journal records.
@@ -520,6 +537,13 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let in_scope_done = scope.len() - todo.len();
     let failed_before =
         scope.iter().filter(|&&j| !matches!(file.results.status[j], status::OK | status::NOT_RUN)).count();
+    let flagged_before = scope
+        .iter()
+        .filter(|&&j| {
+            file.results.status[j] == status::OK
+                && quakejoint_model::validity::Flags(file.results.validity[j]).is_flagged()
+        })
+        .count();
 
     let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
     let label = output.file_name().map_or(output.display().to_string(), |n| n.to_string_lossy().into_owned());
@@ -527,7 +551,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let reporter = Reporter::new(
         opts.progress,
         label,
-        (scope.len(), in_scope_done, failed_before),
+        (scope.len(), in_scope_done, failed_before, flagged_before),
         cost_left,
         threads.min(todo.len()),
     );
@@ -604,7 +628,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
             not_run += 1;
         } else if st != status::OK {
             failed.push((case, record, z, t, file.results.messages[j].clone()));
-        } else if file.results.validity[j] != 0 {
+        } else if quakejoint_model::validity::Flags(file.results.validity[j]).is_flagged() {
             flagged.push((case, record, z, t, file.results.validity[j], file.results.findings[j].clone()));
         }
     }
@@ -665,7 +689,7 @@ impl Writer {
                 Ok(result) => {
                     self.journal.append(&result)?;
                     let failed = result.status != status::OK;
-                    let flagged = result.validity != 0;
+                    let flagged = quakejoint_model::validity::Flags(result.validity).is_flagged();
                     let cost = self.costs.get(result.job as usize).copied().unwrap_or(0.0);
                     self.file.results.insert(result);
                     self.dirty = true;

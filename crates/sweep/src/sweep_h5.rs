@@ -185,13 +185,21 @@ fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: 
     scalar(&g, "damping", f.damping[z], "1")?;
     scalar(&g, "period", f.periods[t], "s")?;
     g.new_attr::<u64>().create("job")?.write_scalar(&(job as u64))?;
+    let flags = quakejoint_model::validity::Flags(f.results.validity[j]);
+    g.new_attr::<u32>().create("validity")?.write_scalar(&flags.0)?;
+    attr_str(&g, "validity_label", &flags.label())?;
+    attr_str(&g, "findings", &f.results.findings[j])?;
     crate::h5::dataset_1d(&g, "t", &h.t, "s")?;
     crate::h5::dataset_1d(&g, "ag", &h.ag, "m/s^2")?;
     crate::h5::dataset_1d(&g, "u", &h.u, "m")?;
     crate::h5::dataset_1d(&g, "a_abs", &h.a_abs, "m/s^2")?;
     crate::h5::dataset_1d(&g, "a_abs_without_joint", &h.a_abs_without_joint, "m/s^2")?;
     crate::h5::dataset_1d(&g, "joint_force", &h.joint_force, "N")?;
-    crate::h5::dataset_1d(&g, "friction_power", &h.friction_power, "W")
+    crate::h5::dataset_1d(&g, "friction_power", &h.friction_power, "W")?;
+    if !h.subgaps.is_empty() {
+        crate::h5::dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
+    }
+    Ok(())
 }
 
 fn read_strings(ds: &hdf5::Dataset) -> hdf5::Result<Vec<String>> {
@@ -226,6 +234,8 @@ fn read_provenance(file: &hdf5::File) -> hdf5::Result<Provenance> {
         config_file: read_attr_str(file, "config_file")?,
         config: read_attr_str(file, "config")?,
         records,
+        // absent in files of schema 3 written before warnings were kept
+        warnings: read_attr_str(file, "warnings").map(|w| w.lines().map(str::to_string).collect()).unwrap_or_default(),
     })
 }
 
@@ -303,6 +313,13 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
                         a_abs_without_joint: read("a_abs_without_joint")?,
                         joint_force: read("joint_force")?,
                         friction_power: read("friction_power")?,
+                        subgaps: match g.dataset("subgaps") {
+                            Ok(ds) => {
+                                let a: ndarray::Array2<f64> = ds.read_2d()?;
+                                a.rows().into_iter().map(|r| r.to_vec()).collect()
+                            }
+                            Err(_) => Vec::new(),
+                        },
                     },
                 );
             }

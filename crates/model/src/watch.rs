@@ -1,0 +1,73 @@
+//! Watching the clear sub-gaps of a running joint: at both ends of every
+//! center beam, their extremes over the run, and the validity limits
+//! ([`Monitor`]) at the same instants. Shared by the earthquake and the
+//! service runs.
+
+use quakejoint_solver::{Assembly, BodyId, Coord};
+
+use crate::error::ModelError;
+use crate::generator::JointModel;
+use crate::geometry::Geometry;
+use crate::validity::Monitor;
+
+/// The sub-gaps of a joint model and their extremes so far.
+#[derive(Debug, Clone)]
+pub(crate) struct Gaps {
+    pub geometry: Geometry,
+    /// x and angle coordinates of each center beam
+    pub beams: Vec<usize>,
+    angles: Vec<usize>,
+    x: Vec<f64>,
+    phi: Vec<f64>,
+    /// clear sub-gaps at both ends [m]
+    ends: Vec<[f64; 2]>,
+    /// the smaller end of each sub-gap at the last check [m]
+    pub smallest: Vec<f64>,
+    /// smallest and largest clear sub-gap so far [m]
+    pub min: f64,
+    pub max: f64,
+    /// largest deviation from equal spacing so far [m]
+    pub deviation: f64,
+}
+
+impl Gaps {
+    /// The sub-gaps of `model` (None without the joint).
+    pub fn new(model: &JointModel, asm: &Assembly) -> Result<Option<Self>, ModelError> {
+        let Some(g) = &model.geometry else { return Ok(None) };
+        let coord = |b: BodyId, c: Coord| {
+            asm.coordinate(b, c).ok_or_else(|| ModelError::Geometry(format!("body {} lacks a coordinate", b.index())))
+        };
+        Ok(Some(Gaps {
+            geometry: g.clone(),
+            beams: model.center_beams.iter().map(|&b| coord(b, Coord::X)).collect::<Result<_, _>>()?,
+            angles: model.center_beams.iter().map(|&b| coord(b, Coord::Phi)).collect::<Result<_, _>>()?,
+            x: vec![0.0; g.center_beams],
+            phi: vec![0.0; g.center_beams],
+            ends: Vec::with_capacity(g.center_beams + 1),
+            smallest: Vec::with_capacity(g.center_beams + 1),
+            min: f64::INFINITY,
+            max: f64::NEG_INFINITY,
+            deviation: 0.0,
+        }))
+    }
+
+    /// The sub-gaps at time `t` for positions `q` and deck opening `u`,
+    /// and the validity limits if a monitor is given.
+    pub fn check(&mut self, t: f64, q: &[f64], u: f64, monitor: Option<&mut Monitor>) {
+        for ((x, phi), (&c, &a)) in self.x.iter_mut().zip(&mut self.phi).zip(self.beams.iter().zip(&self.angles)) {
+            (*x, *phi) = (q[c], q[a]);
+        }
+        self.geometry.subgaps(&self.x, &self.phi, u, &mut self.ends);
+        let equal = (self.geometry.gap + u) / (self.geometry.center_beams + 1) as f64 - self.geometry.width;
+        self.smallest.clear();
+        for &[a, b] in &self.ends {
+            self.min = self.min.min(a.min(b));
+            self.max = self.max.max(a.max(b));
+            self.deviation = self.deviation.max((a - equal).abs().max((b - equal).abs()));
+            self.smallest.push(a.min(b));
+        }
+        if let Some(m) = monitor {
+            m.sample(t, q, u, &self.smallest);
+        }
+    }
+}
