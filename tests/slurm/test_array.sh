@@ -22,6 +22,7 @@ set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 bin=${1:-${QUAKEJOINT:-$repo/target/release/quakejoint}}
 [ -x "$bin" ] || { echo "test_array.sh: no binary at $bin" >&2; exit 2; }
+bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")  # the test runs elsewhere
 export QUAKEJOINT=$bin
 work=$(mktemp -d /tmp/qj-slurm-test.XXXXXX)
 cd "$work"
