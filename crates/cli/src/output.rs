@@ -138,6 +138,13 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
                     "min_subgap": r.min_subgap,
                     "max_subgap": r.max_subgap,
                     "max_subgap_deviation": r.max_subgap_deviation,
+                    "impacts": r.pounding.impacts,
+                    "peak_contact_force": r.pounding.peak_contact_force,
+                    "peak_contact_time": r.pounding.peak_contact_time,
+                    "peak_contact_place": r.pounding.peak_contact_place.map(|p| json!({"gap": p.gap, "end": p.end})),
+                    "contact_energy": r.pounding.contact_energy,
+                    "peak_deck_contact_force": r.pounding.peak_deck_contact_force,
+                    "max_penetration": r.pounding.max_penetration,
                     "energy_error": r.energy_error,
                     "steps": r.stats.steps,
                     "rejected_steps": r.stats.rejected,
@@ -177,6 +184,22 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
             hi * 1e3,
             dev * 1e3
         );
+    }
+    let p = &r.pounding;
+    if p.impacts == 0 {
+        out!("  pounding                      none (no sub-gap closed)");
+    } else {
+        out!("  impacts                       {:>12} (beam ends)", p.impacts);
+        out!("  peak contact force            {:>12.1} N at t = {:.3} s", p.peak_contact_force, p.peak_contact_time);
+        if let Some(place) = p.peak_contact_place {
+            out!("    between {}", place.describe());
+        }
+        out!(
+            "  closed joint on the deck      {:>12.1} N (peak, through the deck's edge beam)",
+            p.peak_deck_contact_force
+        );
+        out!("  contact energy                {:>12.1} J (dissipated by the impacts)", p.contact_energy);
+        out!("  deepest penetration           {:>12.3} mm", p.max_penetration * 1e3);
     }
     validity_lines(v);
     out!("quality");
@@ -248,6 +271,7 @@ pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
             "hand_calculation": r.hand_calculation,
             "compliance_deficit": deficit,
             "damping_work_per_cycle": r.damping_work_per_cycle,
+            "contact_work_per_cycle": r.contact_work_per_cycle,
             "min_subgap": r.min_subgap,
             "max_subgap": r.max_subgap,
             "validity": r.validity.flags.0,
@@ -285,9 +309,10 @@ pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
         None => out!("  bushing compliance           not computable (a center beam is not held by its bearings)"),
     }
     out!("  hysteresis loop area         {:>12.1} J (work of the deck on the joint)", r.loop_work_per_cycle);
+    out!("  damper work per cycle        {:>12.1} J (bushing dampers)", r.damping_work_per_cycle);
     out!(
-        "  damper work per cycle        {:>12.1} J (bushing dampers; with friction, what the loop area equals)",
-        r.damping_work_per_cycle
+        "  impact work per cycle        {:>12.1} J (pounding; friction, dampers and impacts: what the loop area equals)",
+        r.contact_work_per_cycle
     );
     out!("  peak joint force on the deck {:>12.1} N", r.peak_joint_force);
     out!("  sub-gaps                     {:>9.2} .. {:.2} mm", r.min_subgap * 1e3, r.max_subgap * 1e3);
@@ -407,6 +432,8 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
                 "case": case, "record": record, "damping": z, "period": t,
                 "validity": bits, "flags": Flags(*bits).names(), "findings": findings,
             })).collect::<Vec<_>>(),
+            "pounded": s.pounded,
+            "peak_contact_force": s.peak_contact.as_ref().map(|p| p.0),
             "notices": s.notices,
             "wall_time_s": s.wall_time_s,
             "peak_memory_mb": s.peak_memory_mb,
@@ -431,6 +458,14 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
         s.wall_time_s,
         s.output.display()
     );
+    if let Some((f, case, record, z, t)) = &s.peak_contact {
+        out!(
+            "pounding: the beams of {} job(s) struck each other; the largest contact force, {:.1} kN, in {case} / \
+             {record} / damping {z} / T {t:.4} s",
+            s.pounded,
+            f / 1e3
+        );
+    }
     if let Some(mb) = s.peak_memory_mb {
         out!("peak memory: {mb:.0} MB");
     }

@@ -72,16 +72,16 @@ fn benches(c: &mut Criterion) {
     let state = (s.t, &s.q[..], &s.v[..], &s.lam[..]);
     let mut fd = asm.jacobian_values();
     g.bench_function("jacobian_fd_coloured_serial", |b| {
-        b.iter(|| jacobian_with(asm, &coloured, state, &mut fd, false))
+        b.iter(|| jacobian_with(asm, &coloured, state, &mut fd, false, None))
     });
     for threads in [1usize, 2] {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         g.bench_function(format!("jacobian_fd_coloured_rayon_{threads}_threads"), |b| {
-            b.iter(|| pool.install(|| jacobian_with(asm, &coloured, state, &mut fd, true)))
+            b.iter(|| pool.install(|| jacobian_with(asm, &coloured, state, &mut fd, true, None)))
         });
     }
     g.sample_size(10);
-    g.bench_function("jacobian_fd_dense", |b| b.iter(|| jacobian_with(asm, &dense, state, &mut fd, false)));
+    g.bench_function("jacobian_fd_dense", |b| b.iter(|| jacobian_with(asm, &dense, state, &mut fd, false, None)));
     g.sample_size(20);
     asm.jacobian(&mut ws, s.t, &s.q, &s.v, &s.lam, &mut jac);
     let sym = asm.block_structure();

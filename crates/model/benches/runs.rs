@@ -15,8 +15,14 @@
 //!   tolerances (rtol, atol, atol_rotation / 100) for 10 log-spaced periods
 //!   from 0.1 s to 5 s, on the rayon pool (`RAYON_NUM_THREADS`).
 //!
-//! `cargo bench -p quakejoint-model --bench runs [-- full|scaling|accuracy]`
-//! (all three without an argument). Each part also writes its table as JSON
+//! - `contact`: the cost of the contacts between beams: the `full` run with
+//!   them (56 contacts, none closing under Corralitos 090) against the same
+//!   run without them, each 3 times (the fastest counts); and a pounding run
+//!   (Pacoima Dam 164 x 2.5, T = 3.5 s: the joint closes about 80 times)
+//!   with and without contact.
+//!
+//! `cargo bench -p quakejoint-model --bench runs [-- full|scaling|accuracy|contact]`
+//! (all four without an argument). Each part also writes its table as JSON
 //! to `target/bench-runs/<part>.json` (`scripts/plot_scaling.py` plots the
 //! scaling).
 
@@ -198,4 +204,44 @@ fn main() {
     if want("accuracy") {
         accuracy();
     }
+    if want("contact") {
+        contact();
+    }
+}
+
+fn contact() {
+    println!("## contact: the reference run with and without the contacts between beams");
+    let fastest = |config: &Config, omega: Option<f64>| {
+        (0..3).map(|_| run(config, omega)).min_by(|a, b| a.wall_time_s.total_cmp(&b.wall_time_s)).expect("3 runs")
+    };
+    let mut rows = Vec::new();
+    println!("| run | contacts | impacts | steps | Newton it. | factorisations | wall [s] (fastest of 3) |");
+    println!("|---|---|---|---|---|---|---|");
+    let mut pacoima = paper();
+    let mut spec = quakejoint_motion::RecordSpec::new("../ground_motions/RSN77_SFERN_PUL164-hor1.AT2");
+    spec.scale = 2.5;
+    pacoima.record = Some(spec);
+    let pounding = Some(2.0 * std::f64::consts::PI / 3.5);
+    for (name, base, omega) in
+        [("Corralitos 090, T = 0.997 s", paper(), None), ("Pacoima Dam x 2.5, T = 3.5 s", pacoima, pounding)]
+    {
+        for enabled in [true, false] {
+            let mut config = base.clone();
+            config.joint.contact.enabled = enabled;
+            let r = fastest(&config, omega);
+            let s = &r.stats;
+            println!(
+                "| {name} | {} | {} | {} | {} | {} | {:.2} |",
+                if enabled { "on" } else { "off" },
+                r.pounding.impacts,
+                s.steps,
+                s.newton_iterations,
+                s.factorizations,
+                r.wall_time_s
+            );
+            rows.push(json!({"run": name, "contact": enabled, "impacts": r.pounding.impacts, "steps": s.steps,
+                "newton_iterations": s.newton_iterations, "wall_time_s": r.wall_time_s}));
+        }
+    }
+    write_json("contact.json", &rows.into());
 }

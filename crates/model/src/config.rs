@@ -56,6 +56,10 @@ pub struct JointConfig {
     pub bushing: BushingConfig,
     /// Sliding friction between each bearing and its support beam.
     pub friction: FrictionConfig,
+    /// Contact between neighbouring beams when a sub-gap closes (pounding).
+    pub contact: ContactConfig,
+    /// Movement capacity of the joint.
+    pub capacity: CapacityConfig,
 }
 
 impl Default for JointConfig {
@@ -77,6 +81,8 @@ impl Default for JointConfig {
             support_beams,
             bushing: BushingConfig::default(),
             friction: FrictionConfig::default(),
+            contact: ContactConfig::default(),
+            capacity: CapacityConfig::default(),
         }
     }
 }
@@ -222,6 +228,90 @@ pub struct FrictionConfig {
 impl Default for FrictionConfig {
     fn default() -> Self {
         Self { mu: 0.05, normal_force: 20.0e3, surfaces: 2.0, v_eps: 1.0e-3, law: LawConfig::Linear }
+    }
+}
+
+/// The force law of the contact between beams.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactLawConfig {
+    /// Hertz with Hunt-Crossley damping, `F = k delta^1.5 (1 + D delta')`.
+    #[default]
+    Hertz,
+    /// Linear spring and dashpot (Anagnostopoulos), `F = k delta + c delta'`.
+    Linear,
+}
+
+/// How the damping of the Hertz law follows from the restitution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HertzDampingConfig {
+    /// `D = 8 (1 - e) / (5 e v0)` (Ye, Li and Zhu 2009).
+    #[default]
+    YeLiZhu,
+    /// `D = 3 (1 - e^2) / (4 v0)` (Lankarani and Nikravesh 1990).
+    LankaraniNikravesh,
+}
+
+/// Hertz stiffness of the contact at one beam end by default [N/m^1.5]
+/// (docs/model.md, "Pounding"): Muthukumar and DesRoches' value for bridge
+/// decks, 2.75e10 N/m^1.5.
+pub const DEFAULT_HERTZ_STIFFNESS: f64 = 2.75e10;
+/// Linear stiffness of the contact at one beam end by default [N/m]: the
+/// Hertz default's secant at 2.5 mm, `0.75 k_h sqrt(2.5 mm)`, rounded.
+pub const DEFAULT_LINEAR_STIFFNESS: f64 = 1.0e9;
+
+/// Contact between neighbouring beams (center beams, and the outer ones
+/// with the edge beams of the abutment and the deck), at both ends of each
+/// center beam, once a clear sub-gap closes.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactConfig {
+    /// Whether the beams touch (false: they pass through each other, and a
+    /// closed sub-gap is flagged `collision`).
+    pub enabled: bool,
+    /// The force law.
+    pub law: ContactLawConfig,
+    /// Stiffness of the Hertz law at one beam end [N/m^1.5].
+    pub hertz_stiffness: f64,
+    /// Stiffness of the linear law at one beam end [N/m].
+    pub linear_stiffness: f64,
+    /// Coefficient of restitution of one impact [-].
+    pub restitution: f64,
+    /// How the Hertz law's damping follows from the restitution.
+    pub damping: HertzDampingConfig,
+    /// Deepest penetration the contact stands for [m]: deeper, the beams
+    /// would be crushed, not touching, and the run is flagged.
+    pub max_penetration: f64,
+}
+
+impl Default for ContactConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            law: ContactLawConfig::Hertz,
+            hertz_stiffness: DEFAULT_HERTZ_STIFFNESS,
+            linear_stiffness: DEFAULT_LINEAR_STIFFNESS,
+            restitution: 0.65,
+            damping: HertzDampingConfig::YeLiZhu,
+            max_penetration: 0.005,
+        }
+    }
+}
+
+/// Movement capacity of the joint.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CapacityConfig {
+    /// Largest clear opening of one sub-gap [m] (80 mm: the usual limit per
+    /// cell of modular joints); the joint's range of opening is `(Nc + 1)`
+    /// times it, less the clear sub-gaps at rest.
+    pub max_subgap: f64,
+}
+
+impl Default for CapacityConfig {
+    fn default() -> Self {
+        Self { max_subgap: 0.08 }
     }
 }
 
@@ -375,8 +465,24 @@ impl Config {
                 ("joint.friction.normal_force", j.friction.normal_force),
                 ("joint.friction.surfaces", j.friction.surfaces),
                 ("joint.friction.v_eps", j.friction.v_eps),
+                ("joint.contact.restitution", j.contact.restitution),
+                ("joint.contact.max_penetration", j.contact.max_penetration),
+                ("joint.capacity.max_subgap", j.capacity.max_subgap),
             ] {
                 check(key, v)?;
+            }
+            check("joint.contact.hertz_stiffness", j.contact.hertz_stiffness)?;
+            check("joint.contact.linear_stiffness", j.contact.linear_stiffness)?;
+            let clear = j.pitch - j.center_beam.width;
+            if j.capacity.max_subgap <= clear {
+                return Err(invalid(
+                    "joint.capacity.max_subgap",
+                    j.capacity.max_subgap,
+                    &format!(
+                        "must exceed the clear sub-gap at rest, joint.pitch - joint.center_beam.width = {} m",
+                        quakejoint_motion::number(clear)
+                    ),
+                ));
             }
             if j.support_beams.is_empty() {
                 return Err(invalid("joint.support_beams", 0.0, "the list of support beams is empty"));

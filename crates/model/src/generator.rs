@@ -3,18 +3,24 @@
 //! Bodies: `Nc` center beams, `Ns` support beams, `Nc * Ns` bearings (the
 //! joint), plus the deck, a body restricted to x whose coordinate is the
 //! opening `u`. Force elements: a bushing and a friction element per bearing,
-//! the bridge spring and damper on `u`. Constraints: a prismatic joint per
+//! the bridge spring and damper on `u`, and, unless `joint.contact.enabled`
+//! is false, a contact at each end of each sub-gap (2 (Nc + 1)): the corner
+//! of the beam on the abutment side against the face of the next beam (the
+//! abutment's edge beam is a line on the ground, the deck's a line on the
+//! deck); for the small yaw angles of the beams the gap at an end is the
+//! same to first order whichever beam's corner is taken. Constraints: a prismatic joint per
 //! bearing on its support beam, a revolute joint per joist pivot, a
 //! point-on-line per joist box (the deck point `(G0 + u, y_box)` on the
 //! joist axis), a weld per guide. The earthquake acts as `-m a_g(t)` on every
 //! body (x), optionally `-m a_gy(t)` on the joint bodies (y).
 
 use quakejoint_solver::{
-    Body, BodyId, Bushing, ConstraintId, Coord, CoordinateSpring, Driver, Excitation, ForceElement, Friction,
-    FrictionLaw, PointOnLine, Prismatic, Revolute, SmoothTriangle, System, TimeFunction, TimeSeries, Weld,
+    Body, BodyId, Bushing, ConstraintId, Contact, ContactLaw, Coord, CoordinateSpring, Driver, Excitation,
+    ForceElement, Friction, FrictionLaw, HertzDamping, PointOnLine, Prismatic, Revolute, SmoothTriangle, System,
+    TimeFunction, TimeSeries, Weld,
 };
 
-use crate::config::{Config, LawConfig, SupportKind};
+use crate::config::{Config, ContactLawConfig, HertzDampingConfig, LawConfig, SupportKind};
 use crate::error::ModelError;
 use crate::geometry::Geometry;
 
@@ -56,6 +62,69 @@ impl Bridge {
     }
 }
 
+/// Where a contact of the joint sits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ContactPlace {
+    /// The sub-gap, 0 (abutment's edge beam and center beam 1) to Nc
+    /// (center beam Nc and the deck's edge beam).
+    pub gap: usize,
+    /// The end of the center beams: 0 at y = -L/2, 1 at y = +L/2.
+    pub end: usize,
+    /// The joint's number of center beams `Nc`.
+    pub center_beams: usize,
+}
+
+impl ContactPlace {
+    /// The sub-gap in words.
+    pub fn describe(&self) -> String {
+        let side = if self.end == 0 { "y = -L/2" } else { "y = +L/2" };
+        match self.gap {
+            0 => format!("the abutment's edge beam and center beam 1 (end {side})"),
+            g if g == self.center_beams => format!("center beam {g} and the deck's edge beam (end {side})"),
+            g => format!("center beams {g} and {} (end {side})", g + 1),
+        }
+    }
+}
+
+/// The solver's law for the contact config.
+fn contact_law(config: &Config) -> ContactLaw {
+    let c = &config.joint.contact;
+    match c.law {
+        ContactLawConfig::Hertz => ContactLaw::Hertz {
+            stiffness: c.hertz_stiffness,
+            restitution: c.restitution,
+            damping: match c.damping {
+                HertzDampingConfig::YeLiZhu => HertzDamping::YeLiZhu,
+                HertzDampingConfig::LankaraniNikravesh => HertzDamping::LankaraniNikravesh,
+            },
+        },
+        ContactLawConfig::Linear => ContactLaw::Linear { stiffness: c.linear_stiffness, restitution: c.restitution },
+    }
+}
+
+/// The contacts of the joint: at both ends of every sub-gap.
+fn add_contacts(sys: &mut System, model: &mut JointModel, geo: &Geometry, law: ContactLaw) {
+    let (half_w, half_l) = (0.5 * geo.width, geo.half_length);
+    let nc = model.center_beams.len();
+    for gap in 0..=nc {
+        for (end, y) in [-half_l, half_l].into_iter().enumerate() {
+            // the corner on the abutment side's beam, the face of the other
+            let (body, point, base, edge_point, edge_normal) = match gap {
+                0 => (model.center_beams[0], [-half_w, y], BodyId::GROUND, [half_w, 0.0], [1.0, 0.0]),
+                g if g == nc => {
+                    (model.center_beams[g - 1], [half_w, y], model.deck, [geo.gap - half_w, 0.0], [-1.0, 0.0])
+                }
+                g => (model.center_beams[g - 1], [half_w, y], model.center_beams[g], [-half_w, 0.0], [-1.0, 0.0]),
+            };
+            sys.add_force_named(
+                format!("contact {gap}/{end}"),
+                ForceElement::Contact(Contact { body, point, base, edge_point, edge_normal, law }),
+            );
+            model.contacts.push(ContactPlace { gap, end, center_beams: nc });
+        }
+    }
+}
+
 /// Size of a model as the paper counts it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Counts {
@@ -88,6 +157,8 @@ pub struct JointModel {
     pub joist_boxes: Vec<ConstraintId>,
     /// The service driver, if any.
     pub driver: Option<ConstraintId>,
+    /// Where each contact is, in the order the solver numbers them.
+    pub contacts: Vec<ContactPlace>,
     /// The bridge.
     pub bridge: Bridge,
     /// Size of the model.
@@ -116,6 +187,7 @@ pub fn build(config: &Config, omega: Option<f64>, drive: Drive) -> Result<JointM
         supports: Vec::new(),
         bearings: Vec::new(),
         joist_boxes: Vec::new(),
+        contacts: Vec::new(),
         driver: None,
         bridge,
         counts: Counts { bodies: 0, coordinates: 0, constraints: 0, dof: 0 },
@@ -238,6 +310,9 @@ pub fn build(config: &Config, omega: Option<f64>, drive: Drive) -> Result<JointM
                 }
             }
         }
+    }
+    if let (true, Some(geo)) = (j.enabled && j.contact.enabled, model.geometry.clone()) {
+        add_contacts(&mut sys, &mut model, &geo, contact_law(config));
     }
     sys.add_force_named(
         "bridge spring and damper",

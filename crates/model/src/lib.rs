@@ -16,6 +16,7 @@ pub mod generator;
 pub mod geometry;
 pub mod limits;
 pub mod linear;
+pub mod pounding;
 pub mod resources;
 pub mod run;
 pub mod service;

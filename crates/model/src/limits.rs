@@ -101,6 +101,12 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     ("joint.friction.surfaces", "1", closed(1.0, 4.0)),
     // a regularisation velocity far below the sliding speeds (0.01 to 1 m/s)
     ("joint.friction.v_eps", "m/s", closed(1e-6, 0.01)),
+    ("joint.contact.hertz_stiffness", "N/m^1.5", closed(1e7, 1e13)),
+    ("joint.contact.linear_stiffness", "N/m", closed(1e5, 1e12)),
+    ("joint.contact.restitution", "1", above(0.0, 1.0)),
+    // a few times the penetration of the default contact at MN forces
+    ("joint.contact.max_penetration", "m", closed(1e-4, 0.05)),
+    ("joint.capacity.max_subgap", "m", closed(0.01, 1.0)),
     ("bridge.mass", "kg", closed(1e4, 1e10)),
     // 2 pi / 10 s to 2 pi / 0.01 s, rounded inwards (checked as a period)
     ("bridge.w0", "rad/s", closed(0.6284, 628.3)),

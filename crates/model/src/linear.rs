@@ -29,6 +29,8 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
             friction_power: vec![f64::NAN; n],
             center_beam_dx: Vec::new(),
             subgaps: Vec::new(),
+            contact_force: Vec::new(),
+            impacts: Vec::new(),
         }
     });
     RunResult {
@@ -44,6 +46,7 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
         duration: record.duration(),
         histories,
         exact_linear: true,
+        pounding: crate::pounding::Pounding::not_computed(),
         validity: crate::validity::Validity::not_checked("no joint: the exact linear solution of the bridge alone"),
         // not computed without the joint (NaN in every output)
         peak_joint_force: f64::NAN,

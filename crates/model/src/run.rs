@@ -21,6 +21,7 @@ use quakejoint_solver::{
 use crate::config::{Config, LinearSolverConfig};
 use crate::error::ModelError;
 use crate::generator::{build, Bridge, Drive, JointModel};
+use crate::pounding::{ContactWatch, Pounding};
 use crate::validity::{Monitor, Validity};
 use crate::watch::Gaps;
 
@@ -75,6 +76,12 @@ pub struct Histories {
     /// Clear sub-gaps, the smaller of the two beam ends, abutment side
     /// first, `[gap][time]` [m] (Nc + 1 of them).
     pub subgaps: Vec<Vec<f64>>,
+    /// Largest contact force across each sub-gap (both ends) since the
+    /// previous output time, `[gap][time]` [N] (empty without contacts): an
+    /// impact is shorter than a record's time step.
+    pub contact_force: Vec<Vec<f64>>,
+    /// Every impact (contact onset), in time order.
+    pub impacts: Vec<crate::pounding::Impact>,
 }
 
 /// Results of one earthquake run (SI units).
@@ -116,6 +123,9 @@ pub struct RunResult {
     pub max_subgap: Option<f64>,
     /// Largest deviation of a sub-gap (at either end) from equal spacing [m].
     pub max_subgap_deviation: Option<f64>,
+    /// Pounding: impacts, contact forces, the closed joint's force on the
+    /// deck, contact dissipation.
+    pub pounding: Pounding,
     /// Largest energy-balance error divided by the largest earthquake work [-].
     pub energy_error: f64,
     /// Largest constraint residuals over the run, by kind and unit.
@@ -255,7 +265,7 @@ pub fn simulate_records(
     let start = Instant::now();
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
     let mut obs = EarthquakeObserver::new(&model, &asm, gx, record_x.dt, options.histories)?;
-    obs.monitor = Monitor::new(&model, &asm, config.joint.support_beam.length)?;
+    obs.monitor = Monitor::new(&model, &asm, config)?;
     obs.progress = options.progress.clone();
     obs.cancel = options.cancel.clone();
     obs.deadline = config.simulation.max_wall_time.map(|s| (start, s));
@@ -270,6 +280,11 @@ pub fn simulate_records(
     let e = sim.energy();
     let energy_error = e.error_relative_to_input();
     let validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
+    let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
+    pounding.contact_energy = e.contact;
+    if let (Some(h), Some(log)) = (&mut obs.histories, obs.contacts.as_mut().and_then(|c| c.log.take())) {
+        h.impacts = log;
+    }
     let w = model.bridge.omega;
     Ok(RunResult {
         omega: w,
@@ -289,6 +304,7 @@ pub fn simulate_records(
         min_subgap: obs.gaps.as_ref().map(|g| g.min),
         max_subgap: obs.gaps.as_ref().map(|g| g.max),
         max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
+        pounding,
         energy_error,
         residuals: sim.constraint_residuals(),
         validity,
@@ -337,6 +353,9 @@ struct EarthquakeObserver {
     bushing: f64,
     friction: f64,
     gaps: Option<Gaps>,
+    contacts: Option<ContactWatch>,
+    /// Scratch: contact force per sub-gap at a sample.
+    gap_forces: Vec<f64>,
     histories: Option<Histories>,
     progress: Option<ProgressFn>,
     cancel: Option<Arc<AtomicBool>>,
@@ -368,9 +387,15 @@ impl EarthquakeObserver {
             .coordinate(model.deck, quakejoint_solver::Coord::X)
             .ok_or_else(|| ModelError::Geometry("the deck has no x coordinate".into()))?;
         let gaps = Gaps::new(model, asm)?;
+        let mut contacts = ContactWatch::new(model);
+        if let (true, Some(c)) = (histories, &mut contacts) {
+            c.log = Some(Vec::new());
+        }
+        let n_gaps = model.geometry.as_ref().map_or(0, |g| g.center_beams + 1);
         let histories = histories.then(|| Histories {
             center_beam_dx: vec![Vec::new(); model.center_beams.len()],
-            subgaps: vec![Vec::new(); model.geometry.as_ref().map_or(0, |g| g.center_beams + 1)],
+            subgaps: vec![Vec::new(); n_gaps],
+            contact_force: vec![Vec::new(); if contacts.is_some() { n_gaps } else { 0 }],
             ..Histories::default()
         });
         let (n, m) = (asm.coordinates(), asm.equations());
@@ -389,6 +414,8 @@ impl EarthquakeObserver {
             bushing: 0.0,
             friction: 0.0,
             gaps,
+            contacts,
+            gap_forces: vec![0.0; n_gaps],
             histories,
             check_dt: dt / (dt / CHECK_INTERVAL).ceil().max(1.0),
             next_check: 0,
@@ -443,7 +470,13 @@ impl EarthquakeObserver {
         ws: &mut quakejoint_solver::Workspace,
     ) {
         let (u, ud) = (q[self.deck], v[self.deck]);
-        let fj = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body)[0];
+        // the joint holds the deck through the joist boxes and, once closed,
+        // pushes it through the deck's edge beam
+        let pushed = match &mut self.contacts {
+            Some(c) => c.at(asm, ws, q, v, Some(&mut self.gap_forces)),
+            None => 0.0,
+        };
+        let fj = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body)[0] + pushed;
         let b = &self.bridge;
         let a_abs = (-b.stiffness() * u - b.damper() * ud + fj) / b.mass;
         self.sa.update(a_abs, t);
@@ -471,6 +504,9 @@ impl EarthquakeObserver {
                 for (series, &gap) in h.subgaps.iter_mut().zip(&g.smallest) {
                     series.push(gap);
                 }
+                for (series, &f) in h.contact_force.iter_mut().zip(&self.gap_forces) {
+                    series.push(f);
+                }
             }
         }
     }
@@ -488,6 +524,9 @@ impl Observer for EarthquakeObserver {
             }
         }
         self.check_between(view);
+        if let Some(c) = &mut self.contacts {
+            c.step(view, self.monitor.as_mut());
+        }
         loop {
             let j = self.next + 1;
             let tj = j as f64 * self.dt;

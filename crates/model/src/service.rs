@@ -33,6 +33,7 @@ use crate::config::{Config, SupportKind};
 use crate::error::ModelError;
 use crate::generator::{build, Drive};
 use crate::geometry::Geometry;
+use crate::pounding::ContactWatch;
 use crate::run::integrator_options;
 use crate::validity::{Monitor, Validity};
 use crate::watch::Gaps;
@@ -65,6 +66,9 @@ pub struct ServiceResult {
     /// Energy dissipated by the bushings' dampers during the last cycle [J]
     /// (with the friction work, what the loop area should equal).
     pub damping_work_per_cycle: f64,
+    /// Energy dissipated by impacts between beams during the last cycle [J]
+    /// (0 unless a sub-gap closes).
+    pub contact_work_per_cycle: f64,
     /// Smallest and largest clear sub-gap over the run, at either end of
     /// the center beams [m].
     pub min_subgap: f64,
@@ -259,12 +263,13 @@ fn service_warnings(config: &Config, work: f64, hand: f64, deficit: Option<f64>)
 }
 
 /// Largest difference between the loop area and the work dissipated in
-/// the same cycle (friction and dampers), as a fraction of the latter [-].
+/// the same cycle (friction, dampers and impacts), as a fraction of the
+/// latter [-].
 pub const LOOP_TOLERANCE: f64 = 0.05;
 
 /// Warnings on the hysteresis loop itself: over a closed cycle of a steady
 /// state the deck's work on the joint (the loop area) equals the work
-/// dissipated by friction and dampers, whatever the compliance; if not,
+/// dissipated by friction, dampers and impacts, whatever the compliance; if not,
 /// the cycle is not a steady quasi-static loop (reversals so abrupt that the
 /// beams are still swinging, or too few cycles), and the loop says little.
 fn loop_warnings(config: &Config, loop_work: f64, dissipated: f64) -> Vec<String> {
@@ -283,7 +288,7 @@ fn loop_warnings(config: &Config, loop_work: f64, dissipated: f64) -> Vec<String
     } else if (loop_work - dissipated).abs() > LOOP_TOLERANCE * dissipated.abs().max(1e-9) {
         out.push(format!(
             "the loop area ({loop_work:.1} J) differs from the work dissipated in the same cycle ({dissipated:.1} J \
-             by friction and dampers) by more than {} %: the last cycle is not a steady quasi-static loop (raise \
+             by friction, dampers and impacts) by more than {} %: the last cycle is not a steady quasi-static loop (raise \
               service.cycles, lower service.speed or lengthen service.blend)",
             100.0 * LOOP_TOLERANCE
         ));
@@ -295,6 +300,7 @@ struct LoopObserver {
     deck: usize,
     gaps: Gaps,
     monitor: Option<Monitor>,
+    contacts: Option<ContactWatch>,
     /// x, y, phi coordinates of each center beam and their reference values.
     beams: Vec<[(usize, f64); 3]>,
     center_beams: [Vec<Vec<f64>>; 3],
@@ -312,6 +318,9 @@ struct LoopObserver {
 
 impl Observer for LoopObserver {
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        if let Some(c) = &mut self.contacts {
+            c.step(view, self.monitor.as_mut());
+        }
         loop {
             let tj = (self.next + 1) as f64 * self.dt;
             if tj > view.t + 1e-9 * self.dt {
@@ -319,7 +328,13 @@ impl Observer for LoopObserver {
             }
             self.next += 1;
             view.interpolate(tj, &mut self.q, &mut self.v, &mut self.l);
-            let fj = view.assembly.reaction_sum(view.workspace, tj, &self.q, &self.l, &self.boxes, self.deck_body)[0];
+            // the joist boxes, and the deck's edge beam once the joint is closed
+            let pushed = match &mut self.contacts {
+                Some(c) => c.at(view.assembly, view.workspace, &self.q, &self.v, None),
+                None => 0.0,
+            };
+            let fj = view.assembly.reaction_sum(view.workspace, tj, &self.q, &self.l, &self.boxes, self.deck_body)[0]
+                + pushed;
             self.gaps.check(tj, &self.q, self.q[self.deck], self.monitor.as_mut());
             self.t.push(tj);
             self.u.push(self.q[self.deck]);
@@ -367,11 +382,12 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
     let nb = beams.len();
     let gaps =
         Gaps::new(&model, &asm)?.ok_or_else(|| ModelError::Geometry("the service case needs the joint".into()))?;
-    let monitor = Monitor::new(&model, &asm, config.joint.support_beam.length)?;
+    let monitor = Monitor::new(&model, &asm, config)?;
     let mut obs = LoopObserver {
         deck,
         gaps,
         monitor,
+        contacts: ContactWatch::new(&model),
         beams,
         center_beams: [vec![Vec::new(); nb], vec![Vec::new(); nb], vec![Vec::new(); nb]],
         deck_body: model.deck,
@@ -401,6 +417,7 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
     }
     let work = e.friction - before.friction;
     let damping_work = e.damping - before.damping;
+    let contact_work = e.contact - before.contact;
     let hand = hand_friction_work_per_cycle(config)?;
     let deficit = compliance_deficit(config)?;
     let energy_error = e.error_relative_to_input();
@@ -409,7 +426,7 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
         None => Validity::not_checked("no joint"),
     };
     let mut warnings = service_warnings(config, work, hand, deficit);
-    warnings.extend(loop_warnings(config, loop_work, work + damping_work));
+    warnings.extend(loop_warnings(config, loop_work, work + damping_work + contact_work));
     Ok(ServiceResult {
         period,
         cycles,
@@ -419,6 +436,7 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
         compliance_deficit: deficit,
         warnings,
         damping_work_per_cycle: damping_work,
+        contact_work_per_cycle: contact_work,
         min_subgap: obs.gaps.min,
         max_subgap: obs.gaps.max,
         validity,
@@ -432,4 +450,22 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
         stats: sim.stats(),
         wall_time_s: start.elapsed().as_secs_f64(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The loop's own energy balance: a loop whose area matches what was
+    /// dissipated passes, one that does not or runs backwards is warned
+    /// about.
+    #[test]
+    fn a_loop_that_is_not_steady_or_runs_backwards_is_warned_about() {
+        let config = Config::default();
+        assert!(loop_warnings(&config, 1000.0, 1010.0).is_empty());
+        let w = loop_warnings(&config, 1000.0, 1100.0);
+        assert!(w.len() == 1 && w[0].contains("not a steady quasi-static loop"), "{w:?}");
+        let w = loop_warnings(&config, -5.0, 10.0);
+        assert!(w.len() == 1 && w[0].contains("negative area"), "{w:?}");
+    }
 }

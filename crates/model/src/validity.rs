@@ -1,21 +1,26 @@
 //! Whether a run stays inside what the model can stand behind.
 //!
-//! The model has no contact between its parts and no limits on its joints,
-//! so a run can reach states a real joint cannot: center beams passing
-//! through each other, a bearing sliding off its support beam, a joist
-//! pulled out of its box. Such a run still ends with numbers; its
-//! [`Validity`] says which limits it crossed, when and where, and every
-//! output carries it. A run whose energy balance does not close is flagged
-//! too: its numbers are not converged.
+//! The model has no limits on its joints, so a run can reach states a real
+//! joint cannot: a bearing sliding off its support beam, a joist pulled out
+//! of its box, a sub-gap opened beyond the joint's capacity; and beams
+//! pressed so hard together that the compliant contact stands for crushing,
+//! not touching (or, with contact disabled, beams passing through each
+//! other). Such a run still ends with numbers; its [`Validity`] says which
+//! limits it crossed, when and where, and every output carries it. A run
+//! whose energy balance does not close is flagged too: its numbers are not
+//! converged. Pounding itself (beams touching through their contacts) is
+//! physics the model stands behind, not a flag.
 //!
 //! The flags are bits of a `u32` (HDF5 `validity`, JSON `validity`):
 //!
 //! | bit | name | meaning |
 //! |---|---|---|
-//! | 1 | `collision` | a clear sub-gap went below zero: neighbouring beams (or a beam and an edge beam) overlap |
+//! | 1 | `collision` | with `joint.contact.enabled = false`: a clear sub-gap went below zero: neighbouring beams (or a beam and an edge beam) overlap |
 //! | 2 | `bearing_off_support` | a bearing left the part of its support beam between the pivot (or abutment) and the joist box (or deck) |
 //! | 4 | `joist_pulled_out` | the distance from a joist's pivot to its box exceeded the joist's length (`joint.support_beam.length`) |
 //! | 8 | `energy_balance` | the energy balance error exceeded [`ENERGY_TOLERANCE`] of the earthquake's work |
+//! | 16 | `penetration` | a contact penetrated deeper than `joint.contact.max_penetration` |
+//! | 32 | `capacity_exceeded` | a clear sub-gap opened beyond `joint.capacity.max_subgap` |
 //! | 32768 | `not_checked` | nothing was checked: the run failed or did not run (a sweep job), or had no joint (the exact linear solution) |
 //!
 //! `not_checked` is not a finding about the model: a run that carries only
@@ -23,7 +28,7 @@
 
 use quakejoint_solver::{Assembly, BodyId, Coord};
 
-use crate::config::SupportKind;
+use crate::config::{Config, SupportKind};
 use crate::error::ModelError;
 use crate::generator::JointModel;
 use crate::geometry::Geometry;
@@ -47,14 +52,20 @@ impl Flags {
     pub const JOIST_PULLED_OUT: Flags = Flags(4);
     /// The energy balance does not close.
     pub const ENERGY_BALANCE: Flags = Flags(8);
+    /// A contact deeper than the contact stands for.
+    pub const PENETRATION: Flags = Flags(16);
+    /// A sub-gap beyond the joint's capacity.
+    pub const CAPACITY_EXCEEDED: Flags = Flags(32);
     /// Nothing was checked (a failed job, a run without the joint).
     pub const NOT_CHECKED: Flags = Flags(1 << 15);
     /// Every flag with its name.
-    pub const ALL: [(Flags, &'static str); 5] = [
+    pub const ALL: [(Flags, &'static str); 7] = [
         (Flags::COLLISION, "collision"),
         (Flags::BEARING_OFF_SUPPORT, "bearing_off_support"),
         (Flags::JOIST_PULLED_OUT, "joist_pulled_out"),
         (Flags::ENERGY_BALANCE, "energy_balance"),
+        (Flags::PENETRATION, "penetration"),
+        (Flags::CAPACITY_EXCEEDED, "capacity_exceeded"),
         (Flags::NOT_CHECKED, "not_checked"),
     ];
 
@@ -165,15 +176,24 @@ impl Crossing {
 pub struct Monitor {
     geometry: Geometry,
     joist_length: f64,
+    /// Deepest penetration a contact stands for [m] (None: no contact, any
+    /// overlap is a collision).
+    max_penetration: Option<f64>,
+    max_subgap: f64,
     bearings: Vec<Bearing>,
+    contact_places: Vec<crate::generator::ContactPlace>,
     collision: Option<Crossing>,
     off_support: Option<Crossing>,
     pulled_out: Option<Crossing>,
+    penetration: Option<Crossing>,
+    capacity: Option<Crossing>,
 }
 
 impl Monitor {
-    /// A monitor of a joint model (None without the joint).
-    pub fn new(model: &JointModel, asm: &Assembly, joist_length: f64) -> Result<Option<Self>, ModelError> {
+    /// A monitor of a joint model built from `config` (None without the
+    /// joint).
+    pub fn new(model: &JointModel, asm: &Assembly, config: &Config) -> Result<Option<Self>, ModelError> {
+        let j = &config.joint;
         let Some(geometry) = model.geometry.clone() else { return Ok(None) };
         let coord = |b: BodyId, c: Coord| {
             asm.coordinate(b, c).ok_or_else(|| ModelError::Geometry(format!("body {} lacks a coordinate", b.index())))
@@ -188,15 +208,43 @@ impl Monitor {
                 bearings.push(Bearing { x: coord(b, Coord::X)?, y: coord(b, Coord::Y)?, support: k, phi, beam: i + 1 });
             }
         }
-        Ok(Some(Self { geometry, joist_length, bearings, collision: None, off_support: None, pulled_out: None }))
+        Ok(Some(Self {
+            geometry,
+            joist_length: j.support_beam.length,
+            max_penetration: j.contact.enabled.then_some(j.contact.max_penetration),
+            max_subgap: j.capacity.max_subgap,
+            bearings,
+            contact_places: model.contacts.clone(),
+            collision: None,
+            off_support: None,
+            pulled_out: None,
+            penetration: None,
+            capacity: None,
+        }))
+    }
+
+    /// Checks a contact's penetration `depth` [m] at `t` (contact number
+    /// `place` of [`JointModel::contacts`]).
+    pub fn contact(&mut self, t: f64, depth: f64, place: usize) {
+        if let Some(max) = self.max_penetration {
+            if depth > max {
+                Crossing::update(&mut self.penetration, t, depth, place);
+            }
+        }
     }
 
     /// Checks one output time: positions `q`, deck opening `u`, the clear
-    /// sub-gaps `subgaps` (abutment side first).
-    pub fn sample(&mut self, t: f64, q: &[f64], u: f64, subgaps: &[f64]) {
+    /// sub-gaps (abutment side first) at their narrower end `subgaps` and
+    /// at their wider end `largest`.
+    pub fn sample(&mut self, t: f64, q: &[f64], u: f64, subgaps: &[f64], largest: &[f64]) {
         for (s, &gap) in subgaps.iter().enumerate() {
-            if gap < 0.0 {
+            if gap < 0.0 && self.max_penetration.is_none() {
                 Crossing::update(&mut self.collision, t, -gap, s);
+            }
+        }
+        for (s, &gap) in largest.iter().enumerate() {
+            if gap > self.max_subgap {
+                Crossing::update(&mut self.capacity, t, gap - self.max_subgap, s);
             }
         }
         let g = &self.geometry;
@@ -239,7 +287,7 @@ impl Monitor {
             };
             v.findings.push(format!(
                 "collision: the clear sub-gap between {between} reached {:.1} mm at t = {:.3} s (first below zero at \
-                 t = {:.3} s); the model has no contact, so the beams overlap",
+                 t = {:.3} s); joint.contact.enabled = false, so the beams overlap",
                 -c.worst * 1e3,
                 c.at,
                 c.first
@@ -266,6 +314,35 @@ impl Monitor {
                 c.place, c.worst, self.joist_length, c.at, c.first
             ));
         }
+        if let (Some(c), Some(max)) = (self.penetration, self.max_penetration) {
+            v.flags |= Flags::PENETRATION;
+            let place = self.contact_places.get(c.place).map_or_else(String::new, |p| p.describe());
+            v.findings.push(format!(
+                "penetration: the contact between {place} reached {:.1} mm at t = {:.3} s (first beyond {:.1} mm at \
+                 t = {:.3} s): the beams would be crushed, which the compliant contact does not model",
+                c.worst * 1e3,
+                c.at,
+                max * 1e3,
+                c.first
+            ));
+        }
+        if let Some(c) = self.capacity {
+            v.flags |= Flags::CAPACITY_EXCEEDED;
+            let between = match c.place {
+                0 => "the abutment's edge beam and center beam 1".to_string(),
+                s if s == nc => format!("center beam {nc} and the deck's edge beam"),
+                s => format!("center beams {s} and {}", s + 1),
+            };
+            v.findings.push(format!(
+                "capacity_exceeded: the clear sub-gap between {between} opened to {:.1} mm at t = {:.3} s, {:.1} mm \
+                 beyond the capacity of {:.0} mm (joint.capacity.max_subgap; first at t = {:.3} s)",
+                (self.max_subgap + c.worst) * 1e3,
+                c.at,
+                c.worst * 1e3,
+                self.max_subgap * 1e3,
+                c.first
+            ));
+        }
         if energy_error.is_nan() || energy_error > ENERGY_TOLERANCE {
             v.flags |= Flags::ENERGY_BALANCE;
             v.findings.push(format!(
@@ -285,7 +362,7 @@ mod tests {
     fn an_energy_balance_that_does_not_close_is_flagged() {
         let model = crate::generator::build(&crate::Config::default(), None, crate::generator::Drive::None).unwrap();
         let asm = Assembly::new(&model.system, &Default::default()).unwrap();
-        let m = Monitor::new(&model, &asm, 7.5).unwrap().unwrap();
+        let m = Monitor::new(&model, &asm, &crate::Config::default()).unwrap().unwrap();
         assert!(m.validity(1e-8).flags.is_ok());
         assert!(m.validity(ENERGY_TOLERANCE * 0.99).flags.is_ok());
         for bad in [ENERGY_TOLERANCE * 1.01, f64::NAN] {

@@ -21,8 +21,9 @@ pub(crate) struct Gaps {
     phi: Vec<f64>,
     /// clear sub-gaps at both ends [m]
     ends: Vec<[f64; 2]>,
-    /// the smaller end of each sub-gap at the last check [m]
+    /// the smaller and the larger end of each sub-gap at the last check [m]
     pub smallest: Vec<f64>,
+    largest: Vec<f64>,
     /// smallest and largest clear sub-gap so far [m]
     pub min: f64,
     pub max: f64,
@@ -45,6 +46,7 @@ impl Gaps {
             phi: vec![0.0; g.center_beams],
             ends: Vec::with_capacity(g.center_beams + 1),
             smallest: Vec::with_capacity(g.center_beams + 1),
+            largest: Vec::with_capacity(g.center_beams + 1),
             min: f64::INFINITY,
             max: f64::NEG_INFINITY,
             deviation: 0.0,
@@ -60,14 +62,16 @@ impl Gaps {
         self.geometry.subgaps(&self.x, &self.phi, u, &mut self.ends);
         let equal = (self.geometry.gap + u) / (self.geometry.center_beams + 1) as f64 - self.geometry.width;
         self.smallest.clear();
+        self.largest.clear();
         for &[a, b] in &self.ends {
             self.min = self.min.min(a.min(b));
             self.max = self.max.max(a.max(b));
             self.deviation = self.deviation.max((a - equal).abs().max((b - equal).abs()));
             self.smallest.push(a.min(b));
+            self.largest.push(a.max(b));
         }
         if let Some(m) = monitor {
-            m.sample(t, q, u, &self.smallest);
+            m.sample(t, q, u, &self.smallest, &self.largest);
         }
     }
 }

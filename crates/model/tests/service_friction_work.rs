@@ -23,6 +23,12 @@
 //! solution). In every case the friction work must equal the area of the
 //! hysteresis loop (the work the deck does on the joint, less the little the
 //! bushing dampers take).
+//!
+//! The hand calculation is for a joint whose sub-gaps stay open; the small
+//! model's four sub-gaps of 40 mm cannot take a closing of 0.2 m, and with
+//! contact its beams are pressed into each other (a run flagged
+//! `penetration` and `capacity_exceeded`). Contact is left out here, so
+//! that the comparison is about friction alone.
 
 mod common;
 
@@ -30,6 +36,9 @@ use quakejoint_model::service::{compliance_deficit, service};
 use quakejoint_model::Config;
 
 fn check(config: &Config, what: &str) -> (f64, f64) {
+    let mut config = config.clone();
+    config.joint.contact.enabled = false;
+    let config = &config;
     let r = service(config).unwrap();
     let hand = r.hand_calculation;
     let deficit = compliance_deficit(config).unwrap().unwrap();
@@ -61,11 +70,13 @@ fn friction_work_per_cycle_matches_the_hand_calculation_within_the_compliance_de
         stiff.joint.bushing.ky = 1e9;
         let (rel, deficit) = check(&stiff, &format!("{model}, bushings 1e9 N/m"));
         assert!(rel.abs() < 0.005 && deficit < 0.005, "{model}: {rel} {deficit}");
+        stiff.joint.contact.enabled = false;
         assert!(service(&stiff).unwrap().warnings.is_empty());
     }
     // the small model with the reference bushings: a quarter of the work is
     // lost to sticking at reversals, and the run says why
-    let small = common::shipped("small.toml");
+    let mut small = common::shipped("small.toml");
+    small.joint.contact.enabled = false;
     let (rel, deficit) = check(&small, "small.toml");
     assert!((deficit - 0.28).abs() < 0.01, "closed form {deficit} against 28 % by hand");
     assert!(rel < -0.15, "{rel}");

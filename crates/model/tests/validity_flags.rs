@@ -1,11 +1,18 @@
 //! Validity flags: a run says when it leaves what the model can stand
 //! behind, and only then.
 //!
-//! - collision: the small joint under the full Corralitos record closes
-//!   its sub-gaps (the deck moves 0.14 m at T = 1 s; four sub-gaps of
-//!   40 mm); the flag must be set exactly when the smallest clear sub-gap,
-//!   reported independently, is below zero, and name that sub-gap's size;
-//!   scaled as in `quick.toml` (0.15) the same run stays open and is `ok`.
+//! - collision (contact disabled): the small joint under the full
+//!   Corralitos record closes its sub-gaps (the deck moves 0.14 m at T = 1
+//!   s; four sub-gaps of 40 mm); the flag must be set exactly when the
+//!   smallest clear sub-gap, reported independently, is below zero, and
+//!   name that sub-gap's size; scaled as in `quick.toml` (0.15) the same run
+//!   stays open and is `ok`.
+//! - with contact (the default) the same run pounds instead: its beams touch
+//!   through their contacts, which is not a flag; `penetration` is set
+//!   exactly when the deepest penetration, reported independently, exceeds
+//!   `joint.contact.max_penetration`; `capacity_exceeded` exactly when the
+//!   largest clear sub-gap exceeds `joint.capacity.max_subgap` (80 mm: the
+//!   small joint's uneven sub-gaps open to 117 mm here).
 //! - a coarse record does not hide a collision: the record sampled at 0.1 s
 //!   and the same piecewise-linear ground motion written out at 5 ms are
 //!   one excitation; checked at least every 5 ms, both runs find the same
@@ -31,7 +38,8 @@ fn run(extra: &str) -> quakejoint_model::run::RunResult {
 
 #[test]
 fn a_collision_is_flagged_exactly_when_a_sub_gap_closes() {
-    let full = run("[simulation]\nduration = 8.0\n");
+    let full =
+        run("[simulation]\nduration = 8.0\n[joint.contact]\nenabled = false\n[joint.capacity]\nmax_subgap = 0.5\n");
     let min = full.min_subgap.unwrap();
     assert!(min < 0.0, "the small joint closes under the full record: {min}");
     assert!(full.validity.flags.contains(Flags::COLLISION), "{:?}", full.validity);
@@ -40,6 +48,32 @@ fn a_collision_is_flagged_exactly_when_a_sub_gap_closes() {
     let scaled = common::shipped("quick.toml");
     let r = simulate(&scaled, &common::configs_dir(), &RunOptions { omega: Some(6.3), ..Default::default() }).unwrap();
     assert!(r.min_subgap.unwrap() > 0.0 && r.validity.flags.is_ok(), "{:?} {:?}", r.min_subgap, r.validity);
+}
+
+#[test]
+fn pounding_is_physics_but_crushing_and_overopening_are_flagged() {
+    let full = run("[simulation]\nduration = 8.0\n");
+    let p = full.pounding;
+    assert!(p.impacts > 0 && p.peak_contact_force > 0.0 && p.contact_energy > 0.0, "{p:?}");
+    assert!(!full.validity.flags.contains(Flags::COLLISION) && !full.validity.flags.contains(Flags::PENETRATION));
+    assert!(p.max_penetration < 0.005, "{p:?}");
+    // the largest sub-gap against the capacity
+    let max = full.max_subgap.unwrap();
+    assert!(max > 0.08 && full.validity.flags.contains(Flags::CAPACITY_EXCEEDED), "{max} {:?}", full.validity);
+    assert!(full.validity.message().contains(&format!("{:.1} mm", max * 1e3)), "{}", full.validity.message());
+    let roomy = run("[simulation]\nduration = 8.0\n[joint.capacity]\nmax_subgap = 0.2\n");
+    assert!(roomy.validity.flags.is_ok(), "{:?}", roomy.validity);
+    // the deepest penetration against a limit just below it
+    let limit = 0.9 * p.max_penetration;
+    let strict = run(&format!(
+        "[simulation]\nduration = 8.0\n[joint.capacity]\nmax_subgap = 0.2\n[joint.contact]\nmax_penetration = {limit}\n"
+    ));
+    assert_eq!(strict.validity.flags, Flags::PENETRATION, "{:?}", strict.validity);
+    assert!(
+        strict.validity.message().contains(&format!("{:.1} mm", p.max_penetration * 1e3)),
+        "{}",
+        strict.validity.message()
+    );
 }
 
 #[test]

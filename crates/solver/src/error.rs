@@ -113,6 +113,10 @@ pub enum StepFailure {
     /// A force or constraint evaluated to NaN or infinity.
     #[error("non-finite residual (a force or constraint evaluated to NaN or infinity)")]
     NonFinite,
+    /// Contacts kept changing mode at the same instant (opening and closing
+    /// without the time advancing).
+    #[error("contacts changed mode repeatedly without the time advancing (chattering)")]
+    Chattering,
     /// The local error could not be brought below the tolerance.
     #[error("local error test failed repeatedly (error norm {error:.3e})")]
     ErrorTest {

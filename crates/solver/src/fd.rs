@@ -128,6 +128,9 @@ fn pattern(asm: &Assembly) -> ColumnPattern {
     for (_, m) in &asm.customs {
         add(&m.f, &m.jac);
     }
+    for (_, m) in &asm.contacts {
+        add(&m.f, &m.jac);
+    }
     for (_, m) in &asm.points {
         add(&m.f, &m.h);
     }
@@ -164,9 +167,18 @@ struct GroupResult {
     g: Vec<f64>,
 }
 
-fn eval_group(asm: &Assembly, col: &Colouring, group: &[u32], state: (f64, &[f64], &[f64], &[f64])) -> GroupResult {
+fn eval_group(
+    asm: &Assembly,
+    col: &Colouring,
+    group: &[u32],
+    state: (f64, &[f64], &[f64], &[f64]),
+    modes: Option<&crate::assembly::Workspace>,
+) -> GroupResult {
     let (t, q, v, lam) = state;
     let mut ws = asm.workspace();
+    if let Some(m) = modes {
+        ws.copy_contacts(m);
+    }
     let mut qp = q.to_vec();
     let mut vp = v.to_vec();
     // Central differences: truncation ~ h^2, round-off ~ eps |F| / h; these
@@ -212,18 +224,20 @@ fn eval_group(asm: &Assembly, col: &Colouring, group: &[u32], state: (f64, &[f64
 
 /// Finite-difference Jacobian with a given colouring; returns the number of
 /// residual evaluations. The mass entries of `K` are left at zero (the mass
-/// enters the iteration matrix separately).
+/// enters the iteration matrix separately). The contacts' modes are those
+/// of `modes` (all open without it).
 pub fn jacobian_with(
     asm: &Assembly,
     colouring: &Colouring,
     state: (f64, &[f64], &[f64], &[f64]),
     jac: &mut JacobianValues,
     parallel: bool,
+    modes: Option<&crate::assembly::Workspace>,
 ) -> usize {
     let results: Vec<GroupResult> = if parallel {
-        colouring.groups.par_iter().map(|g| eval_group(asm, colouring, g, state)).collect()
+        colouring.groups.par_iter().map(|g| eval_group(asm, colouring, g, state, modes)).collect()
     } else {
-        colouring.groups.iter().map(|g| eval_group(asm, colouring, g, state)).collect()
+        colouring.groups.iter().map(|g| eval_group(asm, colouring, g, state, modes)).collect()
     };
     jac.k.iter_mut().for_each(|x| *x = 0.0);
     jac.d.iter_mut().for_each(|x| *x = 0.0);
@@ -256,5 +270,5 @@ pub fn coloured_jacobian(
     parallel: bool,
 ) -> usize {
     let colouring = Colouring::new(asm);
-    jacobian_with(asm, &colouring, (t, q, v, lam), jac, parallel)
+    jacobian_with(asm, &colouring, (t, q, v, lam), jac, parallel, None)
 }

@@ -43,8 +43,9 @@ pub mod model;
 pub mod reference;
 pub mod timefn;
 
-pub use assembly::{Assembly, AssemblyOptions, ForceExtremes, JacobianValues, Powers, Workspace};
+pub use assembly::{Assembly, AssemblyOptions, ContactValue, ForceExtremes, JacobianValues, Powers, Workspace};
 pub use error::{BuildError, LinalgError, SolverError, StepFailure};
+pub use integrator::events::{ContactEvent, ContactEventKind};
 pub use integrator::radau5::ConstraintResiduals;
 pub use integrator::{EnergyBalance, IntegratorOptions, JacobianMode, NoObserver, Observer, Radau5, Stats, StepView};
 pub use linalg::block_lu::BlockOrdering;
@@ -52,8 +53,8 @@ pub use linalg::LinearSolver;
 pub use model::body::{Body, BodyId, Coord};
 pub use model::constraint::{Constraint, ConstraintId, Driver, PointOnLine, Prismatic, Revolute, Weld};
 pub use model::force::{
-    AppliedLoad, BodyState, Bushing, CoordinateSpring, CustomElement, CustomForce, Excitation, ForceElement, ForceId,
-    Friction, FrictionLaw, SpringDamper,
+    AppliedLoad, BodyState, Bushing, Contact, ContactLaw, CoordinateSpring, CustomElement, CustomForce, Excitation,
+    ForceElement, ForceId, Friction, FrictionLaw, HertzDamping, SpringDamper, MIN_APPROACH_SPEED,
 };
 pub use model::system::System;
 pub use timefn::{SmoothTriangle, TimeFunction, TimeSeries};

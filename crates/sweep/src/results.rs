@@ -4,7 +4,7 @@ use quakejoint_model::validity::Flags;
 use serde::{Deserialize, Serialize};
 
 /// Per-job values stored in `/spectrum/with_joint/<name>`, in this order.
-pub const FIELDS: [&str; 27] = [
+pub const FIELDS: [&str; 32] = [
     "sa",
     "psa",
     "sd",
@@ -21,6 +21,11 @@ pub const FIELDS: [&str; 27] = [
     "min_subgap",
     "max_subgap",
     "max_subgap_deviation",
+    "impacts",
+    "peak_contact_force",
+    "contact_energy",
+    "peak_deck_contact_force",
+    "max_penetration",
     "energy_error",
     "max_position_residual",
     "max_angle_residual",
@@ -35,9 +40,9 @@ pub const FIELDS: [&str; 27] = [
 ];
 
 /// Units of [`FIELDS`] (`1` for counts and ratios).
-pub const UNITS: [&str; 27] = [
-    "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "1", "m", "rad", "m/s",
-    "rad/s", "1", "1", "1", "1", "1", "s",
+pub const UNITS: [&str; 32] = [
+    "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "1", "N", "J", "N", "m",
+    "1", "m", "rad", "m/s", "rad/s", "1", "1", "1", "1", "1", "s",
 ];
 
 /// Fields that depend on the machine, not on the inputs (left out of
@@ -78,6 +83,9 @@ pub struct JobHistory {
     /// Clear sub-gaps, the smaller of the two beam ends, `[gap][time]`,
     /// abutment side first [m].
     pub subgaps: Vec<Vec<f64>>,
+    /// Contact force across each sub-gap, `[gap][time]` [N] (empty
+    /// without contacts).
+    pub contact_force: Vec<Vec<f64>>,
 }
 
 /// The outcome of one job, as journalled.

@@ -122,6 +122,12 @@ pub fn scalar_results(r: &RunResult) -> Vec<(&'static str, f64, &'static str)> {
         ("min_subgap", opt(r.min_subgap), "m"),
         ("max_subgap", opt(r.max_subgap), "m"),
         ("max_subgap_deviation", opt(r.max_subgap_deviation), "m"),
+        ("impacts", count(r.pounding.impacts), "1"),
+        ("peak_contact_force", r.pounding.peak_contact_force, "N"),
+        ("peak_contact_time", r.pounding.peak_contact_time, "s"),
+        ("contact_energy", r.pounding.contact_energy, "J"),
+        ("peak_deck_contact_force", r.pounding.peak_deck_contact_force, "N"),
+        ("max_penetration", r.pounding.max_penetration, "m"),
         ("energy_error", r.energy_error, "1"),
         ("max_position_residual", r.residuals.position, "m"),
         ("max_angle_residual", r.residuals.angle, "rad"),
@@ -158,6 +164,9 @@ pub fn write_run(
         write_provenance(file, "simulate", provenance)?;
         attr_str(file, "method", if result.exact_linear { "exact linear, without the joint" } else { "multibody" })?;
         write_validity(file, &result.validity)?;
+        if let Some(p) = result.pounding.peak_contact_place {
+            attr_str(file, "peak_contact_place", &p.describe())?;
+        }
         let res = file.create_group("result")?;
         for (name, value, units) in scalar_results(result) {
             scalar(&res, name, value, units)?;
@@ -181,6 +190,16 @@ pub fn write_run(
             }
             if !h.subgaps.is_empty() {
                 dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
+            }
+            if !h.contact_force.is_empty() {
+                dataset_2d(&g, "contact_force", &h.contact_force, "N")?;
+                let imp = file.create_group("impacts")?;
+                let col =
+                    |f: fn(&quakejoint_model::pounding::Impact) -> f64| h.impacts.iter().map(f).collect::<Vec<_>>();
+                dataset_1d(&imp, "time", &col(|i| i.time), "s")?;
+                dataset_1d(&imp, "gap", &col(|i| i.place.gap as f64), "1")?;
+                dataset_1d(&imp, "end", &col(|i| i.place.end as f64), "1")?;
+                dataset_1d(&imp, "speed", &col(|i| i.speed), "m/s")?;
             }
         }
         Ok(())
@@ -210,6 +229,7 @@ pub fn write_service(path: &Path, provenance: &Provenance, result: &ServiceResul
         scalar(&g, "hand_calculation", result.hand_calculation, "J")?;
         scalar(&g, "compliance_deficit", result.compliance_deficit.unwrap_or(f64::NAN), "J")?;
         scalar(&g, "damping_work_per_cycle", result.damping_work_per_cycle, "J")?;
+        scalar(&g, "contact_work_per_cycle", result.contact_work_per_cycle, "J")?;
         scalar(&g, "min_subgap", result.min_subgap, "m")?;
         scalar(&g, "max_subgap", result.max_subgap, "m")?;
         scalar(&g, "peak_joint_force", result.peak_joint_force, "N")?;

@@ -39,8 +39,9 @@ use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 
 /// Version of the journal format (2: the config's hash leaves out the
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
-/// sub-gap histories, `not_checked` for failed jobs).
-const JOURNAL_SCHEMA: u32 = 4;
+/// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
+/// and contact-force histories).
+const JOURNAL_SCHEMA: u32 = 5;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
@@ -88,6 +89,11 @@ pub struct Summary {
     /// Finished jobs outside the model's validity: (case, record, damping,
     /// period, flags, findings).
     pub flagged: Vec<(String, String, f64, f64, u32, String)>,
+    /// Finished jobs whose beams pounded (at least one impact).
+    pub pounded: usize,
+    /// The largest contact force of any job [N] and its job (case, record,
+    /// damping, period), if any pounded.
+    pub peak_contact: Option<(f64, String, String, f64, f64)>,
     /// Whether a stop request ended the sweep before every job had run.
     pub interrupted: bool,
     /// Warnings given during the run (damage found in the journal, an
@@ -222,6 +228,11 @@ fn values_of(r: &RunResult) -> Vec<f64> {
         opt(r.min_subgap),
         opt(r.max_subgap),
         opt(r.max_subgap_deviation),
+        if r.exact_linear { f64::NAN } else { r.pounding.impacts as f64 },
+        r.pounding.peak_contact_force,
+        r.pounding.contact_energy,
+        r.pounding.peak_deck_contact_force,
+        r.pounding.max_penetration,
         r.energy_error,
         r.residuals.position,
         r.residuals.angle,
@@ -280,6 +291,7 @@ pub fn run_job(
                     joint_force: h.joint_force.clone(),
                     friction_power: h.friction_power.clone(),
                     subgaps: h.subgaps.clone(),
+                    contact_force: h.contact_force.clone(),
                 }
             });
             Some(JobResult {
@@ -619,6 +631,9 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let mut failed = Vec::new();
     let mut flagged = Vec::new();
     let mut not_run = 0;
+    let (mut pounded, mut peak_contact) = (0, None::<(f64, String, String, f64, f64)>);
+    let field = |name: &str| FIELDS.iter().position(|f| *f == name).unwrap_or(0);
+    let (impacts, peak) = (field("impacts"), field("peak_contact_force"));
     for &j in &scope {
         let st = file.results.status[j];
         let job = plan.job(j);
@@ -627,9 +642,23 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         if st == status::NOT_RUN {
             not_run += 1;
         } else if st != status::OK {
-            failed.push((case, record, z, t, file.results.messages[j].clone()));
+            failed.push((case.clone(), record.clone(), z, t, file.results.messages[j].clone()));
         } else if quakejoint_model::validity::Flags(file.results.validity[j]).is_flagged() {
-            flagged.push((case, record, z, t, file.results.validity[j], file.results.findings[j].clone()));
+            flagged.push((
+                case.clone(),
+                record.clone(),
+                z,
+                t,
+                file.results.validity[j],
+                file.results.findings[j].clone(),
+            ));
+        }
+        if st == status::OK && file.results.values[impacts][j] > 0.0 {
+            pounded += 1;
+            let f = file.results.values[peak][j];
+            if peak_contact.as_ref().is_none_or(|p| f > p.0) {
+                peak_contact = Some((f, case, record, z, t));
+            }
         }
     }
     Ok(Summary {
@@ -640,6 +669,8 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         not_run,
         failed,
         flagged,
+        pounded,
+        peak_contact,
         interrupted: not_run > 0 && stop.load(Ordering::Relaxed),
         notices,
         wall_time_s: start.elapsed().as_secs_f64(),

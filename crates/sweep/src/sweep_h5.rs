@@ -12,7 +12,7 @@ use crate::results::{JobHistory, Results, FIELDS, UNITS};
 use crate::run_h5::{write_provenance, Provenance, RecordSource};
 
 /// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 3;
+pub const SCHEMA_VERSION: u32 = 4;
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]
@@ -199,7 +199,21 @@ fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: 
     if !h.subgaps.is_empty() {
         crate::h5::dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
     }
+    if !h.contact_force.is_empty() {
+        crate::h5::dataset_2d(&g, "contact_force", &h.contact_force, "N")?;
+    }
     Ok(())
+}
+
+/// The rows of a 2-D dataset (empty if it is absent).
+fn read_rows(g: &hdf5::Group, name: &str) -> hdf5::Result<Vec<Vec<f64>>> {
+    match g.dataset(name) {
+        Ok(ds) => {
+            let a: ndarray::Array2<f64> = ds.read_2d()?;
+            Ok(a.rows().into_iter().map(|r| r.to_vec()).collect())
+        }
+        Err(_) => Ok(Vec::new()),
+    }
 }
 
 fn read_strings(ds: &hdf5::Dataset) -> hdf5::Result<Vec<String>> {
@@ -313,13 +327,8 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
                         a_abs_without_joint: read("a_abs_without_joint")?,
                         joint_force: read("joint_force")?,
                         friction_power: read("friction_power")?,
-                        subgaps: match g.dataset("subgaps") {
-                            Ok(ds) => {
-                                let a: ndarray::Array2<f64> = ds.read_2d()?;
-                                a.rows().into_iter().map(|r| r.to_vec()).collect()
-                            }
-                            Err(_) => Vec::new(),
-                        },
+                        subgaps: read_rows(&g, "subgaps")?,
+                        contact_force: read_rows(&g, "contact_force")?,
                     },
                 );
             }

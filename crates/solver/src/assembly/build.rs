@@ -3,6 +3,7 @@
 use std::collections::BTreeSet;
 
 use super::constraints::{AngleK, DriverK, LineK, PointK};
+use super::contact::{ContactK, LawK};
 use super::forces::{BushingK, CoordSpringK, CustomK, FrictionK, LoadK, SpringK};
 use super::kin::{Rot, V2};
 use super::layout::{EquationSpec, Layout, NONE};
@@ -214,6 +215,8 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         coord_springs: Vec::new(),
         loads: Vec::new(),
         customs: Vec::new(),
+        contacts: Vec::new(),
+        contact_bodies: Vec::new(),
         points: Vec::new(),
         angles: Vec::new(),
         lines: Vec::new(),
@@ -280,8 +283,34 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
                 pair(a, 0),
             )),
             ForceElement::Custom(e) => asm.customs.push((CustomK { a, b, law: e.clone() }, pair(a, b))),
+            ForceElement::Contact(e) => {
+                // reduced mass of the two bodies (the ground counts as infinite)
+                let mass = |i: u32| if i == 0 { f64::INFINITY } else { bodies[i as usize].mass };
+                let (ma, mb) = (mass(a), mass(b));
+                let reduced = if mb.is_infinite() {
+                    ma
+                } else if ma.is_infinite() {
+                    mb
+                } else {
+                    ma * mb / (ma + mb)
+                };
+                asm.contacts.push((
+                    ContactK {
+                        a,
+                        b,
+                        sa: V2::from(e.point),
+                        sb: V2::from(e.edge_point),
+                        nb: unit(e.edge_normal),
+                        law: LawK::new(&e.law, reduced),
+                    },
+                    pair(a, b),
+                ))
+            }
         }
     }
+    let touched: BTreeSet<usize> =
+        asm.contacts.iter().flat_map(|(k, _)| [k.a as usize, k.b as usize]).filter(|&b| b != 0).collect();
+    asm.contact_bodies = touched.into_iter().collect();
 
     let mut eq = 0u32;
     for (ci, p) in prims {
@@ -377,7 +406,8 @@ pub(super) fn structural_positions(asm: &Assembly) -> BTreeSet<u32> {
         .chain(asm.frictions.iter().map(|x| &x.1))
         .chain(asm.springs.iter().map(|x| &x.1))
         .chain(asm.loads.iter().map(|x| &x.1))
-        .chain(asm.customs.iter().map(|x| &x.1));
+        .chain(asm.customs.iter().map(|x| &x.1))
+        .chain(asm.contacts.iter().map(|x| &x.1));
     for m in maps {
         set.extend(m.jac.iter().copied().filter(|&p| p != sink));
     }
@@ -401,7 +431,8 @@ fn damping_entries(asm: &Assembly) -> Vec<(u32, u32, u32)> {
         .map(|x| &x.1)
         .chain(asm.frictions.iter().map(|x| &x.1))
         .chain(asm.springs.iter().map(|x| &x.1))
-        .chain(asm.customs.iter().map(|x| &x.1));
+        .chain(asm.customs.iter().map(|x| &x.1))
+        .chain(asm.contacts.iter().map(|x| &x.1));
     for m in maps {
         for i in 0..6 {
             for j in 0..6 {

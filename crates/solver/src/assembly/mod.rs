@@ -14,6 +14,7 @@
 
 mod build;
 pub(crate) mod constraints;
+pub(crate) mod contact;
 pub(crate) mod forces;
 pub(crate) mod kin;
 pub(crate) mod layout;
@@ -26,6 +27,7 @@ use crate::model::constraint::ConstraintId;
 use crate::model::system::System;
 use crate::timefn::TimeFunction;
 use constraints::{AngleK, DriverK, LineK, PointK, Rows};
+use contact::ContactK;
 use forces::{BushingK, CoordSpringK, CustomK, FrictionK, LoadK, SpringK};
 use kin::{BodyKin, Mat6, Rot, V2};
 use layout::{Layout, NONE};
@@ -151,6 +153,8 @@ pub struct Powers {
     pub base: f64,
     /// Delivered by rheonomic constraints (drivers).
     pub constraints: f64,
+    /// Dissipated by the damping of closed contacts; never negative.
+    pub contact: f64,
 }
 
 /// Largest element forces at one state.
@@ -173,9 +177,48 @@ pub struct Workspace {
     rows: Vec<Rows>,
     km: Mat6,
     dm: Mat6,
+    /// Whether each contact is closed (the integrator's mode of the step).
+    closed: Vec<bool>,
+    /// Approach speed of each closed contact at its onset [m/s].
+    v0: Vec<f64>,
+}
+
+/// A contact's state at one instant ([`Assembly::contacts`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ContactValue {
+    /// Whether the contact is closed.
+    pub closed: bool,
+    /// Penetration [m] (positive when overlapping, whatever the mode).
+    pub penetration: f64,
+    /// Its rate [m/s].
+    pub rate: f64,
+    /// Force of the law [N]: of a closed contact (may be below zero just
+    /// before a release event); of an open one, the force the law would
+    /// give at this penetration and rate (0 when not penetrating), whose
+    /// sign says whether closing it would push or pull.
+    pub force: f64,
 }
 
 impl Workspace {
+    /// Whether each contact is closed.
+    pub fn closed_contacts(&self) -> &[bool] {
+        &self.closed
+    }
+
+    /// Closes (with the approach speed `v0` [m/s]) or opens contact `i`.
+    /// The integrator does this at its events; a check of the closed
+    /// contacts' derivatives sets the modes itself.
+    pub fn set_contact(&mut self, i: usize, closed: bool, v0: f64) {
+        self.closed[i] = closed;
+        self.v0[i] = v0;
+    }
+
+    /// Copies the contact modes of another workspace.
+    pub(crate) fn copy_contacts(&mut self, other: &Workspace) {
+        self.closed.copy_from_slice(&other.closed);
+        self.v0.copy_from_slice(&other.v0);
+    }
+
     /// Generalised forces `F = Q - G^T lambda` of the last [`Assembly::residual`] call.
     pub fn forces(&self) -> &[f64] {
         &self.f[..self.f.len() - 1]
@@ -204,6 +247,10 @@ pub struct Assembly {
     pub(crate) coord_springs: Vec<(CoordSpringK, u32, u32)>,
     pub(crate) loads: Vec<(LoadK, PairMap)>,
     pub(crate) customs: Vec<(CustomK, PairMap)>,
+    pub(crate) contacts: Vec<(ContactK, PairMap)>,
+    /// The bodies the contacts touch (not the ground), for evaluating the
+    /// contacts alone.
+    pub(crate) contact_bodies: Vec<usize>,
     pub(crate) points: Vec<(PointK, PrimMap)>,
     pub(crate) angles: Vec<(AngleK, PrimMap)>,
     pub(crate) lines: Vec<(LineK, PrimMap)>,
@@ -307,6 +354,8 @@ impl Assembly {
             vx: vec![0.0; self.layout.n + 1],
             km: [[0.0; 6]; 6],
             dm: [[0.0; 6]; 6],
+            closed: vec![false; self.contacts.len()],
+            v0: vec![0.0; self.contacts.len()],
         }
     }
 
@@ -482,7 +531,12 @@ impl Assembly {
 
     /// Generalised applied forces `Q(t, q, q')` added into `ws.f` (kinematics loaded).
     fn applied_forces(&self, ws: &mut Workspace, t: f64, v: &[f64]) {
-        let Workspace { kin, f, .. } = ws;
+        let Workspace { kin, f, closed, v0, .. } = ws;
+        for (i, (k, map)) in self.contacts.iter().enumerate() {
+            if closed[i] {
+                scatter6(f, &map.f, &k.force(&kin[k.a as usize], &kin[k.b as usize], v0[i]));
+            }
+        }
         for (k, map) in &self.bushings {
             scatter6(f, &map.f, &k.force(&kin[k.a as usize], &kin[k.b as usize]));
         }
@@ -551,13 +605,22 @@ impl Assembly {
         self.load_kin(ws, q, v);
         jac.k.iter_mut().for_each(|x| *x = 0.0);
         jac.d.iter_mut().for_each(|x| *x = 0.0);
-        let Workspace { kin, km, dm, .. } = ws;
+        let Workspace { kin, km, dm, closed, v0, .. } = ws;
         for (k, map) in &self.bushings {
             zero6(km);
             zero6(dm);
             k.jacobian(&kin[k.a as usize], &kin[k.b as usize], km, dm);
             scatter36(&mut jac.k, &map.jac, km);
             scatter36(&mut jac.d, &map.jac, dm);
+        }
+        for (i, (k, map)) in self.contacts.iter().enumerate() {
+            if closed[i] {
+                zero6(km);
+                zero6(dm);
+                k.jacobian(&kin[k.a as usize], &kin[k.b as usize], v0[i], km, dm);
+                scatter36(&mut jac.k, &map.jac, km);
+                scatter36(&mut jac.d, &map.jac, dm);
+            }
         }
         for (i, (k, map)) in self.frictions.iter().enumerate() {
             zero6(km);
@@ -694,6 +757,11 @@ impl Assembly {
         for (k, _, _) in &self.coord_springs {
             e += k.potential(&kin[k.body as usize]);
         }
+        for (i, (k, _)) in self.contacts.iter().enumerate() {
+            if ws.closed[i] {
+                e += k.law.energy(k.gap(&kin[k.a as usize], &kin[k.b as usize]).delta);
+            }
+        }
         for dir in 0..2 {
             let gacc = if dir == 0 { self.gravity.x } else { self.gravity.y };
             if gacc != 0.0 {
@@ -722,6 +790,12 @@ impl Assembly {
         for (k, _) in &self.frictions {
             p.friction += k.dissipation(&kin[k.a as usize], &kin[k.b as usize]);
         }
+        for (i, (k, _)) in self.contacts.iter().enumerate() {
+            if ws.closed[i] {
+                let g = k.gap(&kin[k.a as usize], &kin[k.b as usize]);
+                p.contact += k.law.dissipation(g.delta, g.rate, ws.v0[i]);
+            }
+        }
         for (k, _) in &self.loads {
             p.applied += k.power(&kin[k.a as usize], t);
         }
@@ -748,6 +822,35 @@ impl Assembly {
             p.constraints += lam[m.eq as usize] * k.time_derivatives(t).0;
         }
         p
+    }
+
+    /// Number of contacts.
+    pub fn contact_count(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// The state of every contact at `(q, v)` into `out` (one per contact,
+    /// in the order the system added them), with the modes of `ws`.
+    pub fn contacts(&self, ws: &mut Workspace, q: &[f64], v: &[f64], out: &mut [ContactValue]) {
+        // the integrator asks at every step: load only the bodies involved
+        for &b in &self.contact_bodies {
+            self.load_body(ws, b, q, v);
+        }
+        for (i, ((k, _), o)) in self.contacts.iter().zip(out.iter_mut()).enumerate() {
+            let g = k.gap(&ws.kin[k.a as usize], &ws.kin[k.b as usize]);
+            let force = if ws.closed[i] || g.delta > 0.0 { k.law.eval(g.delta, g.rate, ws.v0[i]).0 } else { 0.0 };
+            *o = ContactValue { closed: ws.closed[i], penetration: g.delta, rate: g.rate, force };
+        }
+    }
+
+    /// Stored elastic energy of contact `i` at penetration `d` [J].
+    pub(crate) fn contact_energy(&self, i: usize, d: f64) -> f64 {
+        self.contacts[i].0.law.energy(d)
+    }
+
+    /// The coordinates (up to 6, `n` for locked ones) contact `i` depends on.
+    pub(crate) fn contact_coords(&self, i: usize) -> [u32; 6] {
+        self.contacts[i].1.f
     }
 
     /// Largest bushing and friction force magnitudes at a state.

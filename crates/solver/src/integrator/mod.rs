@@ -12,6 +12,7 @@
 //! `G v + g_t = 0`, and sliding friction solved locally inside the Newton
 //! iteration (`local_friction`).
 
+pub mod events;
 mod local_friction;
 pub mod radau5;
 
@@ -201,11 +202,15 @@ pub struct Stats {
     pub linear_solves: u64,
     /// Projections of the accepted state onto the constraints.
     pub projections: u64,
+    /// Contact onsets and releases.
+    pub contact_events: u64,
+    /// Steps taken again to end at a contact event.
+    pub event_retries: u64,
 }
 
 /// Running energy balance of a run [J].
 ///
-/// `error = (T + V) - (T0 + V0) + damping + friction - applied - base - constraints`
+/// `error = (T + V) - (T0 + V0) + damping + friction + contact - applied - base - constraints`
 /// is zero for the exact solution.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct EnergyBalance {
@@ -225,6 +230,9 @@ pub struct EnergyBalance {
     pub base: f64,
     /// Work of rheonomic constraints (drivers) so far.
     pub constraints: f64,
+    /// Energy dissipated by contacts so far: their damping, and the elastic
+    /// energy a contact still stored when it opened.
+    pub contact: f64,
     /// Largest |error| seen so far.
     pub max_error: f64,
     /// Largest energy scale seen so far (see [`EnergyBalance::relative_error`]).
@@ -236,7 +244,7 @@ pub struct EnergyBalance {
 impl EnergyBalance {
     /// The balance error now.
     pub fn error(&self) -> f64 {
-        self.kinetic + self.potential - self.initial + self.damping + self.friction
+        self.kinetic + self.potential - self.initial + self.damping + self.friction + self.contact
             - self.applied
             - self.base
             - self.constraints
@@ -307,8 +315,10 @@ pub struct StepView<'a> {
     pub lambda: &'a [f64],
     /// The compiled system (for derived quantities).
     pub assembly: &'a Assembly,
-    /// A scratch workspace for evaluations.
+    /// A scratch workspace for evaluations (with the contacts' modes).
     pub workspace: &'a mut Workspace,
+    /// Contact onsets and releases at `t` (the end of this step).
+    pub events: &'a [events::ContactEvent],
     pub(crate) dense: radau5::DenseRef<'a>,
 }
 

@@ -50,6 +50,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::events::{Events, State, Trial};
 use super::local_friction::LocalFriction;
 use super::{EnergyBalance, IntegratorOptions, JacobianMode, Observer, Stats, StepView};
 use crate::assembly::{Assembly, JacobianValues, Workspace};
@@ -102,6 +103,9 @@ const QUOT1: f64 = 0.8;
 const QUOT2: f64 = 1.2;
 /// Relative difference of step sizes below which a factorisation is reused.
 const FACT_RTOL: f64 = 1e-9;
+/// Largest first step after a contact changes mode [s]: impacts of stiff
+/// contacts last milliseconds; the error control takes it from there.
+const CONTACT_STEP: f64 = 1e-4;
 
 /// Dense output of the last step: `y(t) = c0 + s (c1 + (s - c2m1)(c2 + (s - c1m1) c3))`
 /// with `s = (t - t1)/h`.
@@ -231,6 +235,8 @@ pub struct Radau5 {
     /// Per friction element, whether it is solved locally (and enters the
     /// iteration matrix with its zone slope).
     zone: Vec<bool>,
+    /// Contact onsets and releases ([`super::events`]).
+    events: Events,
 }
 
 impl Radau5 {
@@ -324,6 +330,7 @@ impl Radau5 {
             max_residual: ConstraintResiduals::default(),
             local,
             zone,
+            events: Events::new(&asm),
             ws,
             n,
             m,
@@ -410,6 +417,7 @@ impl Radau5 {
                 lambda: &self.lam,
                 assembly: &asm,
                 workspace: &mut self.ws,
+                events: &self.events.last,
                 dense: DenseRef {
                     t1: self.t,
                     h: self.h_cont,
@@ -421,6 +429,7 @@ impl Radau5 {
             if !observer.step(&mut view) {
                 return Ok(false);
             }
+            self.events.last.clear();
         }
         Ok(true)
     }
@@ -496,6 +505,17 @@ impl Radau5 {
         self.solve_real_into_bq().map_err(SolverError::Initialisation)?;
         self.lam.copy_from_slice(&self.bl);
         self.stats.residual_evaluations += 3;
+        // contacts penetrating at the start are closed
+        if !self.events.is_empty() {
+            let asm2 = Arc::clone(&self.asm);
+            let mut cv = vec![crate::assembly::ContactValue::default(); asm2.contact_count()];
+            asm2.contacts(&mut self.ws, &self.q, &self.v, &mut cv);
+            let closing: Vec<usize> = (0..cv.len()).filter(|&i| cv[i].penetration > 0.0).collect();
+            let at = State { t: self.t, q: &self.q, v: &self.v };
+            self.events.change(&asm2, &mut self.ws, at, &closing, &mut self.energy);
+            self.events.last.clear();
+            asm2.jacobian(&mut self.ws, self.t, &self.q, &self.v, &self.lam, &mut self.jac);
+        }
         // start-of-step residual, energy, constraint residuals
         self.update_y0();
         self.energy.kinetic = asm.kinetic_energy(&self.v);
@@ -504,6 +524,7 @@ impl Radau5 {
         self.potential0 = self.energy.potential;
         self.energy.record(self.potential0);
         self.track_constraint_residuals();
+        self.events.record_start(&asm, &mut self.ws, &self.q, &self.v);
         self.need_jac = true;
         Ok(())
     }
@@ -568,7 +589,7 @@ impl Radau5 {
             JacobianMode::FiniteDifference { parallel } => {
                 let colouring = self.colouring.get_or_insert_with(|| fd::Colouring::new(&asm));
                 let state = (self.t, &self.q[..], &self.v[..], &self.lam[..]);
-                let evals = fd::jacobian_with(&asm, colouring, state, &mut self.jac, parallel);
+                let evals = fd::jacobian_with(&asm, colouring, state, &mut self.jac, parallel, Some(&self.ws));
                 self.stats.residual_evaluations += evals as u64;
             }
         }
@@ -611,6 +632,7 @@ impl Radau5 {
         let h = self.h.min(self.opt.h_max);
         let tiny = 4.0 * f64::EPSILON * self.t.abs().max(1.0);
         let bp = self.asm.next_breakpoint(self.t + tiny).map_or(t_end, |b| b.min(t_end));
+        let bp = self.events.pending_time().map_or(bp, |e| e.min(bp));
         let dist = bp - self.t;
         let k = (dist / h * (1.0 - 1e-9)).ceil().max(1.0);
         if k <= 1.0 {
@@ -683,6 +705,33 @@ impl Radau5 {
             let fac = SAFE.min(SAFE * (1.0 + 2.0 * nit) / (iterations as f64 + 2.0 * nit));
             let mut quot = FACR.max(FACL.min(err.powf(0.25) / fac));
             let mut h_new = h / quot;
+            if err < 1.0 && !self.events.is_empty() {
+                let asm = Arc::clone(&self.asm);
+                let start = State { t: self.t, q: &self.q, v: &self.v };
+                let trial = Trial { start, h, zq: &self.zq, zv: &self.zv };
+                let located = self.events.locate(&asm, &mut self.ws, &trial);
+                if let Some((te, contacts)) = located {
+                    self.stats.event_retries += 1;
+                    if te - self.t <= 1e-9 * h {
+                        // the change is due now: at the start of the step
+                        let at = State { t: self.t, q: &self.q, v: &self.v };
+                        let (n, so_far) = self.events.change_now(&asm, &mut self.ws, at, contacts, &mut self.energy);
+                        self.after_contact_change(n);
+                        // each contact changes at most twice at one time
+                        if so_far > 2 * asm.contact_count() {
+                            return Err(SolverError::StepFailed {
+                                time: self.t,
+                                h,
+                                attempts: so_far as u32,
+                                cause: StepFailure::Chattering,
+                            });
+                        }
+                    } else {
+                        self.events.set_pending(te, contacts);
+                    }
+                    continue;
+                }
+            }
             if err < 1.0 {
                 if !self.first {
                     let facgus = (self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / SAFE;
@@ -693,6 +742,18 @@ impl Radau5 {
                 self.h_acc = h;
                 self.err_acc = err.max(1e-2);
                 self.accept(h)?;
+                let asm = Arc::clone(&self.asm);
+                let changed = if self.events.is_empty() {
+                    0
+                } else {
+                    let at = State { t: self.t, q: &self.q, v: &self.v };
+                    self.events.apply_pending(&asm, &mut self.ws, at, &mut self.energy)
+                };
+                if changed > 0 {
+                    self.after_contact_change(changed);
+                    self.jac_fresh = false;
+                    return Ok(());
+                }
                 let h_new = h_new.min(self.opt.h_max);
                 let h_new = if self.reject { h_new.min(h) } else { h_new };
                 self.first = false;
@@ -735,6 +796,24 @@ impl Radau5 {
                 });
             }
         }
+    }
+
+    /// After contacts changed mode at the current state: the start-of-step
+    /// residual, the stored energy and the contacts' states are recomputed,
+    /// and the next step starts afresh (new Jacobian, no extrapolation across
+    /// the change, a step short against a contact's duration).
+    fn after_contact_change(&mut self, changed: usize) {
+        self.stats.contact_events += changed as u64;
+        self.update_y0();
+        self.energy.potential = self.asm.potential_energy(&mut self.ws, &self.q);
+        self.energy.record(self.potential0);
+        let asm = Arc::clone(&self.asm);
+        self.events.record_start(&asm, &mut self.ws, &self.q, &self.v);
+        self.need_jac = true;
+        self.first = true;
+        self.reject = false;
+        self.have_cont = false;
+        self.h = self.h.min(CONTACT_STEP);
     }
 
     /// Error scales of a step of size `h` from the current state: positions
@@ -1032,6 +1111,7 @@ impl Radau5 {
             self.energy.applied += w * p.applied;
             self.energy.base += w * p.base;
             self.energy.constraints += w * p.constraints;
+            self.energy.contact += w * p.contact;
         }
         // dense output coefficients
         for (z, cont, len) in
@@ -1070,6 +1150,8 @@ impl Radau5 {
         self.energy.kinetic = self.asm.kinetic_energy(&self.v);
         self.energy.potential = self.asm.potential_energy(&mut self.ws, &self.q);
         self.energy.record(self.potential0);
+        let asm = Arc::clone(&self.asm);
+        self.events.record_start(&asm, &mut self.ws, &self.q, &self.v);
         Ok(())
     }
 

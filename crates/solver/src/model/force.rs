@@ -87,6 +87,100 @@ impl Friction {
     }
 }
 
+/// Smallest approach velocity entering the Hertz damping `D = f(e) / v0`
+/// [m/s]: a grazing or quasi-static contact would otherwise get a damping
+/// that outgrows its spring at the first mm/s of separation (`1 + D delta'`
+/// changes sign at `delta' = -v0 / f`), and the law was derived for
+/// impacts, not resting contact. Impacts slower than this restitute more
+/// than the nominal `e` (as slow impacts do).
+pub const MIN_APPROACH_SPEED: f64 = 0.05;
+
+/// How the damping of a Hertz contact follows from the coefficient of
+/// restitution `e` and the approach velocity `v0` at onset:
+/// `F = k delta^1.5 (1 + D delta')` with `D = factor(e) / max(v0,`
+/// [`MIN_APPROACH_SPEED`]`)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HertzDamping {
+    /// `D = 3 (1 - e^2) / (4 v0)`: H. M. Lankarani and P. E. Nikravesh, "A
+    /// contact force model with hysteresis damping for impact analysis of
+    /// multibody systems", J. Mech. Des. 112 (1990) 369-376; the form of the
+    /// Hertz-damp model of S. Muthukumar and R. DesRoches, Earthquake Engng
+    /// Struct. Dyn. 35 (2006) 811-828. Exact as `e -> 1`; gives too much
+    /// restitution for the `e` of structural pounding (0.5 to 0.8).
+    LankaraniNikravesh,
+    /// `D = 8 (1 - e) / (5 e v0)`: K. Ye, L. Li and H. Zhu, "A note on the
+    /// Hertz contact model with nonlinear damping for pounding simulation",
+    /// Earthquake Engng Struct. Dyn. 38 (2009) 1135-1142 (derived for the
+    /// restitution range of pounding).
+    #[default]
+    YeLiZhu,
+}
+
+impl HertzDamping {
+    /// `v0 D` for a coefficient of restitution `e` [-].
+    pub fn factor(self, e: f64) -> f64 {
+        match self {
+            HertzDamping::LankaraniNikravesh => 0.75 * (1.0 - e * e),
+            HertzDamping::YeLiZhu => 1.6 * (1.0 - e) / e,
+        }
+    }
+}
+
+/// The force law of a [`Contact`] along its normal, `delta` the penetration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactLaw {
+    /// Linear spring and dashpot (S. A. Anagnostopoulos, "Pounding of
+    /// buildings in series during earthquakes", Earthquake Engng Struct.
+    /// Dyn. 16 (1988) 443-456): `F = k delta + c delta'` with
+    /// `c = 2 zeta sqrt(k m)`, `zeta = -ln e / sqrt(pi^2 + ln^2 e)`, `m` the
+    /// reduced mass of the two bodies.
+    Linear {
+        /// Stiffness `k` [N/m].
+        stiffness: f64,
+        /// Coefficient of restitution `e`, 0 < e <= 1 [-].
+        restitution: f64,
+    },
+    /// Hertz contact with nonlinear damping (Hunt-Crossley):
+    /// `F = k delta^1.5 (1 + D delta')`, `D` from `e` and the approach
+    /// velocity at onset ([`HertzDamping`]).
+    Hertz {
+        /// Stiffness `k` [N/m^1.5].
+        stiffness: f64,
+        /// Coefficient of restitution `e`, 0 < e <= 1 [-].
+        restitution: f64,
+        /// How `D` follows from `e`.
+        damping: HertzDamping,
+    },
+}
+
+/// Compliant unilateral contact of a point of `body` against a straight
+/// edge of `base` (a line through `edge_point` with outward normal
+/// `edge_normal`, both in the base's frame; the base may be the ground or a
+/// body restricted to some coordinates). The penetration is
+/// `delta = -n . (p - e)` with `p` the point and `e` the edge point in the
+/// world, `n` the normal; while the contact is closed the force
+/// `F(delta, delta')` of the [`ContactLaw`] pushes the point out along `n`
+/// and the base back, at the point. The integrator closes the contact when
+/// `delta` rises through zero and opens it when `delta` or `F` falls
+/// through zero (no tension), each at an event located on the dense output:
+/// no step crosses an onset or a release.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contact {
+    /// The body whose point touches the edge.
+    pub body: BodyId,
+    /// The contact point on `body`, in its frame [m].
+    pub point: [f64; 2],
+    /// The body carrying the edge.
+    pub base: BodyId,
+    /// A point of the edge, in the base's frame [m].
+    pub edge_point: [f64; 2],
+    /// Outward normal of the edge (toward the free side), in the base's
+    /// frame [-] (normalised when compiled).
+    pub edge_normal: [f64; 2],
+    /// The force law.
+    pub law: ContactLaw,
+}
+
 /// Spring and damper acting along the line between two points.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpringDamper {
@@ -189,6 +283,8 @@ pub enum ForceElement {
     AppliedLoad(AppliedLoad),
     /// See [`CustomForce`].
     Custom(CustomElement),
+    /// See [`Contact`].
+    Contact(Contact),
 }
 
 impl ForceElement {
@@ -201,6 +297,7 @@ impl ForceElement {
             ForceElement::CoordinateSpring(_) => "coordinate spring",
             ForceElement::AppliedLoad(_) => "applied load",
             ForceElement::Custom(_) => "custom force",
+            ForceElement::Contact(_) => "contact",
         }
     }
 
@@ -213,6 +310,7 @@ impl ForceElement {
             ForceElement::CoordinateSpring(e) => (e.body, BodyId::GROUND),
             ForceElement::AppliedLoad(e) => (e.body, BodyId::GROUND),
             ForceElement::Custom(e) => e.0.bodies(),
+            ForceElement::Contact(e) => (e.body, e.base),
         }
     }
 }

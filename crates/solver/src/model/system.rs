@@ -204,6 +204,24 @@ impl System {
                 e.torque.validate(&what)?;
             }
             ForceElement::Custom(_) => self.check_pair(&what, a, b)?,
+            ForceElement::Contact(e) => {
+                self.check_pair(&what, a, b)?;
+                finite_all(&what, "point", &[e.point[0], e.point[1], e.edge_point[0], e.edge_point[1]])?;
+                direction(&what, "edge_normal", e.edge_normal)?;
+                let (k, r) = match e.law {
+                    crate::model::force::ContactLaw::Linear { stiffness, restitution } => (stiffness, restitution),
+                    crate::model::force::ContactLaw::Hertz { stiffness, restitution, .. } => (stiffness, restitution),
+                };
+                positive(&what, "stiffness", k)?;
+                if !(r > 0.0 && r <= 1.0) {
+                    return Err(BuildError::InvalidParameter {
+                        what,
+                        name: "restitution",
+                        value: r,
+                        reason: "must be above 0 and at most 1",
+                    });
+                }
+            }
         }
         Ok(())
     }

@@ -344,3 +344,5 @@ pub fn element_zoo() -> System {
     }));
     sys
 }
+
+pub mod contact;
