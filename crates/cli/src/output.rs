@@ -124,6 +124,7 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
             "flags": v.flags.names(),
             "findings": v.findings,
             "wall_time_s": r.wall_time_s,
+            "cpu_time_s": r.cpu_time_s,
         });
         if !r.exact_linear {
             extend(
@@ -214,14 +215,16 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
     );
     let s = &r.stats;
     out!(
-        "  steps {} (rejected {}, failed {}), Newton iterations {}, Jacobians {}, factorisations {}, {:.2} s wall",
+        "  steps {} (rejected {}, failed {}), Newton iterations {}, Jacobians {}, factorisations {}, {:.2} s wall, \
+         {:.2} s CPU",
         s.steps,
         s.rejected,
         s.failed_attempts,
         s.newton_iterations,
         s.jacobian_evaluations,
         s.factorizations,
-        r.wall_time_s
+        r.wall_time_s,
+        r.cpu_time_s
     );
 }
 

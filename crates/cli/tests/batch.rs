@@ -307,8 +307,8 @@ fn progress_goes_to_logs_as_lines_and_to_terminals_as_bars() {
     let grid = "[sweep]\nperiods = { from = 0.3, to = 3.0, count = 12 }\ndamping = [0.05]\n";
     let cfg = config(&d, "c.toml", grid, 8.0);
     let out = d.join("out.h5");
-    // stderr is a pipe here, as in a SLURM log
-    let res = sweep(&cfg, &out, &["--threads", "1", "--progress-interval", "0.2"]);
+    // stderr is a pipe here, as in a SLURM log (the 12 jobs take about 0.3 s)
+    let res = sweep(&cfg, &out, &["--threads", "1", "--progress-interval", "0.02"]);
     ok(&res);
     let log = stderr(&res);
     let lines: Vec<&str> = log.lines().filter(|l| l.contains("sweep out.h5")).collect();

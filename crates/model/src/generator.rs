@@ -8,8 +8,10 @@
 //! of the beam on the abutment side against the face of the next beam (the
 //! abutment's edge beam is a line on the ground, the deck's a line on the
 //! deck); for the small yaw angles of the beams the gap at an end is the
-//! same to first order whichever beam's corner is taken. Constraints: a prismatic joint per
-//! bearing on its support beam, a revolute joint per joist pivot, a
+//! same to first order whichever beam's corner is taken. Constraints: a
+//! sliding joint per bearing on its support beam ([`BearingJoint`]: by
+//! default the bearing translates only and stays on the beam's axis, its
+//! rotation carried by the beam), a revolute joint per joist pivot, a
 //! point-on-line per joist box (the deck point `(G0 + u, y_box)` on the
 //! joist axis), a weld per guide. The earthquake acts as `-m a_g(t)` on every
 //! body (x), optionally `-m a_gy(t)` on the joint bodies (y).
@@ -23,6 +25,23 @@ use quakejoint_solver::{
 use crate::config::{Config, ContactLawConfig, HertzDampingConfig, LawConfig, SupportKind};
 use crate::error::ModelError;
 use crate::geometry::Geometry;
+
+/// How a bearing's sliding joint on its support beam is written
+/// (`docs/model.md`, "Bearings").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BearingJoint {
+    /// The bearing translates only (x, y). The prismatic joint makes its
+    /// rotation that of its support beam, so its moment of inertia is carried
+    /// by the support beam, and the joint keeps the bearing's centre on the
+    /// beam's axis (1 equation). Exact for this model, where no element acts
+    /// on a bearing's rotation (the bushing and the friction act at its
+    /// centre): 2 coordinates and 1 equation per bearing instead of 3 and 2.
+    #[default]
+    Translational,
+    /// The spec's prismatic joint: the bearing a full body (x, y, phi) whose
+    /// angle equation keeps it parallel to its support beam.
+    Prismatic,
+}
 
 /// How the deck is moved.
 #[derive(Debug, Clone)]
@@ -168,6 +187,17 @@ pub struct JointModel {
 /// Builds the model of `config` with the bridge frequency `omega` [rad/s]
 /// (the config's unless given) and the given drive.
 pub fn build(config: &Config, omega: Option<f64>, drive: Drive) -> Result<JointModel, ModelError> {
+    build_with(config, omega, drive, BearingJoint::default())
+}
+
+/// [`build`] with the bearings' joint written as `bearing_joint` (the
+/// prismatic form is the check of the translational one).
+pub fn build_with(
+    config: &Config,
+    omega: Option<f64>,
+    drive: Drive,
+    bearing_joint: BearingJoint,
+) -> Result<JointModel, ModelError> {
     config.validate()?;
     let j = &config.joint;
     let bridge = Bridge {
@@ -211,7 +241,12 @@ pub fn build(config: &Config, omega: Option<f64>, drive: Drive) -> Result<JointM
                 SupportKind::Guide => format!("guide {k}"),
                 SupportKind::Joist => format!("joist {k}"),
             };
-            let body = sys.add_body(Body::new(name, sbc.mass, sb_inertia, [s.centre[0], s.centre[1], s.theta]));
+            // the bearings turning with the beam, when they are not bodies of their own
+            let inertia = match bearing_joint {
+                BearingJoint::Translational => sb_inertia + geo.center_x.len() as f64 * j.bearing.inertia,
+                BearingJoint::Prismatic => sb_inertia,
+            };
+            let body = sys.add_body(Body::new(name, sbc.mass, inertia, [s.centre[0], s.centre[1], s.theta]));
             model.supports.push(body);
         }
         let law = match j.friction.law {
@@ -222,12 +257,12 @@ pub fn build(config: &Config, omega: Option<f64>, drive: Drive) -> Result<JointM
             let mut row = Vec::with_capacity(geo.supports.len());
             for (k, s) in geo.supports.iter().enumerate() {
                 let y = geo.bearing_y[i][k];
-                let bearing = sys.add_body(Body::new(
-                    format!("bearing {}/{k}", i + 1),
-                    j.bearing.mass,
-                    j.bearing.inertia,
-                    [x, y, s.theta],
-                ));
+                let body =
+                    Body::new(format!("bearing {}/{k}", i + 1), j.bearing.mass, j.bearing.inertia, [x, y, s.theta]);
+                let bearing = sys.add_body(match bearing_joint {
+                    BearingJoint::Translational => body.only(&[Coord::X, Coord::Y]),
+                    BearingJoint::Prismatic => body,
+                });
                 sys.add_force_named(
                     format!("bushing {}/{k}", i + 1),
                     ForceElement::Bushing(Bushing {
@@ -253,16 +288,23 @@ pub fn build(config: &Config, omega: Option<f64>, drive: Drive) -> Result<JointM
                         law,
                     }),
                 );
-                sys.add_constraint_named(
-                    format!("slide {}/{k}", i + 1),
-                    quakejoint_solver::Constraint::Prismatic(Prismatic {
+                let slide = match bearing_joint {
+                    BearingJoint::Translational => quakejoint_solver::Constraint::PointOnLine(PointOnLine {
+                        body: bearing,
+                        point: [0.0, 0.0],
+                        line_body: model.supports[k],
+                        line_point: [0.0, 0.0],
+                        line_direction: [1.0, 0.0],
+                    }),
+                    BearingJoint::Prismatic => quakejoint_solver::Constraint::Prismatic(Prismatic {
                         slider: bearing,
                         point: [0.0, 0.0],
                         base: model.supports[k],
                         axis_point: [0.0, 0.0],
                         axis_direction: [1.0, 0.0],
                     }),
-                );
+                };
+                sys.add_constraint_named(format!("slide {}/{k}", i + 1), slide);
                 row.push(bearing);
             }
             model.bearings.push(row);

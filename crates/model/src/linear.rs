@@ -14,6 +14,7 @@ use crate::run::{Histories, RunResult};
 /// coupled run.
 pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: bool) -> RunResult {
     let start = Instant::now();
+    let cpu = crate::resources::CpuClock::start();
     let period = 2.0 * std::f64::consts::PI / omega;
     let p = peaks(&record.acceleration, record.dt, period, damping, SpectrumOptions::default());
     let histories = histories.then(|| {
@@ -43,6 +44,7 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
         sv: p.sv,
         t_sv: p.t_sv,
         wall_time_s: start.elapsed().as_secs_f64(),
+        cpu_time_s: cpu.elapsed_s(),
         duration: record.duration(),
         histories,
         exact_linear: true,

@@ -9,6 +9,38 @@ pub fn peak_memory_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
+/// CPU time the calling thread has used so far [s], from Linux's
+/// `/proc/thread-self/schedstat` (nanoseconds on the CPU; `None` where it is
+/// not available). A sweep's job runs on one worker thread, so the
+/// difference across a run is that run's CPU time, whatever else the
+/// process does meanwhile.
+pub fn thread_cpu_time_s() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = stat.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+/// Measures the calling thread's CPU time from its creation
+/// ([`thread_cpu_time_s`]; NaN where it is not available).
+#[derive(Debug, Clone, Copy)]
+pub struct CpuClock(Option<f64>);
+
+impl CpuClock {
+    /// Starts the clock.
+    pub fn start() -> Self {
+        Self(thread_cpu_time_s())
+    }
+
+    /// CPU seconds used by this thread since [`CpuClock::start`] (NaN if
+    /// unknown).
+    pub fn elapsed_s(&self) -> f64 {
+        match (self.0, thread_cpu_time_s()) {
+            (Some(a), Some(b)) => b - a,
+            _ => f64::NAN,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -17,5 +49,23 @@ mod tests {
             let mb = super::peak_memory_mb().expect("VmHWM");
             assert!(mb > 0.1 && mb < 1.0e6, "{mb}");
         }
+    }
+
+    #[test]
+    fn thread_cpu_time_counts_work_not_sleep() {
+        if !cfg!(target_os = "linux") {
+            return;
+        }
+        let clock = super::CpuClock::start();
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        let slept = clock.elapsed_s();
+        let mut x = 0.0f64;
+        let wall = std::time::Instant::now();
+        while wall.elapsed().as_secs_f64() < 0.2 {
+            x = std::hint::black_box(x + 1.0);
+        }
+        let worked = clock.elapsed_s() - slept;
+        assert!(slept < 0.05, "sleeping used {slept} s of CPU");
+        assert!(worked > 0.1 && worked < 0.3, "0.2 s of work measured as {worked} s");
     }
 }

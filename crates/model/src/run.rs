@@ -20,7 +20,7 @@ use quakejoint_solver::{
 
 use crate::config::{Config, LinearSolverConfig};
 use crate::error::ModelError;
-use crate::generator::{build, Bridge, Drive, JointModel};
+use crate::generator::{build_with, BearingJoint, Bridge, Drive, JointModel};
 use crate::pounding::{ContactWatch, Pounding};
 use crate::validity::{Monitor, Validity};
 use crate::watch::Gaps;
@@ -40,6 +40,9 @@ pub struct RunOptions {
     /// When set (by a signal handler, say), the run stops at its next step
     /// with [`ModelError::Interrupted`].
     pub cancel: Option<Arc<AtomicBool>>,
+    /// How the bearings' sliding joints are written (the translational form
+    /// unless a check asks for the spec's prismatic one).
+    pub bearing_joint: BearingJoint,
 }
 
 impl std::fmt::Debug for RunOptions {
@@ -49,6 +52,7 @@ impl std::fmt::Debug for RunOptions {
             .field("histories", &self.histories)
             .field("progress", &self.progress.is_some())
             .field("cancel", &self.cancel.is_some())
+            .field("bearing_joint", &self.bearing_joint)
             .finish()
     }
 }
@@ -141,6 +145,9 @@ pub struct RunResult {
     pub stats: Stats,
     /// Wall-clock time of the integration [s].
     pub wall_time_s: f64,
+    /// CPU time of the integration on its thread [s] (NaN where the system
+    /// does not tell).
+    pub cpu_time_s: f64,
     /// Simulated duration [s].
     pub duration: f64,
     /// Time histories, if requested.
@@ -259,10 +266,11 @@ pub fn simulate_records(
     check_run_length(config, record_x)?;
     let gx = series(record_x)?;
     let gy = record_y.map(series).transpose()?;
-    let model = build(config, options.omega, Drive::Earthquake { x: gx.clone(), y: gy })?;
+    let model = build_with(config, options.omega, Drive::Earthquake { x: gx.clone(), y: gy }, options.bearing_joint)?;
     let duration = run_duration(config, record_x);
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
     let start = Instant::now();
+    let cpu = crate::resources::CpuClock::start();
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
     let mut obs = EarthquakeObserver::new(&model, &asm, gx, record_x.dt, options.histories)?;
     obs.monitor = Monitor::new(&model, &asm, config)?;
@@ -277,6 +285,7 @@ pub fn simulate_records(
         });
     }
     let wall = start.elapsed().as_secs_f64();
+    let cpu_time_s = cpu.elapsed_s();
     let e = sim.energy();
     let energy_error = e.error_relative_to_input();
     let validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
@@ -311,6 +320,7 @@ pub fn simulate_records(
         exact_linear: false,
         stats: sim.stats(),
         wall_time_s: wall,
+        cpu_time_s,
         duration,
         histories: obs.histories,
     })

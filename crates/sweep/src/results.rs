@@ -4,7 +4,7 @@ use quakejoint_model::validity::Flags;
 use serde::{Deserialize, Serialize};
 
 /// Per-job values stored in `/spectrum/with_joint/<name>`, in this order.
-pub const FIELDS: [&str; 32] = [
+pub const FIELDS: [&str; 33] = [
     "sa",
     "psa",
     "sd",
@@ -37,17 +37,18 @@ pub const FIELDS: [&str; 32] = [
     "newton_iterations",
     "factorizations",
     "wall_time_s",
+    "cpu_time_s",
 ];
 
 /// Units of [`FIELDS`] (`1` for counts and ratios).
-pub const UNITS: [&str; 32] = [
+pub const UNITS: [&str; 33] = [
     "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "1", "N", "J", "N", "m",
-    "1", "m", "rad", "m/s", "rad/s", "1", "1", "1", "1", "1", "s",
+    "1", "m", "rad", "m/s", "rad/s", "1", "1", "1", "1", "1", "s", "s",
 ];
 
 /// Fields that depend on the machine, not on the inputs (left out of
 /// determinism comparisons).
-pub const MACHINE_DEPENDENT: [&str; 1] = ["wall_time_s"];
+pub const MACHINE_DEPENDENT: [&str; 2] = ["wall_time_s", "cpu_time_s"];
 
 /// Job status codes in `/spectrum/with_joint/status`.
 pub mod status {

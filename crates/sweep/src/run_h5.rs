@@ -139,6 +139,7 @@ pub fn scalar_results(r: &RunResult) -> Vec<(&'static str, f64, &'static str)> {
         ("newton_iterations", count(s.newton_iterations), "1"),
         ("factorizations", count(s.factorizations), "1"),
         ("wall_time_s", r.wall_time_s, "s"),
+        ("cpu_time_s", r.cpu_time_s, "s"),
         ("duration", r.duration, "s"),
     ]
 }

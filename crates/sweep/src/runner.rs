@@ -41,7 +41,7 @@ use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
 /// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
 /// and contact-force histories).
-const JOURNAL_SCHEMA: u32 = 5;
+const JOURNAL_SCHEMA: u32 = 6;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
@@ -244,6 +244,7 @@ fn values_of(r: &RunResult) -> Vec<f64> {
         s.newton_iterations as f64,
         s.factorizations as f64,
         r.wall_time_s,
+        r.cpu_time_s,
     ];
     debug_assert_eq!(v.len(), FIELDS.len());
     v
@@ -264,7 +265,7 @@ pub fn run_job(
     let omega = 2.0 * std::f64::consts::PI / t;
     let want_history = plan.history_periods.contains(&period);
     let rec = &plan.records[record].record;
-    let options = RunOptions { omega: Some(omega), histories: want_history, progress, cancel };
+    let options = RunOptions { omega: Some(omega), histories: want_history, progress, cancel, ..RunOptions::default() };
     let outcome = if crate::fault::job_fails(index) {
         Err(ModelError::Solver(SolverError::StepFailed {
             time: 0.0,

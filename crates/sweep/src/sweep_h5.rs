@@ -12,7 +12,7 @@ use crate::results::{JobHistory, Results, FIELDS, UNITS};
 use crate::run_h5::{write_provenance, Provenance, RecordSource};
 
 /// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 4;
+pub const SCHEMA_VERSION: u32 = 5;
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]

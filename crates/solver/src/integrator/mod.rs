@@ -155,7 +155,7 @@ impl Default for IntegratorOptions {
             max_newton: 7,
             jacobian_reuse: 0.05,
             newton_tolerance: None,
-            constraint_tolerance: 1e-10,
+            constraint_tolerance: 1e-9,
             initial_tolerance: 1e-6,
             max_failures: 25,
             max_wall_time: None,

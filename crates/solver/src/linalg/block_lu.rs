@@ -396,7 +396,7 @@ impl<T: Scalar> BlockLu<T> {
 
 /// `y -= A x` for a row-major `A (y.len() x x.len())`; the block shapes of the
 /// expansion joint go to kernels with the sizes fixed at compile time.
-#[inline]
+#[inline(always)]
 fn gemv_sub<T: Scalar>(y: &mut [T], a: &[T], x: &[T]) {
     match (y.len(), x.len()) {
         (6, 3) => gemv_sub_fixed::<T, 6, 3>(y, a, x),

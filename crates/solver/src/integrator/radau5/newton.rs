@@ -1,0 +1,247 @@
+//! The simplified Newton iteration on the transformed stage equations, its
+//! starting values and error scales, and the local friction solve inside it.
+
+use super::coefficients::*;
+use super::*;
+
+impl Radau5 {
+    /// Error scales of a step of size `h` from the current state: positions
+    /// and velocities (error test and Newton norm) and multipliers (Newton
+    /// norm only): `(rtol (|lambda_e| + max |lambda|) + m_ref scal_v) / h`,
+    /// relative to the largest multiplier so that a component passing through
+    /// zero is not held to an absolute tolerance; the velocity-equivalent
+    /// floor only matters while every multiplier is near zero.
+    pub(super) fn set_scales(&mut self, h: f64) {
+        for c in 0..self.n {
+            self.scal_q[c] = self.atol_q[c] + self.rtol * (self.q[c] - self.q_ref[c]).abs();
+            self.scal_v[c] = self.atol_v[c] + self.rtol * self.v[c].abs();
+        }
+        let lam_max = self.lam.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let lay = &self.asm.layout;
+        for e in 0..self.m {
+            let floor = self.asm.eq_mref[e] * self.scal_v[lay.eq_coord[e] as usize];
+            self.scal_l[e] = (self.rtol * (self.lam[e].abs() + lam_max) + floor) / h;
+        }
+    }
+
+    /// Extrapolates the last collocation polynomial to the new stages (or
+    /// starts from zero), and derives the position stages.
+    pub(super) fn starting_values(&mut self, h: f64) {
+        if self.first || !self.have_cont {
+            for i in 0..3 {
+                self.zv[i].iter_mut().for_each(|x| *x = 0.0);
+                self.zl[i].iter_mut().for_each(|x| *x = 0.0);
+            }
+        } else {
+            let c3q = h / self.h_cont;
+            let cq = [C[0] * c3q, C[1] * c3q, c3q];
+            let extrapolate = |cont: &Stages, z: &mut Stages| {
+                for j in 0..cont[0].len() {
+                    let (a1, a2, a3) = (cont[0][j], cont[1][j], cont[2][j]);
+                    for i in 0..3 {
+                        z[i][j] = cq[i] * (a1 + (cq[i] - C2M1) * (a2 + (cq[i] - C1M1) * a3));
+                    }
+                }
+            };
+            extrapolate(&self.cont_v, &mut self.zv);
+            extrapolate(&self.cont_l, &mut self.zl);
+        }
+        transform(&TI, &self.zv, &mut self.wv);
+        transform(&TI, &self.zl, &mut self.wl);
+        self.derive_zq(h);
+    }
+
+    /// `Zq_i = h sum_j a_ij (v_n + Zv_j)`.
+    pub(super) fn derive_zq(&mut self, h: f64) {
+        let n = self.n;
+        let [q0, q1, q2] = &mut self.zq;
+        let (q0, q1, q2) = (&mut q0[..n], &mut q1[..n], &mut q2[..n]);
+        let (v, v0, v1, v2) = (&self.v[..n], &self.zv[0][..n], &self.zv[1][..n], &self.zv[2][..n]);
+        for j in 0..n {
+            let (z0, z1, z2) = (v[j] + v0[j], v[j] + v1[j], v[j] + v2[j]);
+            q0[j] = h * (A[0][0] * z0 + A[0][1] * z1 + A[0][2] * z2);
+            q1[j] = h * (A[1][0] * z0 + A[1][1] * z1 + A[1][2] * z2);
+            q2[j] = h * (A[2][0] * z0 + A[2][1] * z1 + A[2][2] * z2);
+        }
+    }
+
+    /// Time of stage `i` (the last stage is exactly the step's end).
+    pub(super) fn stage_time(&self, i: usize, h: f64) -> f64 {
+        if i == 2 {
+            self.t_new
+        } else {
+            self.t + C[i] * h
+        }
+    }
+
+    /// Evaluates the residual at the three stages.
+    pub(super) fn stage_residuals(&mut self, h: f64, record_sliders: bool) -> bool {
+        let mut finite = true;
+        for i in 0..3 {
+            add_into(&mut self.bq, &self.q, &self.zq[i]);
+            add_into(&mut self.bv, &self.v, &self.zv[i]);
+            add_into(&mut self.bl, &self.lam, &self.zl[i]);
+            let ti = self.stage_time(i, h);
+            self.asm.residual(&mut self.ws, ti, &self.bq, &self.bv, &self.bl);
+            if record_sliders {
+                self.local.record_stage(&self.asm, &self.ws, i);
+            }
+            self.fv[i].copy_from_slice(self.ws.forces());
+            self.fg[i].copy_from_slice(self.ws.velocity_constraints());
+            // (no early exit, so that the test vectorises)
+            finite &= self.fv[i].iter().chain(&self.fg[i]).fold(true, |ok, x| ok & x.is_finite());
+        }
+        self.stats.residual_evaluations += 3;
+        finite
+    }
+
+    /// Simplified Newton iteration on the transformed stage equations.
+    pub(super) fn newton(&mut self, h: f64) -> Result<Newton, LinalgError> {
+        let (n, m) = (self.n, self.m);
+        let nit = self.opt.max_newton;
+        let g_r = GAMMA / h;
+        let c_c = Complex64::new(ALPHA / h, BETA / h);
+        self.faccon = self.faccon.max(UROUND).powf(0.8);
+        self.theta = self.opt.jacobian_reuse.abs();
+        let mut dynold = 0.0f64;
+        let mut thqold = 0.0f64;
+        let mut newt = 0u32;
+        loop {
+            if newt >= nit {
+                return Ok(Newton::Retry { factor: 0.5, cause: StepFailure::Newton { rate: self.theta } });
+            }
+            let record = !self.local.is_empty();
+            if !self.stage_residuals(h, record) || (self.solve_frictions_locally(h) && !self.stage_residuals(h, false))
+            {
+                return Ok(Newton::Retry { factor: 0.5, cause: StepFailure::NonFinite });
+            }
+            // transformed right-hand sides: force rows, then the velocity
+            // constraint rows, `G dq = -R_w / c`
+            let lay = &self.asm.layout;
+            for c in 0..n {
+                let f = [self.fv[0][c], self.fv[1][c], self.fv[2][c]];
+                let r = tmul(&TI, f);
+                let w = [self.wv[0][c], self.wv[1][c], self.wv[2][c]];
+                let mc = self.mass[c];
+                let u = lay.unknown_of_coord[c] as usize;
+                self.rhs_r[u] = r[0] - g_r * mc * w[0];
+                self.rhs_c[u] = Complex64::new(
+                    r[1] - mc * (c_c.re * w[1] - c_c.im * w[2]),
+                    r[2] - mc * (c_c.im * w[1] + c_c.re * w[2]),
+                );
+            }
+            let inv_c = c_c.inv();
+            for e in 0..m {
+                let r = tmul(&TI, [self.fg[0][e], self.fg[1][e], self.fg[2][e]]);
+                let u = lay.unknown_of_eq[e] as usize;
+                let s = self.asm.eq_mref[e];
+                self.rhs_r[u] = -self.gscale_r * s * r[0] / g_r;
+                self.rhs_c[u] = -Complex64::new(r[1], r[2]) * inv_c * (self.gscale_c * s);
+            }
+            let sym = self.asm.block_structure();
+            self.real.solve(sym, &mut self.faer, &mut self.rhs_r)?;
+            self.cplx.solve(sym, &mut self.faer, &mut self.rhs_c)?;
+            self.stats.linear_solves += 2;
+            newt += 1;
+            self.stats.newton_iterations += 1;
+            // increments of W and the Newton norm
+            let mut sum = 0.0;
+            for c in 0..n {
+                let u = lay.unknown_of_coord[c] as usize;
+                let d1 = self.rhs_r[u];
+                let d23 = self.rhs_c[u];
+                let dv23 = c_c * d23;
+                self.dq[0][c] = d1;
+                self.dq[1][c] = d23.re;
+                self.dq[2][c] = d23.im;
+                let (sq, sv) = (self.scal_q[c], self.scal_v[c]);
+                let dv1 = g_r * d1;
+                sum += (d1 / sq).powi(2) + (d23.re / sq).powi(2) + (d23.im / sq).powi(2);
+                sum += (dv1 / sv).powi(2) + (dv23.re / sv).powi(2) + (dv23.im / sv).powi(2);
+                self.wv[0][c] += dv1;
+                self.wv[1][c] += dv23.re;
+                self.wv[2][c] += dv23.im;
+            }
+            // multipliers (index-2 variables, whose errors are O(1/h) larger;
+            // Hairer and Wanner IV.8 and VII.4) with the scales of `set_scales`
+            for e in 0..m {
+                let u = lay.unknown_of_eq[e] as usize;
+                let s = self.asm.eq_mref[e];
+                let d1 = self.gscale_r * s * self.rhs_r[u];
+                let d23 = self.rhs_c[u] * (self.gscale_c * s);
+                self.wl[0][e] += d1;
+                self.wl[1][e] += d23.re;
+                self.wl[2][e] += d23.im;
+                let sl = self.scal_l[e];
+                sum += (d1 / sl).powi(2) + (d23.re / sl).powi(2) + (d23.im / sl).powi(2);
+            }
+            let dyno = (sum / (6 * n + 3 * m) as f64).sqrt();
+            if newt > 1 && newt < nit {
+                let thq = dyno / dynold;
+                self.theta = if newt == 2 { thq } else { (thq * thqold).sqrt() };
+                thqold = thq;
+                if self.theta < 0.99 {
+                    self.faccon = self.theta / (1.0 - self.theta);
+                    let dyth = self.faccon * dyno * self.theta.powi((nit - 1 - newt) as i32) / self.fnewt;
+                    if dyth >= 1.0 {
+                        let qnewt = dyth.clamp(1e-4, 20.0);
+                        let factor = 0.8 * qnewt.powf(-1.0 / (4.0 + nit as f64 - 1.0 - newt as f64));
+                        return Ok(Newton::Retry { factor, cause: StepFailure::Newton { rate: self.theta } });
+                    }
+                } else {
+                    return Ok(Newton::Retry { factor: 0.5, cause: StepFailure::Newton { rate: self.theta } });
+                }
+            }
+            dynold = dyno.max(UROUND);
+            transform(&T, &self.wv, &mut self.zv);
+            transform(&T, &self.wl, &mut self.zl);
+            self.derive_zq(h);
+            if self.faccon * dyno <= self.fnewt {
+                return Ok(Newton::Converged { iterations: newt });
+            }
+        }
+    }
+
+    /// Local solve of the sliders ([`LocalFriction::solve`]); returns
+    /// whether the iterate changed.
+    pub(super) fn solve_frictions_locally(&mut self, h: f64) -> bool {
+        if self.local.is_empty() || !self.local.solve(h, &self.mass, &self.jac, &self.fv, &mut self.zv) {
+            return false;
+        }
+        transform(&TI, &self.zv, &mut self.wv);
+        self.derive_zq(h);
+        true
+    }
+}
+
+/// `out = a + b` elementwise.
+#[inline]
+pub(super) fn add_into(out: &mut [f64], a: &[f64], b: &[f64]) {
+    for ((o, &x), &y) in out.iter_mut().zip(a).zip(b) {
+        *o = x + y;
+    }
+}
+
+/// `y = M x` for a 3x3 matrix and a 3-vector.
+#[inline]
+pub(super) fn tmul(mat: &[[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
+    [
+        mat[0][0] * x[0] + mat[0][1] * x[1] + mat[0][2] * x[2],
+        mat[1][0] * x[0] + mat[1][1] * x[1] + mat[1][2] * x[2],
+        mat[2][0] * x[0] + mat[2][1] * x[1] + mat[2][2] * x[2],
+    ]
+}
+
+/// Applies a 3x3 matrix across three stage vectors.
+pub(super) fn transform(mat: &[[f64; 3]; 3], src: &Stages, dst: &mut Stages) {
+    let n = src[0].len();
+    let (s0, s1, s2) = (&src[0][..n], &src[1][..n], &src[2][..n]);
+    let [d0, d1, d2] = dst;
+    let (d0, d1, d2) = (&mut d0[..n], &mut d1[..n], &mut d2[..n]);
+    for j in 0..n {
+        let y = tmul(mat, [s0[j], s1[j], s2[j]]);
+        d0[j] = y[0];
+        d1[j] = y[1];
+        d2[j] = y[2];
+    }
+}
