@@ -107,6 +107,9 @@ fn scaling() {
         config.joint.center_beams = nc;
         config.joint.pitch = gap / (nc + 1) as f64;
         config.joint.center_beam.width = config.joint.center_beam.width.min(0.6 * config.joint.pitch);
+        // cells of up to 0.91 m (Nc = 3): the capacity only flags, set to its
+        // largest value
+        config.joint.capacity.max_subgap = 1.0;
         let model =
             quakejoint_model::generator::build(&config, None, quakejoint_model::generator::Drive::None).expect("model");
         let (bodies, coords, eqs) = counts(&model.system);

@@ -583,9 +583,9 @@ pub const MEMORY_PER_WORKER_MB: f64 = 1.0;
 pub const MEMORY_PER_BODY_MB: f64 = 0.025;
 
 /// Seconds per output sample of a job, whatever the model ([`cost_seconds`]).
-pub const COST_PER_SAMPLE: f64 = 1.25e-5;
+pub const COST_PER_SAMPLE: f64 = 4.0e-6;
 /// Seconds per joint body and output sample ([`cost_seconds`]).
-pub const COST_PER_BODY_SAMPLE: f64 = 2.0e-6;
+pub const COST_PER_BODY_SAMPLE: f64 = 1.45e-6;
 
 /// The cost model of a coupled run, measured on this engine (docs/sweep.md,
 /// "Cost of a job"): seconds on one core of the reference machine for a
