@@ -27,7 +27,7 @@ use crate::error::ModelError;
 use crate::geometry::Geometry;
 
 /// How a bearing's sliding joint on its support beam is written
-/// (`docs/model.md`, "Bearings").
+/// (`docs/model.md`, "Constraints").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BearingJoint {
     /// The bearing translates only (x, y). The prismatic joint makes its

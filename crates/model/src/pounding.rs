@@ -141,12 +141,12 @@ impl ContactWatch {
         }
         view.assembly.contacts(view.workspace, view.q, view.v, &mut self.values);
         let closed = self.values.iter().any(|c| c.closed);
+        let peak_before = self.result.peak_contact_force;
         self.take(view.t, monitor.as_deref_mut());
         if closed && view.t > view.t_prev {
             let (n, m) = (view.q.len(), view.lambda.len());
             let (mut q, mut v, mut l) =
                 self.scratch.take().unwrap_or_else(|| (vec![0.0; n], vec![0.0; n], vec![0.0; m]));
-            let peak_before = self.result.peak_contact_force;
             let dt = (view.t - view.t_prev) / (INTERIOR + 1) as f64;
             for k in 1..=INTERIOR {
                 let t = view.t_prev + dt * k as f64;
@@ -165,8 +165,11 @@ impl ContactWatch {
     }
 
     /// Golden-section search for the largest force of the peak's contact
-    /// within `bracket` (around the best sample of the step): a sampled
-    /// impact's peak is otherwise low by about `(pi dt / duration)^2 / 8`.
+    /// within `bracket` (around the best sample of the step, its end
+    /// included): a sampled impact's peak is otherwise low by about
+    /// `(pi dt / duration)^2 / 8`. (The deck's force from the closed joint,
+    /// a sum over contacts, and the per-gap histories stay sampled: they may
+    /// fall short of the located peak by that much.)
     fn refine_peak(&mut self, view: &mut StepView<'_>, bracket: (f64, f64), state: Scratch<'_>) {
         let (q, v, l) = state;
         let Some(place) = self.result.peak_contact_place else { return };

@@ -40,7 +40,7 @@ use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 /// Version of the journal format (2: the config's hash leaves out the
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
 /// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
-/// and contact-force histories).
+/// and contact-force histories; 6: each job's CPU time).
 const JOURNAL_SCHEMA: u32 = 6;
 
 /// How to run a sweep.

@@ -36,6 +36,7 @@
 use super::radau5::A;
 use crate::assembly::kin::V2;
 use crate::assembly::{Assembly, JacobianValues, SliderInfo, Workspace};
+use crate::linalg::small::solve3;
 
 /// `A^-1` of the Butcher matrix of Radau IIA (s = 3).
 pub(super) const AINV: [[f64; 3]; 3] = [
@@ -237,33 +238,6 @@ fn norm3(r: &[f64; 3]) -> f64 {
     (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt()
 }
 
-/// Solves a 3x3 system by Gaussian elimination with partial pivoting
-/// (None if singular).
-fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
-    for k in 0..3 {
-        let p = (k..3).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
-        if a[p][k] == 0.0 || !a[p][k].is_finite() {
-            return None;
-        }
-        a.swap(k, p);
-        b.swap(k, p);
-        for i in k + 1..3 {
-            let f = a[i][k] / a[k][k];
-            let pivot_row = a[k];
-            for (x, p) in a[i].iter_mut().zip(pivot_row).skip(k) {
-                *x -= f * p;
-            }
-            b[i] -= f * b[k];
-        }
-    }
-    let mut x = [0.0; 3];
-    for k in (0..3).rev() {
-        let s: f64 = (k + 1..3).map(|j| a[k][j] * x[j]).sum();
-        x[k] = (b[k] - s) / a[k][k];
-    }
-    Some(x)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -277,14 +251,5 @@ mod tests {
                 assert!((p - expect).abs() < 1e-13, "A^-1 A [{i}][{j}] = {p}");
             }
         }
-    }
-
-    #[test]
-    fn solve3_pivots_and_refuses_singular_systems() {
-        let x = solve3([[0.0, 2.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 3.0]], [3.0, 1.0, 4.0]).unwrap();
-        for (got, want) in x.iter().zip([1.0, 1.0, 1.0]) {
-            assert!((got - want).abs() < 1e-14, "{x:?}");
-        }
-        assert!(solve3([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]], [1.0, 2.0, 3.0]).is_none());
     }
 }

@@ -66,7 +66,7 @@ pub struct IntegratorOptions {
     /// fraction of the error tolerance (RADAU5's `FNEWT`). `None`: RADAU5's
     /// default `min(0.03, sqrt(rtol'))` with its internal
     /// `rtol' = 0.1 rtol^(2/3)` (3.2e-3 at rtol = 1e-6). The expansion-joint
-    /// runs use 0.03 (see `quakejoint_model::run::integrator_options`).
+    /// runs use 0.2 (see `quakejoint_model::run::integrator_options`).
     pub newton_tolerance: Option<f64>,
     /// Keep the Jacobian while Newton contracts faster than this rate
     /// (RADAU5's `THET`; Hairer and Wanner suggest 0.001 for cheap Jacobians

@@ -18,6 +18,7 @@
 use std::collections::BTreeSet;
 
 use super::scalar::Scalar;
+use super::small::gemv_sub_fixed;
 use crate::error::LinalgError;
 
 /// Largest block: 3 coordinates and 3 matched equations.
@@ -417,19 +418,6 @@ fn gemv_sub<T: Scalar>(y: &mut [T], a: &[T], x: &[T]) {
                 y[r] -= s;
             }
         }
-    }
-}
-
-/// [`gemv_sub`] with the sizes known at compile time.
-#[inline(always)]
-fn gemv_sub_fixed<T: Scalar, const R: usize, const C: usize>(y: &mut [T], a: &[T], x: &[T]) {
-    let (y, a, x) = (&mut y[..R], &a[..R * C], &x[..C]);
-    for r in 0..R {
-        let mut s = T::ZERO;
-        for c in 0..C {
-            s += a[r * C + c] * x[c];
-        }
-        y[r] -= s;
     }
 }
 

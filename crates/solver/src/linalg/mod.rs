@@ -11,6 +11,7 @@
 pub mod block_lu;
 pub mod faer_lu;
 pub mod scalar;
+pub mod small;
 
 use faer::traits::ComplexField;
 

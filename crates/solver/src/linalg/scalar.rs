@@ -28,6 +28,9 @@ pub trait Scalar:
     const ZERO: Self;
     /// One.
     const ONE: Self;
+    /// Whether small matrix-vector products accumulate column by column
+    /// ([`super::small::gemv_sub_fixed`]; the faster form, measured).
+    const BY_COLUMNS: bool;
     /// A cheap magnitude used for pivoting (|re| + |im|).
     fn magnitude(self) -> f64;
     /// Real value as this scalar.
@@ -39,6 +42,7 @@ pub trait Scalar:
 impl Scalar for f64 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
+    const BY_COLUMNS: bool = true;
     #[inline]
     fn magnitude(self) -> f64 {
         self.abs()
@@ -56,6 +60,7 @@ impl Scalar for f64 {
 impl Scalar for Complex64 {
     const ZERO: Self = Complex64::new(0.0, 0.0);
     const ONE: Self = Complex64::new(1.0, 0.0);
+    const BY_COLUMNS: bool = false;
     #[inline]
     fn magnitude(self) -> f64 {
         self.re.abs() + self.im.abs()
