@@ -746,6 +746,13 @@ impl Assembly {
     pub fn potential_energy(&self, ws: &mut Workspace, q: &[f64]) -> f64 {
         // velocities do not enter stored energy; q stands in for them
         self.load_kin(ws, q, q);
+        self.loaded_potential_energy(ws, q)
+    }
+
+    /// [`Assembly::potential_energy`] at the positions `q` whose kinematics
+    /// the last evaluation loaded into `ws` (a residual at `q`, say), which
+    /// saves loading them again.
+    pub(crate) fn loaded_potential_energy(&self, ws: &Workspace, q: &[f64]) -> f64 {
         let kin = &ws.kin;
         let mut e = 0.0;
         for (k, _) in &self.bushings {

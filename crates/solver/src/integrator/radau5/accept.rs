@@ -71,7 +71,7 @@ impl Radau5 {
         self.stats.steps += 1;
         self.update_y0();
         self.energy.kinetic = self.asm.kinetic_energy(&self.v);
-        self.energy.potential = self.asm.potential_energy(&mut self.ws, &self.q);
+        self.energy.potential = self.asm.loaded_potential_energy(&self.ws, &self.q);
         self.energy.record(self.potential0);
         let asm = Arc::clone(&self.asm);
         self.events.record_start(&asm, &mut self.ws, &self.q, &self.v);
@@ -88,8 +88,12 @@ impl Radau5 {
         for velocity in [false, true] {
             let mut last = f64::INFINITY;
             for _ in 0..12 {
-                self.asm.constraint_residuals(&mut self.ws, self.t, &self.q, &self.v);
-                current = true;
+                // (one evaluation gives both kinds: the velocity pass starts
+                // from the position pass's last one when nothing moved since)
+                if !current {
+                    self.asm.constraint_residuals(&mut self.ws, self.t, &self.q, &self.v);
+                    current = true;
+                }
                 let r = if velocity { self.ws.velocity_constraints() } else { self.ws.constraints() };
                 let worst = worst_equation(r).1;
                 // converged, or the stale gradients no longer help

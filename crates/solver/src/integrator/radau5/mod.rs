@@ -487,7 +487,7 @@ impl Radau5 {
         // start-of-step residual, energy, constraint residuals
         self.update_y0();
         self.energy.kinetic = asm.kinetic_energy(&self.v);
-        self.energy.potential = asm.potential_energy(&mut self.ws, &self.q);
+        self.energy.potential = asm.loaded_potential_energy(&self.ws, &self.q);
         self.energy.initial = self.energy.kinetic + self.energy.potential;
         self.potential0 = self.energy.potential;
         self.energy.record(self.potential0);
