@@ -71,7 +71,6 @@ impl Radau5 {
         self.stats.steps += 1;
         self.update_y0();
         self.energy.kinetic = self.asm.kinetic_energy(&self.v);
-        self.energy.potential = self.asm.loaded_potential_energy(&self.ws, &self.q);
         self.energy.record(self.potential0);
         let asm = Arc::clone(&self.asm);
         self.events.record_start(&asm, &mut self.ws, &self.q, &self.v);

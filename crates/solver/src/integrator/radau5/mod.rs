@@ -487,7 +487,6 @@ impl Radau5 {
         // start-of-step residual, energy, constraint residuals
         self.update_y0();
         self.energy.kinetic = asm.kinetic_energy(&self.v);
-        self.energy.potential = asm.loaded_potential_energy(&self.ws, &self.q);
         self.energy.initial = self.energy.kinetic + self.energy.potential;
         self.potential0 = self.energy.potential;
         self.energy.record(self.potential0);
@@ -497,8 +496,11 @@ impl Radau5 {
         Ok(())
     }
 
+    /// The residual at the current state (for the next error estimate) and
+    /// the stored energy there, from the kinematics the residual loaded.
     fn update_y0(&mut self) {
         self.asm.residual(&mut self.ws, self.t, &self.q, &self.v, &self.lam);
+        self.energy.potential = self.asm.loaded_potential_energy(&self.ws, &self.q);
         self.y0f.copy_from_slice(self.ws.forces());
         self.y0g.copy_from_slice(self.ws.velocity_constraints());
         self.stats.residual_evaluations += 1;

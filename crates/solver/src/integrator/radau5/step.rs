@@ -185,7 +185,6 @@ impl Radau5 {
     pub(super) fn after_contact_change(&mut self, changed: usize) {
         self.stats.contact_events += changed as u64;
         self.update_y0();
-        self.energy.potential = self.asm.loaded_potential_energy(&self.ws, &self.q);
         self.energy.record(self.potential0);
         let asm = Arc::clone(&self.asm);
         self.events.record_start(&asm, &mut self.ws, &self.q, &self.v);
