@@ -338,6 +338,20 @@ fn plotting_scripts_write_png_files() {
     script("plot_spectrum", &[&out]);
     script("plot_history", &[&out]);
     script("plot_history", &[&run_h5]);
+    // a time window (impacts last milliseconds), and a window the wrong way round
+    let windowed = |t0: &str, t1: &str| {
+        Command::new("python3")
+            .arg(root().join("scripts/plot_history.py"))
+            .args([run_h5.as_os_str(), d.join("window.png").as_os_str()])
+            .args(["--window", t0, t1])
+            .output()
+            .expect("python3 runs")
+    };
+    let res = windowed("1", "3");
+    assert!(res.status.success(), "--window 1 3: {}", String::from_utf8_lossy(&res.stderr));
+    let res = windowed("3", "1");
+    assert!(!res.status.success(), "--window 3 1 must be refused");
+    assert!(String::from_utf8_lossy(&res.stderr).contains("T0 must be below T1"));
     script("plot_sparsity", &[&sparsity]);
     script("plot_geometry", &[&d.join("model.json")]);
     // the runs bench's table (format of crates/model/benches/runs.rs)
