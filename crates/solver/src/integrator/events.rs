@@ -102,6 +102,9 @@ pub(crate) struct Events {
     start: Vec<ContactValue>,
     /// Scratch states at a sample.
     at: Vec<ContactValue>,
+    /// States at the end of the candidate step (kept apart from `at`, so
+    /// that locating needs no allocation while no contact is near).
+    end: Vec<ContactValue>,
     /// The located change the current step is fitted to: its time and the
     /// contacts that change there.
     pending: Option<(f64, Vec<usize>)>,
@@ -140,6 +143,7 @@ impl Events {
             v: vec![0.0; asm.coordinates()],
             start: vec![ContactValue::default(); n],
             at: vec![ContactValue::default(); n],
+            end: vec![ContactValue::default(); n],
             pending: None,
             last: Vec::new(),
             now: (f64::NAN, Vec::new()),
@@ -196,14 +200,14 @@ impl Events {
         let (t, h) = (trial.start.t, trial.h);
         // the end of the step, and which contacts need the interior
         self.sample(asm, ws, trial, 1.0);
-        let end = self.at.clone();
-        let frozen = if self.frozen.0 == t { self.frozen.1.clone() } else { Vec::new() };
+        std::mem::swap(&mut self.at, &mut self.end);
+        let frozen = if self.frozen.0 == t { self.frozen.1.as_slice() } else { &[] };
         let watch: Vec<usize> = (0..self.n)
             .filter(|&i| {
                 if frozen.contains(&i) {
                     return false;
                 }
-                let (a, b) = (&self.start[i], &end[i]);
+                let (a, b) = (&self.start[i], &self.end[i]);
                 let reach = 0.5 * h * a.rate.abs().max(b.rate.abs());
                 a.closed || Self::wrong(b) || a.penetration.max(b.penetration) + reach > 0.0
             })
@@ -220,7 +224,7 @@ impl Events {
             if k < SAMPLES {
                 self.sample(asm, ws, trial, s);
             } else {
-                self.at.copy_from_slice(&end);
+                self.at.copy_from_slice(&self.end);
             }
             let bad: Vec<usize> = watch.iter().copied().filter(|&i| Self::wrong(&self.at[i]) && fresh(i, s)).collect();
             if bad.is_empty() {
