@@ -61,8 +61,8 @@ pub use error::{RecordError, SpectrumError};
 pub use formats::{cosmos::parse_cosmos, detect_format, esm::parse_esm, knet::parse_knet, sniff_format};
 pub use oscillator::Oscillator;
 pub use record::{
-    load_record, load_record_from_str, sha256_hex, LoadedRecord, RawRecord, Record, MAX_ACCELERATION_G, MAX_DT,
-    MAX_DURATION, MIN_DT, START_WARNING_FRACTION,
+    load_record, load_record_from_samples, load_record_from_str, sha256_hex, LoadedRecord, RawRecord, Record,
+    MAX_ACCELERATION_G, MAX_DT, MAX_DURATION, MIN_DT, START_WARNING_FRACTION,
 };
 pub use spec::{Format, HeaderUnits, RecordSpec, Units};
 pub use spectrum::{

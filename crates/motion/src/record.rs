@@ -293,6 +293,39 @@ fn units_of(
     }
 }
 
+/// A record from samples held in memory (a numpy array, say): `values` in
+/// the spec's `units` (required: an array cannot say its units) at time
+/// step `dt` [s], converted, scaled (`scale`, `target_pga_g`) and checked
+/// exactly as a file's numbers are. `spec.file` names the samples in
+/// messages; `sha256` is that of the samples' little-endian bytes.
+pub fn load_record_from_samples(spec: &RecordSpec, dt: f64, values: Vec<f64>) -> Result<LoadedRecord, RecordError> {
+    let file = spec.file.display().to_string();
+    if spec.units.is_none() {
+        return Err(RecordError::Spec {
+            file,
+            field: "units",
+            message: "an array cannot say its units: give them with `units` (`g`, `m/s2` or `cm/s2`)".into(),
+        });
+    }
+    RecordSpec { format: Format::Sequence, dt: Some(dt), ..spec.clone() }.validate()?;
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(RecordError::Invalid {
+            name: file,
+            message: format!("sample {i} (t = {} s) is {}, not a finite number", i as f64 * dt, values[i]),
+        });
+    }
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let raw = RawRecord {
+        dt,
+        values,
+        header: Vec::new(),
+        first_time: None,
+        header_units: HeaderUnits::NotInFormat,
+        warnings: Vec::new(),
+    };
+    from_raw(spec, Format::Sequence, raw, sha256_hex(&bytes))
+}
+
 /// Unit conversion, scaling and warnings for a parsed record.
 fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -> Result<LoadedRecord, RecordError> {
     let file = spec.file.display().to_string();

@@ -1,0 +1,373 @@
+//! `Record`, `Spectrum` and `spectrum()`: records from files or arrays and
+//! their exact linear response spectra (the code of `quakejoint record` and
+//! `quakejoint spectrum`).
+
+use std::path::{Path, PathBuf};
+
+use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use quakejoint_motion::{
+    load_record, load_record_from_samples, spectrum_samples, LoadedRecord, RecordStats, SpectrumOptions, SpectrumRow,
+};
+
+use crate::convert::{array_or_scalar, record_spec, SpecFields};
+use crate::input_error;
+
+/// A ground-motion record: acceleration in m/s^2 at a uniform time step,
+/// with how it was read (format, units, scale) and its provenance.
+#[pyclass(name = "Record", module = "quakejoint", frozen)]
+pub struct PyRecord {
+    pub(crate) loaded: LoadedRecord,
+}
+
+#[pymethods]
+impl PyRecord {
+    /// Reads a record file (PEER AT2, ESM, K-NET/KiK-net, COSMOS, CSV or
+    /// text; docs/ground-motions.md) as `quakejoint record` does. Units are
+    /// never guessed: a file whose header does not state them needs `units`
+    /// ("g", "m/s2", "cm/s2" or "gal"). `dt` [s] is for one-column and
+    /// sequence files only, `column` (1-based) for text files; `scale` [-] or
+    /// `target_pga_g` [g] scale the record.
+    #[staticmethod]
+    #[pyo3(signature = (path, *, format=None, units=None, dt=None, column=None, scale=None, target_pga_g=None, name=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn read(
+        py: Python<'_>,
+        path: PathBuf,
+        format: Option<String>,
+        units: Option<String>,
+        dt: Option<f64>,
+        column: Option<usize>,
+        scale: Option<f64>,
+        target_pga_g: Option<f64>,
+        name: Option<String>,
+    ) -> PyResult<Self> {
+        let fields = SpecFields { format, units, dt, column, scale, target_pga_g, name };
+        let spec = record_spec(&path, fields)?;
+        let loaded = py.detach(|| load_record(&spec, Path::new(""))).map_err(input_error)?;
+        Ok(PyRecord { loaded })
+    }
+
+    /// A record from an array of ground accelerations at time step `dt`
+    /// [s], in `units` (required: an array cannot say its units; "g",
+    /// "m/s2", "cm/s2" or "gal"), checked as a file's numbers are (finite,
+    /// at most 5 g, dt from 1e-5 to 1 s).
+    #[staticmethod]
+    #[pyo3(signature = (acceleration, dt, *, units=None, scale=None, target_pga_g=None, name="array".to_string()))]
+    fn from_array(
+        acceleration: PyReadonlyArray1<'_, f64>,
+        dt: f64,
+        units: Option<String>,
+        scale: Option<f64>,
+        target_pga_g: Option<f64>,
+        name: String,
+    ) -> PyResult<Self> {
+        let values = acceleration.as_array().to_vec();
+        let fields = SpecFields { format: None, units, dt: None, column: None, scale, target_pga_g, name: Some(name) };
+        let label = fields.name.clone().unwrap_or_default();
+        let spec = record_spec(Path::new(&label), fields)?;
+        let loaded = load_record_from_samples(&spec, dt, values).map_err(input_error)?;
+        Ok(PyRecord { loaded })
+    }
+
+    /// Ground acceleration [m/s^2] at t = i dt (a copy).
+    #[getter]
+    fn acceleration<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.loaded.record.acceleration)
+    }
+
+    /// Sample times [s], from 0.
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let r = &self.loaded.record;
+        PyArray1::from_vec(py, (0..r.acceleration.len()).map(|i| r.time(i)).collect())
+    }
+
+    /// Time step [s].
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.loaded.record.dt
+    }
+
+    /// Label (the `name` given, else the file stem).
+    #[getter]
+    fn name(&self) -> &str {
+        &self.loaded.record.name
+    }
+
+    /// The file as given ("array" names for arrays).
+    #[getter]
+    fn source(&self) -> &str {
+        &self.loaded.record.source
+    }
+
+    /// Units of the numbers in the file ("g", "m/s2" or "cm/s2").
+    #[getter]
+    fn units(&self) -> &'static str {
+        self.loaded.record.units.name()
+    }
+
+    /// The format the file was read as ("at2", "esm", "knet", ...).
+    #[getter]
+    fn format(&self) -> &'static str {
+        self.loaded.format.name()
+    }
+
+    /// The user's scale factor [-] (`scale`, or the factor that gives
+    /// `target_pga_g`).
+    #[getter]
+    #[allow(clippy::misnamed_getters)] // `scale` is the user's factor, as in the config
+    fn scale(&self) -> f64 {
+        self.loaded.record.user_scale
+    }
+
+    /// Factor from the file's numbers to `acceleration` [m/s^2 per file
+    /// unit]: unit conversion times `scale`.
+    #[getter]
+    fn total_scale(&self) -> f64 {
+        self.loaded.record.scale
+    }
+
+    /// SHA-256 of the file's bytes (of the samples' little-endian bytes
+    /// for an array).
+    #[getter]
+    fn sha256(&self) -> &str {
+        &self.loaded.sha256
+    }
+
+    /// What reading the record raised (a record that does not start near
+    /// zero, say), each naming the file.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.loaded.warnings.clone()
+    }
+
+    /// The file's header lines (AT2, ESM, K-NET, COSMOS).
+    #[getter]
+    fn header(&self) -> Vec<String> {
+        self.loaded.record.header.clone()
+    }
+
+    /// Duration (n - 1) dt [s].
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.loaded.record.duration()
+    }
+
+    /// Peak ground acceleration [m/s^2].
+    #[getter]
+    fn pga(&self) -> f64 {
+        self.loaded.record.pga()
+    }
+
+    /// Statistics in SI units, as `quakejoint record` prints them: dt [s],
+    /// samples, duration [s], pga [m/s^2], pgv [m/s], pgd [m] with their
+    /// times t_pga, t_pgv, t_pgd [s], arias [m/s], d5_95, t5, t95 [s].
+    #[getter]
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = RecordStats::of(&self.loaded.record);
+        let d = PyDict::new(py);
+        d.set_item("dt", s.dt)?;
+        d.set_item("samples", s.samples)?;
+        for (k, v) in [
+            ("duration", s.duration),
+            ("pga", s.pga),
+            ("t_pga", s.t_pga),
+            ("pgv", s.pgv),
+            ("t_pgv", s.t_pgv),
+            ("pgd", s.pgd),
+            ("t_pgd", s.t_pgd),
+            ("arias", s.arias),
+            ("d5_95", s.d5_95),
+            ("t5", s.t5),
+            ("t95", s.t95),
+        ] {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
+    /// The exact linear response spectrum of this record (see
+    /// `quakejoint.spectrum`).
+    #[pyo3(signature = (periods, damping=None, *, subdivisions=0))]
+    fn spectrum(
+        &self,
+        py: Python<'_>,
+        periods: &Bound<'_, PyAny>,
+        damping: Option<&Bound<'_, PyAny>>,
+        subdivisions: u32,
+    ) -> PyResult<PySpectrum> {
+        let r = &self.loaded.record;
+        compute(py, &r.acceleration, r.dt, periods, damping, subdivisions)
+    }
+
+    fn __len__(&self) -> usize {
+        self.loaded.record.acceleration.len()
+    }
+
+    fn __repr__(&self) -> String {
+        let r = &self.loaded.record;
+        format!(
+            "Record(name={:?}, dt={} s, samples={}, duration={:.3} s, pga={:.4} g, units read={:?}, scale={})",
+            r.name,
+            r.dt,
+            r.acceleration.len(),
+            r.duration(),
+            r.pga() / quakejoint_motion::G,
+            r.units.name(),
+            r.user_scale
+        )
+    }
+}
+
+/// An exact linear response spectrum: arrays of shape (len(damping),
+/// len(periods)), SI units.
+#[pyclass(name = "Spectrum", module = "quakejoint", frozen)]
+pub struct PySpectrum {
+    periods: Vec<f64>,
+    dampings: Vec<f64>,
+    rows: Vec<SpectrumRow>,
+}
+
+impl PySpectrum {
+    fn field<'py>(&self, py: Python<'py>, f: impl Fn(&SpectrumRow) -> f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let n = self.periods.len();
+        let rows: Vec<Vec<f64>> = self.rows.chunks(n.max(1)).map(|c| c.iter().map(&f).collect()).collect();
+        PyArray2::from_vec2(py, &rows).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+    }
+}
+
+#[pymethods]
+impl PySpectrum {
+    /// Periods T [s].
+    #[getter]
+    fn periods<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.periods)
+    }
+
+    /// Damping ratios [-].
+    #[getter]
+    fn damping<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.dampings)
+    }
+
+    /// Spectral acceleration: peak absolute acceleration [m/s^2].
+    #[getter]
+    fn sa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.field(py, |r| r.peaks.sa)
+    }
+
+    /// Pseudo-spectral acceleration w^2 Sd [m/s^2].
+    #[getter]
+    fn psa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.field(py, |r| r.peaks.psa)
+    }
+
+    /// Spectral displacement: peak relative displacement [m].
+    #[getter]
+    fn sd<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.field(py, |r| r.peaks.sd)
+    }
+
+    /// Spectral velocity: peak relative velocity [m/s].
+    #[getter]
+    fn sv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.field(py, |r| r.peaks.sv)
+    }
+
+    /// Pseudo-spectral velocity w Sd [m/s].
+    #[getter]
+    fn psv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.field(py, |r| r.peaks.psv)
+    }
+
+    /// Time of Sa [s].
+    #[getter]
+    fn t_sa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.field(py, |r| r.peaks.t_sa)
+    }
+
+    /// Time of Sd [s].
+    #[getter]
+    fn t_sd<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.field(py, |r| r.peaks.t_sd)
+    }
+
+    /// Time of Sv [s].
+    #[getter]
+    fn t_sv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        self.field(py, |r| r.peaks.t_sv)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Spectrum({} periods x {} damping ratios)", self.periods.len(), self.dampings.len())
+    }
+}
+
+/// The exact linear response spectrum of a record, or of an array of
+/// ground accelerations at time step `dt` [s] in `units` (required for an
+/// array), for `periods` [s] and `damping` ratios [-] (a number or a
+/// sequence; default 0.05). The oscillator step is exact for ground
+/// acceleration linear between samples (Nigam and Jennings 1969), the code
+/// of `quakejoint spectrum`; peaks at the sample times, or at
+/// `subdivisions` points per interval.
+#[pyfunction]
+#[pyo3(signature = (record, periods, damping=None, *, dt=None, units=None, subdivisions=0))]
+fn spectrum(
+    py: Python<'_>,
+    record: &Bound<'_, PyAny>,
+    periods: &Bound<'_, PyAny>,
+    damping: Option<&Bound<'_, PyAny>>,
+    dt: Option<f64>,
+    units: Option<String>,
+    subdivisions: u32,
+) -> PyResult<PySpectrum> {
+    if let Ok(r) = record.cast::<PyRecord>() {
+        if dt.is_some() || units.is_some() {
+            return Err(crate::InputError::new_err(
+                "spectrum: `dt` and `units` are for an array; a Record carries its own",
+            ));
+        }
+        let r = &r.get().loaded.record;
+        return compute(py, &r.acceleration, r.dt, periods, damping, subdivisions);
+    }
+    let samples: PyReadonlyArray1<'_, f64> = record.extract().map_err(|_| {
+        crate::InputError::new_err("spectrum: `record` must be a quakejoint.Record or a 1-D array of floats")
+    })?;
+    let Some(dt) = dt else {
+        return Err(crate::InputError::new_err("spectrum: an array needs its time step `dt` [s]"));
+    };
+    let fields = SpecFields { units, ..SpecFields::default() };
+    let spec = record_spec(Path::new("array"), fields)?;
+    let loaded = load_record_from_samples(&spec, dt, samples.as_array().to_vec()).map_err(input_error)?;
+    let r = &loaded.record;
+    compute(py, &r.acceleration, r.dt, periods, damping, subdivisions)
+}
+
+/// The spectrum of samples [m/s^2], GIL released.
+fn compute(
+    py: Python<'_>,
+    accel: &[f64],
+    dt: f64,
+    periods: &Bound<'_, PyAny>,
+    damping: Option<&Bound<'_, PyAny>>,
+    subdivisions: u32,
+) -> PyResult<PySpectrum> {
+    let periods = array_or_scalar(periods, "periods")?;
+    let dampings = match damping {
+        Some(d) => array_or_scalar(d, "damping")?,
+        None => vec![0.05],
+    };
+    let options = SpectrumOptions { subdivisions };
+    let rows = py.detach(|| spectrum_samples(accel, dt, &periods, &dampings, options)).map_err(input_error)?;
+    Ok(PySpectrum { periods, dampings, rows })
+}
+
+/// Adds the record classes and functions to the module.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyRecord>()?;
+    m.add_class::<PySpectrum>()?;
+    m.add_function(wrap_pyfunction!(spectrum, m)?)?;
+    Ok(())
+}

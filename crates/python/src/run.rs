@@ -1,0 +1,365 @@
+//! `simulate()` and `service()`: one coupled earthquake run, or the joint
+//! opened and closed kinematically, on a worker thread with the GIL
+//! released; Ctrl-C (any Python signal handler that raises) stops the run
+//! at its next step.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use crossbeam_channel::RecvTimeoutError;
+use std::time::Duration;
+
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use quakejoint_model::linear::linear_response;
+use quakejoint_model::run::{load_records, run_window, simulate_records, Histories, RunOptions, RunResult};
+use quakejoint_model::service::{service as run_service, ServiceResult};
+use quakejoint_model::{Config, ModelError};
+use quakejoint_motion::{LoadedRecord, G};
+
+use crate::config::PyConfig;
+use crate::record::PyRecord;
+use crate::{config_error, model_error, InputError};
+
+/// How often the waiting thread looks for a pending Python signal.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Runs `work` on a worker thread with the GIL released, checking Python's
+/// signal handlers meanwhile: when one raises (KeyboardInterrupt on
+/// Ctrl-C), `cancel` is set, the worker is joined and the exception
+/// returned.
+fn run_detached<T: Send>(
+    py: Python<'_>,
+    cancel: &Arc<AtomicBool>,
+    work: impl FnOnce() -> Result<T, ModelError> + Send,
+) -> PyResult<T> {
+    std::thread::scope(|s| {
+        let (tx, rx) = crossbeam_channel::bounded(1);
+        s.spawn(move || {
+            // the receiver outlives the scope's threads
+            let _ = tx.send(work());
+        });
+        loop {
+            match py.detach(|| rx.recv_timeout(SIGNAL_POLL)) {
+                Ok(result) => return result.map_err(model_error),
+                Err(RecvTimeoutError::Timeout) => {
+                    if let Err(e) = py.check_signals() {
+                        cancel.store(true, Ordering::Relaxed);
+                        // the run stops at its next step; wait for it
+                        let _ = py.detach(|| rx.recv());
+                        return Err(e);
+                    }
+                }
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(crate::SimulationError::new_err("the run's thread ended without a result"))
+                }
+            }
+        }
+    })
+}
+
+/// The result of one earthquake run: scalars as attributes (SI units),
+/// `history` (a dict of arrays, or None), `impacts_log`, validity.
+#[pyclass(name = "RunResult", module = "quakejoint", frozen)]
+pub struct PyRunResult {
+    scalars: Py<PyDict>,
+    /// Time histories at the output times (the record's sample times): a
+    /// dict of numpy arrays, or None when not asked for.
+    #[pyo3(get)]
+    history: Option<Py<PyDict>>,
+    /// Every contact onset: a list of dicts with time [s], gap, end and
+    /// speed [m/s].
+    #[pyo3(get)]
+    impacts_log: Py<PyList>,
+    /// Names of the validity flags set (empty: valid; ["not_checked"]
+    /// without the joint).
+    #[pyo3(get)]
+    flags: Vec<&'static str>,
+    /// What the flags found, when and where, one sentence each.
+    #[pyo3(get)]
+    findings: Vec<String>,
+    /// Whether the run crossed a limit of the model (a flag other than
+    /// not_checked is set): its numbers are outside what the model can
+    /// stand behind.
+    #[pyo3(get)]
+    flagged: bool,
+}
+
+#[pymethods]
+impl PyRunResult {
+    fn __getattr__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyAny>> {
+        match self.scalars.bind(py).get_item(name)? {
+            Some(v) => Ok(v.unbind()),
+            None => Err(pyo3::exceptions::PyAttributeError::new_err(format!("RunResult has no attribute `{name}`"))),
+        }
+    }
+
+    fn __dir__(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+        let mut names: Vec<String> = self.scalars.bind(py).keys().extract()?;
+        names.extend(["history", "impacts_log", "flags", "findings", "flagged", "as_dict"].map(String::from));
+        Ok(names)
+    }
+
+    /// The scalar results as a dict (one row of a table of runs).
+    fn as_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.scalars.bind(py).copy()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let d = self.scalars.bind(py);
+        let get =
+            |k: &str| -> PyResult<f64> { Ok(d.get_item(k)?.map(|v| v.extract()).transpose()?.unwrap_or(f64::NAN)) };
+        Ok(format!(
+            "RunResult(period={:.4} s, sa={:.5} m/s^2, joint={}, validity={})",
+            get("period")?,
+            get("sa")?,
+            d.get_item("joint")?.map(|v| v.to_string()).unwrap_or_default(),
+            if self.flags.is_empty() { "ok".into() } else { self.flags.join("+") }
+        ))
+    }
+}
+
+/// The scalar results of a run, named as in `quakejoint simulate --json`.
+fn scalars<'py>(py: Python<'py>, r: &RunResult, record: &LoadedRecord) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let rec = &record.record;
+    d.set_item("record", &rec.name)?;
+    d.set_item("record_file", &rec.source)?;
+    d.set_item("record_scale", rec.user_scale)?;
+    d.set_item("record_pga_g", rec.pga() / G)?;
+    d.set_item("joint", !r.exact_linear)?;
+    d.set_item("method", if r.exact_linear { "exact linear" } else { "multibody" })?;
+    d.set_item("validity", r.validity.flags.0)?;
+    d.set_item("validity_label", r.validity.flags.label())?;
+    let numbers = [
+        ("omega", r.omega),
+        ("period", 2.0 * std::f64::consts::PI / r.omega),
+        ("sa", r.sa),
+        ("psa", r.psa),
+        ("sd", r.sd),
+        ("sv", r.sv),
+        ("t_sa", r.t_sa),
+        ("t_sd", r.t_sd),
+        ("t_sv", r.t_sv),
+        ("duration", r.duration),
+        ("wall_time_s", r.wall_time_s),
+        ("cpu_time_s", r.cpu_time_s),
+    ];
+    for (k, v) in numbers {
+        d.set_item(k, v)?;
+    }
+    let nan = f64::NAN;
+    let joint = !r.exact_linear;
+    let j = |v: f64| if joint { v } else { nan };
+    let p = &r.pounding;
+    let joint_numbers = [
+        ("peak_joint_force", r.peak_joint_force),
+        ("peak_bushing_force", r.peak_bushing_force),
+        ("peak_friction_force", r.peak_friction_force),
+        ("friction_energy", r.friction_energy),
+        ("damping_energy", r.damping_energy),
+        ("earthquake_work", r.earthquake_work),
+        ("min_subgap", r.min_subgap.unwrap_or(nan)),
+        ("max_subgap", r.max_subgap.unwrap_or(nan)),
+        ("max_subgap_deviation", r.max_subgap_deviation.unwrap_or(nan)),
+        ("impacts", p.impacts as f64),
+        ("peak_contact_force", p.peak_contact_force),
+        ("peak_contact_time", p.peak_contact_time),
+        ("contact_energy", p.contact_energy),
+        ("peak_deck_contact_force", p.peak_deck_contact_force),
+        ("max_penetration", p.max_penetration),
+        ("energy_error", r.energy_error),
+        ("max_position_residual", r.residuals.position),
+        ("max_angle_residual", r.residuals.angle),
+        ("max_velocity_residual", r.residuals.velocity),
+        ("max_angular_velocity_residual", r.residuals.angular_velocity),
+        ("steps", r.stats.steps as f64),
+        ("rejected_steps", r.stats.rejected as f64),
+        ("newton_iterations", r.stats.newton_iterations as f64),
+    ];
+    for (k, v) in joint_numbers {
+        d.set_item(k, j(v))?;
+    }
+    Ok(d)
+}
+
+/// The histories as a dict of arrays; `without` is the bridge alone's
+/// absolute acceleration over the same window.
+fn history_dict<'py>(py: Python<'py>, h: &Histories, without: Vec<f64>, joint: bool) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let arr = |v: &[f64]| PyArray1::from_slice(py, v);
+    d.set_item("t", arr(&h.t))?;
+    d.set_item("ag", arr(&h.ag))?;
+    d.set_item("u", arr(&h.u))?;
+    d.set_item("v", arr(&h.v))?;
+    d.set_item("a_abs", arr(&h.a_abs))?;
+    d.set_item("a_abs_without_joint", PyArray1::from_vec(py, without))?;
+    if joint {
+        d.set_item("joint_force", arr(&h.joint_force))?;
+        d.set_item("friction_power", arr(&h.friction_power))?;
+        d.set_item("friction_energy", PyArray1::from_vec(py, cumulative(&h.t, &h.friction_power)))?;
+    }
+    let matrix = |m: &[Vec<f64>]| -> PyResult<Bound<'py, PyArray2<f64>>> {
+        PyArray2::from_vec2(py, m).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+    };
+    if !h.center_beam_dx.is_empty() {
+        d.set_item("center_beam_dx", matrix(&h.center_beam_dx)?)?;
+    }
+    if !h.subgaps.is_empty() {
+        d.set_item("subgaps", matrix(&h.subgaps)?)?;
+    }
+    if !h.contact_force.is_empty() {
+        d.set_item("contact_force", matrix(&h.contact_force)?)?;
+    }
+    Ok(d)
+}
+
+/// Running trapezoid integral of `y` over `t`.
+fn cumulative(t: &[f64], y: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(y.len());
+    let mut sum = 0.0;
+    for i in 0..y.len() {
+        if i > 0 {
+            sum += 0.5 * (y[i] + y[i - 1]) * (t[i] - t[i - 1]);
+        }
+        out.push(sum);
+    }
+    out
+}
+
+/// Runs the bridge with the joint (or alone, exactly, with `joint=False`)
+/// under the config's record, or under `record` (a `quakejoint.Record`)
+/// in its place, at the config's bridge period or at `period` [s]. With
+/// `history` (default True) the result holds the time histories: t, ag, u,
+/// v, a_abs, a_abs_without_joint (the bridge alone over the same window),
+/// joint_force, friction_power, friction_energy (its running trapezoid
+/// integral at the output times; the run's exact total is
+/// `friction_energy` of the result), center_beam_dx, subgaps and
+/// contact_force. The GIL is released while the run goes on; Ctrl-C stops
+/// it (KeyboardInterrupt).
+#[pyfunction]
+#[pyo3(signature = (config=None, *, period=None, record=None, joint=true, history=true))]
+fn simulate(
+    py: Python<'_>,
+    config: Option<&PyConfig>,
+    period: Option<f64>,
+    record: Option<&PyRecord>,
+    joint: bool,
+    history: bool,
+) -> PyResult<PyRunResult> {
+    let (mut cfg, base, source) = match config {
+        Some(c) => (c.config.clone(), c.base_dir.clone(), c.source.clone()),
+        None => (Config::default(), std::path::PathBuf::from("."), "config (defaults)".to_string()),
+    };
+    let named = |e: ModelError| config_error(e, &source);
+    if let Some(t) = period {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(InputError::new_err(format!("period = {t} s: must be finite and > 0")));
+        }
+        (cfg.bridge.period, cfg.bridge.w0) = (Some(t), None);
+        cfg.validate().map_err(named)?;
+    }
+    if !joint {
+        cfg.joint.enabled = false;
+    }
+    let (lx, ly) = match record {
+        Some(r) => {
+            let ly = cfg.record_y.as_ref().map(|spec| quakejoint_motion::load_record(spec, &base)).transpose();
+            (r.loaded.clone(), ly.map_err(crate::input_error)?)
+        }
+        None => load_records(&cfg, &base).map_err(named)?,
+    };
+    let window = run_window(&cfg, &lx.record);
+    let omega = cfg.bridge.omega();
+    let result = if joint {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let options = RunOptions { histories: history, cancel: Some(cancel.clone()), ..Default::default() };
+        let (cfg, rx, ry) = (&cfg, &lx.record, ly.as_ref().map(|l| &l.record));
+        run_detached(py, &cancel, || simulate_records(cfg, rx, ry, &options))?
+    } else {
+        linear_response(&window, omega, cfg.bridge.damping, history)
+    };
+    let history = match &result.histories {
+        Some(h) => {
+            let period = 2.0 * std::f64::consts::PI / result.omega;
+            let without = quakejoint_motion::history(&window.acceleration, lx.record.dt, period, cfg.bridge.damping);
+            Some(history_dict(py, h, without.a_abs, joint)?.unbind())
+        }
+        None => None,
+    };
+    let impacts = PyList::empty(py);
+    for i in result.histories.iter().flat_map(|h| &h.impacts) {
+        let d = PyDict::new(py);
+        d.set_item("time", i.time)?;
+        d.set_item("gap", i.place.gap)?;
+        d.set_item("end", i.place.end)?;
+        d.set_item("speed", i.speed)?;
+        impacts.append(d)?;
+    }
+    let flags = result.validity.flags;
+    Ok(PyRunResult {
+        scalars: scalars(py, &result, &lx)?.unbind(),
+        history,
+        impacts_log: impacts.unbind(),
+        flags: flags.names(),
+        findings: result.validity.findings.clone(),
+        flagged: flags.is_flagged(),
+    })
+}
+
+/// The service case: the deck opens and closes the joint kinematically
+/// (`[service]`: speed, amplitude, cycles). Returns a dict: the loop's
+/// arrays t [s], u (deck opening) [m], joint_force [N], center_beam_dx,
+/// center_beam_dy [m] and center_beam_dphi [rad] (beam, time); the work per
+/// cycle [J] of friction, of the bushings' dampers, of impacts and of the
+/// loop (its area), the hand calculation of the friction work and the
+/// compliance deficit [J], peak_joint_force [N], min/max_subgap [m],
+/// energy_error, warnings, flags and findings. GIL released; Ctrl-C
+/// waits for the loop to end.
+#[pyfunction]
+#[pyo3(signature = (config=None))]
+fn service<'py>(py: Python<'py>, config: Option<&PyConfig>) -> PyResult<Bound<'py, PyDict>> {
+    let cfg = config.map(|c| c.config.clone()).unwrap_or_default();
+    let r: ServiceResult = py.detach(|| run_service(&cfg)).map_err(model_error)?;
+    let d = PyDict::new(py);
+    d.set_item("t", PyArray1::from_slice(py, &r.t))?;
+    d.set_item("u", PyArray1::from_slice(py, &r.u))?;
+    d.set_item("joint_force", PyArray1::from_slice(py, &r.joint_force))?;
+    let names = ["center_beam_dx", "center_beam_dy", "center_beam_dphi"];
+    for (name, m) in names.iter().zip(&r.center_beams) {
+        let a = PyArray2::from_vec2(py, m).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        d.set_item(*name, a)?;
+    }
+    let numbers = [
+        ("period", r.period),
+        ("friction_work_per_cycle", r.friction_work_per_cycle),
+        ("loop_work_per_cycle", r.loop_work_per_cycle),
+        ("damping_work_per_cycle", r.damping_work_per_cycle),
+        ("contact_work_per_cycle", r.contact_work_per_cycle),
+        ("hand_calculation", r.hand_calculation),
+        ("compliance_deficit", r.compliance_deficit.unwrap_or(f64::NAN)),
+        ("peak_joint_force", r.peak_joint_force),
+        ("min_subgap", r.min_subgap),
+        ("max_subgap", r.max_subgap),
+        ("energy_error", r.energy_error),
+        ("wall_time_s", r.wall_time_s),
+    ];
+    for (k, v) in numbers {
+        d.set_item(k, v)?;
+    }
+    d.set_item("cycles", r.cycles)?;
+    d.set_item("warnings", r.warnings.clone())?;
+    d.set_item("flags", r.validity.flags.names())?;
+    d.set_item("findings", r.validity.findings.clone())?;
+    d.set_item("flagged", r.validity.flags.is_flagged())?;
+    Ok(d)
+}
+
+/// Adds the run functions to the module.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyRunResult>()?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(service, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,50 @@
+"""quakejoint: how much a modular bridge expansion joint damps its bridge in an earthquake.
+
+The engine of the `quakejoint` command on numpy arrays (SI units throughout):
+
+- `Record.read(path)` / `Record.from_array(a, dt, units=...)`: ground-motion
+  records, units never guessed, with their statistics;
+- `spectrum(record, periods, damping)`: exact linear response spectra (the
+  code of `quakejoint spectrum`, bit for bit);
+- `Config.from_file(path)` / `Config({...})` / `config.replace({...})`:
+  validated model configs;
+- `simulate(config, period=...)`: one coupled earthquake run, scalars and
+  time histories; `service(config)`: the hysteresis loop of the joint;
+- `read_sweep(path)`: a `quakejoint sweep` file as labelled arrays, and
+  `.to_xarray()`.
+
+Errors are `InputError` (bad input: the message names the file, field or
+value) and `SimulationError` (a run that failed), both `quakejoint.Error`.
+"""
+from ._quakejoint import (  # noqa: F401
+    G,
+    Config,
+    Error,
+    InputError,
+    Record,
+    RunResult,
+    SimulationError,
+    Spectrum,
+    __version__,
+    service,
+    simulate,
+    spectrum,
+)
+from .sweep import Sweep, read_sweep  # noqa: F401
+
+__all__ = [
+    "G",
+    "Config",
+    "Error",
+    "InputError",
+    "Record",
+    "RunResult",
+    "SimulationError",
+    "Spectrum",
+    "Sweep",
+    "read_sweep",
+    "service",
+    "simulate",
+    "spectrum",
+    "__version__",
+]

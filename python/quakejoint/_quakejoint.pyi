@@ -1,0 +1,193 @@
+"""Type stubs of the extension module (crates/python). SI units throughout."""
+from os import PathLike
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+#: standard gravity [m/s^2], the unit `g`
+G: float
+
+class Error(Exception):
+    """Base class of the errors of quakejoint."""
+
+class InputError(Error):
+    """Bad input (the command line's exit code 2); the message names the file, field or value."""
+
+class SimulationError(Error):
+    """A run that failed (the command line's exit code 1)."""
+
+_Numbers = Union[float, Sequence[float], npt.NDArray[np.float64]]
+
+class Record:
+    """A ground-motion record: acceleration [m/s^2] at a uniform time step."""
+
+    @staticmethod
+    def read(
+        path: Union[str, PathLike[str]],
+        *,
+        format: Optional[str] = None,
+        units: Optional[str] = None,
+        dt: Optional[float] = None,
+        column: Optional[int] = None,
+        scale: Optional[float] = None,
+        target_pga_g: Optional[float] = None,
+        name: Optional[str] = None,
+    ) -> Record:
+        """Reads a record file (AT2, ESM, K-NET, COSMOS, CSV, text); units from
+        the header or `units` ("g", "m/s2", "cm/s2", "gal"), never guessed."""
+    @staticmethod
+    def from_array(
+        acceleration: npt.NDArray[np.float64],
+        dt: float,
+        *,
+        units: Optional[str] = None,
+        scale: Optional[float] = None,
+        target_pga_g: Optional[float] = None,
+        name: str = "array",
+    ) -> Record:
+        """A record from samples in `units` (required) at time step `dt` [s]."""
+    @property
+    def acceleration(self) -> npt.NDArray[np.float64]:
+        """Ground acceleration [m/s^2] (a copy)."""
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Sample times [s] from 0."""
+    @property
+    def dt(self) -> float:
+        """Time step [s]."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def source(self) -> str:
+        """The file as given."""
+    @property
+    def units(self) -> str:
+        """Units of the numbers in the file."""
+    @property
+    def format(self) -> str:
+        """The format the file was read as."""
+    @property
+    def scale(self) -> float:
+        """The user's scale factor [-]."""
+    @property
+    def total_scale(self) -> float:
+        """Factor from the file's numbers to `acceleration` [m/s^2 per file unit]."""
+    @property
+    def sha256(self) -> str: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    @property
+    def header(self) -> list[str]: ...
+    @property
+    def duration(self) -> float:
+        """(n - 1) dt [s]."""
+    @property
+    def pga(self) -> float:
+        """Peak ground acceleration [m/s^2]."""
+    @property
+    def stats(self) -> dict[str, float]:
+        """dt, samples, duration [s], pga [m/s^2], pgv [m/s], pgd [m], their times, arias [m/s], d5_95, t5, t95 [s]."""
+    def spectrum(self, periods: _Numbers, damping: Optional[_Numbers] = None, *, subdivisions: int = 0) -> Spectrum:
+        """The exact linear response spectrum (see `spectrum`)."""
+    def __len__(self) -> int: ...
+
+class Spectrum:
+    """Exact linear spectrum; arrays of shape (len(damping), len(periods))."""
+
+    @property
+    def periods(self) -> npt.NDArray[np.float64]:
+        """[s]"""
+    @property
+    def damping(self) -> npt.NDArray[np.float64]:
+        """[-]"""
+    @property
+    def sa(self) -> npt.NDArray[np.float64]:
+        """Peak absolute acceleration [m/s^2]."""
+    @property
+    def psa(self) -> npt.NDArray[np.float64]:
+        """w^2 Sd [m/s^2]."""
+    @property
+    def sd(self) -> npt.NDArray[np.float64]:
+        """Peak relative displacement [m]."""
+    @property
+    def sv(self) -> npt.NDArray[np.float64]:
+        """Peak relative velocity [m/s]."""
+    @property
+    def psv(self) -> npt.NDArray[np.float64]:
+        """w Sd [m/s]."""
+    @property
+    def t_sa(self) -> npt.NDArray[np.float64]:
+        """[s]"""
+    @property
+    def t_sd(self) -> npt.NDArray[np.float64]:
+        """[s]"""
+    @property
+    def t_sv(self) -> npt.NDArray[np.float64]:
+        """[s]"""
+
+def spectrum(
+    record: Union[Record, npt.NDArray[np.float64]],
+    periods: _Numbers,
+    damping: Optional[_Numbers] = None,
+    *,
+    dt: Optional[float] = None,
+    units: Optional[str] = None,
+    subdivisions: int = 0,
+) -> Spectrum:
+    """Exact linear response spectrum of a record, or of an array at `dt` [s] in `units`; damping default 0.05."""
+
+class Config:
+    """A validated model config; relative record paths are read from `base_dir`."""
+
+    def __init__(self, tables: Optional[dict[str, Any]] = None, *, base_dir: Union[str, PathLike[str]] = ".") -> None:
+        """From a dict of the TOML file's tables; every default without one."""
+    @staticmethod
+    def from_file(path: Union[str, PathLike[str]]) -> Config: ...
+    @staticmethod
+    def from_toml(text: str, *, base_dir: Union[str, PathLike[str]] = ".", source: str = "config (text)") -> Config: ...
+    def replace(self, changes: dict[str, Any]) -> Config:
+        """A copy with dotted keys ({"bridge.mass": 2e8}) or nested dicts changed, validated again."""
+    def to_dict(self) -> dict[str, Any]: ...
+    def to_toml(self) -> str: ...
+    @property
+    def base_dir(self) -> str: ...
+    @property
+    def source(self) -> str: ...
+    @property
+    def period(self) -> float:
+        """The bridge's natural period [s]."""
+    @property
+    def joint(self) -> bool: ...
+
+class RunResult:
+    """One earthquake run. Scalars as attributes, named as in `quakejoint simulate --json`:
+    period [s], omega [rad/s], sa, psa [m/s^2], sd [m], sv [m/s], t_sa, t_sd, t_sv [s],
+    peak_joint_force, peak_bushing_force, peak_friction_force [N], friction_energy,
+    damping_energy, earthquake_work, contact_energy [J], min_subgap, max_subgap,
+    max_subgap_deviation, max_penetration [m], impacts, peak_contact_force,
+    peak_deck_contact_force [N], peak_contact_time [s], energy_error [-], steps,
+    rejected_steps, newton_iterations, wall_time_s, cpu_time_s, duration [s], record,
+    record_pga_g, joint, method, validity, validity_label (NaN: not computed)."""
+
+    history: Optional[dict[str, npt.NDArray[np.float64]]]
+    impacts_log: list[dict[str, float]]
+    flags: list[str]
+    findings: list[str]
+    flagged: bool
+    def as_dict(self) -> dict[str, Any]: ...
+    def __getattr__(self, name: str) -> Any: ...
+
+def simulate(
+    config: Optional[Config] = None,
+    *,
+    period: Optional[float] = None,
+    record: Optional[Record] = None,
+    joint: bool = True,
+    history: bool = True,
+) -> RunResult:
+    """One coupled earthquake run (or the bridge alone, exactly, with joint=False); GIL released, Ctrl-C stops it."""
+
+def service(config: Optional[Config] = None) -> dict[str, Any]:
+    """The service loop: t, u, joint_force, center-beam motions, works per cycle [J], validity."""

@@ -1,0 +1,181 @@
+"""Sweep files (`quakejoint sweep`, `quakejoint merge`) as labelled arrays.
+
+A job is one (case, record, damping, period); results with the joint have
+the dimensions ("case", "record", "damping", "period"), the exact spectra
+without it ("record", "damping", "period"). Layout: docs/hdf5-layout.md.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from ._quakejoint import InputError
+
+#: dimensions of the results with the joint
+DIMS = ("case", "record", "damping", "period")
+#: the `not_checked` bit of the validity flags
+NOT_CHECKED = 1 << 15
+#: status codes of /spectrum/with_joint/status
+STATUS = {0: "ok", 1: "simulation failed", 2: "invalid parameters", 3: "time or step limit", -1: "not run"}
+
+
+@dataclass
+class Sweep:
+    """The results of a sweep file.
+
+    `with_joint[name]` has shape (case, record, damping, period) and
+    `without_joint[name]` (record, damping, period); `units[name]` gives the
+    units. `status` (0 ok, 1 failed, 2 invalid parameters, 3 time or step
+    limit, -1 not run), `message` (why a job failed), `validity` (bit set,
+    `flag_names`), `findings` and `reduction` = 1 - Sa with / Sa without.
+    Jobs that failed or did not run hold NaN. `complete` is False for a
+    checkpoint of a running sweep, an interrupted one or a partial merge.
+    """
+
+    path: str
+    cases: list[str]
+    records: list[str]
+    damping: np.ndarray
+    periods: np.ndarray
+    with_joint: dict[str, np.ndarray]
+    without_joint: dict[str, np.ndarray]
+    units: dict[str, str]
+    status: np.ndarray
+    message: np.ndarray
+    validity: np.ndarray
+    findings: np.ndarray
+    reduction: np.ndarray
+    flag_names: list[tuple[int, str]]
+    attrs: dict = field(default_factory=dict)
+
+    @property
+    def complete(self) -> bool:
+        """Whether every job in the file's scope has a result."""
+        return bool(self.attrs.get("complete", 0))
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Jobs that finished inside the model's validity."""
+        return (self.status == 0) & ((self.validity.astype(np.int64) & ~NOT_CHECKED) == 0)
+
+    @property
+    def flagged(self) -> np.ndarray:
+        """Jobs that finished outside what the model can stand behind."""
+        return (self.status == 0) & ((self.validity.astype(np.int64) & ~NOT_CHECKED) != 0)
+
+    @property
+    def failed(self) -> np.ndarray:
+        """Jobs that ran and failed (see `message`)."""
+        return (self.status != 0) & (self.status != -1)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """A result with the joint (`sweep["sa"]`), or `reduction`."""
+        if name == "reduction":
+            return self.reduction
+        try:
+            return self.with_joint[name]
+        except KeyError:
+            raise KeyError(f"{self.path}: no result `{name}` (there are {', '.join(sorted(self.with_joint))})") from None
+
+    def index(self, case=None, record=None, damping=None) -> tuple:
+        """The (case, record, damping) index of labels: a case or record name
+        or position, a damping ratio; None for the only one there is."""
+
+        def pick(dim, labels, value):
+            if value is None:
+                if len(labels) != 1:
+                    raise InputError(f"{self.path}: there are {len(labels)} {dim}s ({list(labels)}); name one")
+                return 0
+            if isinstance(value, (int, np.integer)) and dim != "damping":
+                return int(value)
+            matches = [i for i, v in enumerate(labels) if (np.isclose(v, value) if dim == "damping" else v == value)]
+            if not matches:
+                raise InputError(f"{self.path}: no {dim} {value!r} (there are {list(labels)})")
+            return matches[0]
+
+        return (
+            pick("case", self.cases, case),
+            pick("record", self.records, record),
+            pick("damping", list(self.damping), damping),
+        )
+
+    def to_xarray(self):
+        """The results as an xarray.Dataset with coordinates case, record,
+        damping and period (needs xarray: `pip install xarray`)."""
+        try:
+            import xarray as xr
+        except ImportError as e:
+            raise ImportError("Sweep.to_xarray needs xarray: pip install xarray") from e
+        coords = {"case": self.cases, "record": self.records, "damping": self.damping, "period": self.periods}
+        data = {}
+        for name, a in self.with_joint.items():
+            data[f"{name}_with_joint" if name in self.without_joint else name] = (
+                DIMS,
+                a,
+                {"units": self.units.get(name, "")},
+            )
+        for name, a in self.without_joint.items():
+            data[f"{name}_without_joint"] = (DIMS[1:], a, {"units": self.units.get(name, "")})
+        data["reduction"] = (DIMS, self.reduction, {"units": "1"})
+        data["status"] = (DIMS, self.status)
+        data["validity"] = (DIMS, self.validity)
+        data["message"] = (DIMS, self.message)
+        data["findings"] = (DIMS, self.findings)
+        return xr.Dataset(data, coords=coords, attrs={k: v for k, v in self.attrs.items() if k != "config_file"})
+
+
+def _text(values) -> np.ndarray:
+    return np.array([v.decode() if isinstance(v, bytes) else str(v) for v in np.ravel(values)], dtype=object).reshape(
+        np.shape(values)
+    )
+
+
+def _flag_names(meaning: str) -> list[tuple[int, str]]:
+    pairs = []
+    for part in meaning.split(";")[-1].split(","):
+        bit, _, name = part.strip().partition(" ")
+        if bit.isdigit():
+            pairs.append((int(bit), name))
+    return pairs
+
+
+def read_sweep(path) -> Sweep:
+    """Reads a sweep or merge file (`quakejoint sweep --output path`)."""
+    path = str(path)
+    if not Path(path).exists():
+        raise InputError(f"{path}: no such file")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise InputError(f"{path}: not an HDF5 file ({e})") from None
+    with f:
+        if f.attrs.get("kind") != "sweep" or "spectrum" not in f:
+            kind = f.attrs.get("kind", "unknown")
+            raise InputError(f"{path}: not a sweep file (kind `{kind}`; `quakejoint sweep` writes one)")
+        s = f["spectrum"]
+        wj, woj = s["with_joint"], s["without_joint"]
+        special = {"status", "message", "validity", "findings"}
+        with_joint = {k: wj[k][()] for k in wj if k not in special}
+        without_joint = {k: woj[k][()] for k in woj}
+        units = {k: str(wj[k].attrs.get("units", "")) for k in wj if k not in special}
+        units.update({k: str(woj[k].attrs.get("units", "")) for k in woj})
+        return Sweep(
+            path=path,
+            cases=list(_text(s["case"][()])),
+            records=list(_text(s["record"][()])),
+            damping=s["damping"][()],
+            periods=s["period"][()],
+            with_joint=with_joint,
+            without_joint=without_joint,
+            units=units,
+            status=wj["status"][()],
+            message=_text(wj["message"][()]),
+            validity=wj["validity"][()],
+            findings=_text(wj["findings"][()]),
+            reduction=s["reduction"][()],
+            flag_names=_flag_names(str(wj["validity"].attrs.get("meaning", ""))),
+            attrs={k: (v.item() if hasattr(v, "item") else v) for k, v in f.attrs.items()},
+        )

@@ -1,0 +1,71 @@
+"""Shared fixtures: the checkout, the `quakejoint` command built from it
+(the Python package is checked against it) and small real outputs."""
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+RECORD = ROOT / "ground_motions" / "RSN753_LOMAP_CLS090-hor2.AT2"
+
+
+@pytest.fixture(scope="session")
+def cli():
+    """Path of the command-line program (QUAKEJOINT_BIN, else built with cargo)."""
+    path = os.environ.get("QUAKEJOINT_BIN")
+    if path:
+        return Path(path)
+    subprocess.run(["cargo", "build", "-q", "-p", "quakejoint"], cwd=ROOT, check=True)
+    return ROOT / "target" / "debug" / "quakejoint"
+
+
+def run_cli(cli, *args, check=True):
+    """Runs the command; returns (exit code, stdout, stderr)."""
+    p = subprocess.run([str(cli), *map(str, args)], capture_output=True, text=True, cwd=ROOT)
+    if check and p.returncode not in (0, 4):
+        raise AssertionError(f"quakejoint {' '.join(map(str, args))} exited {p.returncode}: {p.stderr}")
+    return p.returncode, p.stdout, p.stderr
+
+
+def cli_json(cli, *args):
+    return json.loads(run_cli(cli, *args, "--json")[1])
+
+
+SHORT_SMALL = f"""
+[joint]
+center_beams = 3
+[[joint.support_beams]]
+kind = "guide"
+y = -7.2
+[[joint.support_beams]]
+kind = "joist"
+y = -1.0
+angle_deg = 13.0
+[[joint.support_beams]]
+kind = "joist"
+y = 5.0
+angle_deg = 17.0
+[record]
+file = "{RECORD}"
+scale = 0.3
+[simulation]
+duration = 4.0
+"""
+
+
+@pytest.fixture(scope="session")
+def short_config(tmp_path_factory):
+    """The small (3-beam) joint under 4 s of Corralitos at 0.3 times its strength."""
+    path = tmp_path_factory.mktemp("configs") / "short.toml"
+    path.write_text(SHORT_SMALL)
+    return path
+
+
+@pytest.fixture(scope="session")
+def quick_sweep(cli, tmp_path_factory):
+    """configs/quick.toml swept by the command line (16 jobs, histories at one period)."""
+    out = tmp_path_factory.mktemp("sweep") / "quick.h5"
+    run_cli(cli, "sweep", ROOT / "configs" / "quick.toml", "--output", out, "--progress", "none")
+    return out

@@ -1,0 +1,110 @@
+"""Coupled runs from Python: the command line's numbers bit for bit, the
+bridge alone against the exact spectrum, the GIL released, Ctrl-C."""
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import quakejoint as qj
+
+from conftest import ROOT, cli_json
+
+
+@pytest.fixture(scope="module")
+def run(short_config):
+    return qj.simulate(qj.Config.from_file(short_config), period=1.2)
+
+
+def test_a_run_equals_the_command_lines_bit_for_bit(cli, short_config, run):
+    expect = cli_json(cli, "simulate", short_config, "--period", "1.2")
+    for key in ("sa", "psa", "sd", "sv", "t_sa", "peak_joint_force", "friction_energy", "earthquake_work",
+                "min_subgap", "max_subgap", "energy_error", "steps", "newton_iterations"):
+        assert getattr(run, key) == expect[key], key
+    assert run.flags == expect["flags"] and run.validity == expect["validity"]
+
+
+def test_histories_hold_the_peaks_and_close_the_energy(run):
+    h = run.history
+    n = len(h["t"])
+    assert h["t"][-1] == pytest.approx(4.0)
+    assert np.abs(h["a_abs"]).max() == run.sa  # peaks at the sample times
+    assert h["subgaps"].shape == (4, n) and h["center_beam_dx"].shape == (3, n)
+    assert h["joint_force"].shape == (n,)
+    # the running integral of the sampled friction power approaches the
+    # run's exact dissipation (which is integrated inside every step)
+    assert h["friction_energy"][-1] == pytest.approx(run.friction_energy, rel=2e-2)
+    assert run.energy_error < 1e-6
+
+
+def test_the_bridge_alone_is_the_exact_linear_spectrum(short_config, run):
+    alone = qj.simulate(qj.Config.from_file(short_config), period=1.2, joint=False)
+    assert alone.joint is False and alone.flags == ["not_checked"] and np.isnan(alone.peak_joint_force)
+    rec = qj.Record.read(ROOT / "ground_motions" / "RSN753_LOMAP_CLS090-hor2.AT2", scale=0.3)
+    window = rec.acceleration[: int(round(4.0 / rec.dt)) + 1]
+    exact = qj.spectrum(window, [1.2], 0.05, dt=rec.dt, units="m/s2")
+    assert alone.sa == exact.sa[0, 0]
+    # the with-joint run carries the same exact response for comparison
+    assert np.abs(run.history["a_abs_without_joint"]).max() == alone.sa
+
+
+def test_a_record_object_replaces_the_configs(short_config):
+    rec = qj.Record.read(ROOT / "ground_motions" / "RSN753_LOMAP_CLS090-hor2.AT2", scale=0.1)
+    r = qj.simulate(qj.Config.from_file(short_config), period=1.2, record=rec, history=False)
+    assert r.history is None and r.record_scale == 0.1
+
+
+def test_the_gil_is_released_while_a_run_goes_on():
+    # the reference joint over 3 s of its record: a few tenths of a second
+    config = qj.Config.from_file(ROOT / "configs" / "paper.toml").replace({"simulation.duration": 3.0})
+    done = threading.Event()
+    result = {}
+
+    def work():
+        result["run"] = qj.simulate(config, period=0.8, history=False)
+        done.set()
+
+    thread = threading.Thread(target=work)
+    thread.start()
+    ticks = 0
+    while not done.is_set():
+        ticks += 1  # pure Python: runs only if the run let go of the GIL
+        time.sleep(0.001)
+    thread.join()
+    # holding the GIL, the run would leave this loop a tick or two; free,
+    # it ticks about once a millisecond of the run
+    wall = result["run"].wall_time_s
+    assert wall > 0.05 and ticks > 0.3 * wall / 1e-3, (ticks, wall)
+
+
+def test_ctrl_c_stops_a_run():
+    code = (
+        "import quakejoint as qj, sys; print('start', flush=True); "
+        f"qj.simulate(qj.Config.from_file({str(ROOT / 'configs' / 'paper.toml')!r}))"
+    )
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "start"
+    time.sleep(1.0)
+    sent = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=30)
+    assert time.monotonic() - sent < 5.0
+    assert p.returncode != 0 and "KeyboardInterrupt" in err
+
+
+def test_a_failed_run_is_a_simulation_error(short_config):
+    config = qj.Config.from_file(short_config).replace({"simulation.max_steps": 5})
+    with pytest.raises(qj.SimulationError, match="step"):
+        qj.simulate(config, history=False)
+
+
+def test_the_service_loop(short_config):
+    loop = qj.service(qj.Config.from_file(ROOT / "configs" / "small.toml").replace({"service.cycles": 2}))
+    assert loop["u"].shape == loop["joint_force"].shape == loop["t"].shape
+    assert loop["center_beam_dx"].shape[0] == 3
+    # the loop's area is what friction, dampers and impacts dissipate
+    dissipated = loop["friction_work_per_cycle"] + loop["damping_work_per_cycle"] + loop["contact_work_per_cycle"]
+    assert loop["loop_work_per_cycle"] == pytest.approx(dissipated, rel=1e-2)
