@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def main(src, dst):
+def figure(src):
     with open(src) as f:
         model = json.load(f)
     g = model["geometry"]
@@ -49,7 +49,11 @@ def main(src, dst):
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     ax.set_aspect("equal")
     fig.tight_layout()
-    fig.savefig(dst, dpi=120)
+    return fig
+
+
+def main(src, dst):
+    figure(src).savefig(dst, dpi=120)
 
 
 if __name__ == "__main__":

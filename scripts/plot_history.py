@@ -1,18 +1,28 @@
 #!/usr/bin/env python3
-"""The deck's absolute acceleration with and without the joint against time,
-and the joint's clear sub-gaps.
+"""Time histories of runs: the deck's acceleration with and without the
+joint and their difference, the joint's force, its sub-gaps and, when its
+beams pound, the contact forces.
 
-    python3 scripts/plot_history.py run.h5 [output.png] [--window T0 T1]
+    python3 scripts/plot_history.py run.h5 [output.png] [--window T0 T1] [--g]
 
-Reads a `quakejoint simulate --output run.h5` file (histories with the joint
-and the exact linear response without it) or every stored history of a
-sweep file (`/histories/job_*`), like Figure 12 of the source paper; a run
-outside the model's validity (a collision, say) says so in its title. The
-middle panel shows the clear sub-gaps (the smaller of the two beam ends)
-against time, with zero, where neighbouring beams touch, marked; the right
-one the contact force across each sub-gap when the beams pound. Writes
-run_history.png beside the input unless an output name is given;
-`--window 2 8` shows only 2 s to 8 s (impacts last milliseconds). Headless.
+Reads a `quakejoint simulate --output run.h5` file or every stored history
+of a sweep file (`/histories/job_*`, in job order). One column per run,
+panels sharing the time axis:
+1. the deck's absolute acceleration with the joint and without it (the
+   exact linear response over the same window), like Figure 12 of the
+   source paper;
+2. their difference, with - without: the joint's effect, which the first
+   panel cannot show when it is a fraction of a percent;
+3. the force of the joint on the deck;
+4. the clear sub-gaps (abutment side first), zero, where beams touch,
+   marked;
+5. the largest contact force across each sub-gap per time step (only for
+   runs with contacts).
+A run without the joint (`simulate --no-joint`) shows the bridge alone and
+says so; a run outside the model's validity says so in red in its title.
+`--window 2 8` shows 2 s to 8 s (impacts last milliseconds); `--g` gives
+accelerations in g. Writes run_history.png beside the input unless an
+output name is given. Headless (Agg).
 """
 import argparse
 import sys
@@ -20,100 +30,129 @@ from pathlib import Path
 
 import h5py
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-# the `not_checked` bit of the validity flags
-NOT_CHECKED = 1 << 15
+from plotlib import NOT_CHECKED, accel_units, text  # noqa: E402
 
 
 def flagged(attrs):
     """' -- FLAGGED: collision' for a run outside the model's validity, else ''."""
     if "validity" in attrs and int(attrs["validity"]) & ~NOT_CHECKED:
-        return f" -- FLAGGED: {attrs['validity_label']}"
+        return f" -- FLAGGED: {text(attrs['validity_label'])}"
     return ""
 
 
-def panels(f):
+def series(g):
+    """The arrays of one run's history group (None where absent)."""
+    get = lambda k: g[k][:] if k in g else None  # noqa: E731
+    return {k: get(k) for k in ("t", "a_abs", "a_abs_without_joint", "joint_force", "subgaps", "contact_force")}
+
+
+def runs(f):
+    """(title, joint, series) of every run in a file."""
     if "history" in f:
-        h = f["history"]
-        record = f["inputs/records/x"].attrs["name"]
-        title = f"{record}, T = {f['result/period'][()]:.4g} s" + flagged(f.attrs)
-        gaps = h["subgaps"][:] if "subgaps" in h else None
-        forces = h["contact_force"][:] if "contact_force" in h else None
-        yield title, h["t"][:], h["a_abs"][:], h["a_abs_without_joint"][:], gaps, forces
+        record = text(f["inputs/records/x"].attrs["name"])
+        joint = not text(f.attrs.get("method", "multibody")).startswith("exact")
+        what = "" if joint else " -- bridge alone (--no-joint), exact linear"
+        title = f"{record}, T = {f['result/period'][()]:.4g} s{what}" + flagged(f.attrs)
+        yield title, joint, series(f["history"])
     jobs = f.get("histories", {})
-    # in the sweep's job order (job_10 after job_9)
-    for name in sorted(jobs, key=lambda n: int(n.rsplit("_", 1)[-1]) if n.rsplit("_", 1)[-1].isdigit() else n):
+    number = lambda n: int(n.rsplit("_", 1)[-1]) if n.rsplit("_", 1)[-1].isdigit() else -1  # noqa: E731
+    for name in sorted(jobs, key=number):
         g = jobs[name]
-        title = f"{g.attrs['case']} / {g.attrs['record']} / damping {g['damping'][()]:g} / T = {g['period'][()]:.4g} s"
-        gaps = g["subgaps"][:] if "subgaps" in g else None
-        forces = g["contact_force"][:] if "contact_force" in g else None
-        yield title + flagged(g.attrs), g["t"][:], g["a_abs"][:], g["a_abs_without_joint"][:], gaps, forces
+        title = (
+            f"{text(g.attrs['case'])} / {text(g.attrs['record'])} / damping {g['damping'][()]:g} / "
+            f"T = {g['period'][()]:.4g} s"
+        )
+        yield title + flagged(g.attrs), True, series(g)
 
 
-def contact_panel(ax, t, forces):
-    """Contact force across each sub-gap against time (an empty panel says
-    there was no contact or no pounding)."""
-    if forces is None or len(forces) == 0:
-        ax.text(0.5, 0.5, "no contact in this model", ha="center", va="center", transform=ax.transAxes)
-        ax.set_axis_off()
-        return
-    if not forces.any():
-        ax.text(0.5, 0.5, "no pounding: no sub-gap closed", ha="center", va="center", transform=ax.transAxes)
-    closed = [k for k, f in enumerate(forces) if f.any()]
-    for k in closed:
-        ax.plot(t, 1e-3 * forces[k], lw=0.8, label=f"sub-gap {k + 1}")
-    ax.set_title("contact force across each sub-gap (pounding; peak per time step)", fontsize=9)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("contact force [kN]")
-    if 0 < len(closed) <= 8:
-        ax.legend(fontsize=7, ncol=2)
-    elif closed:
-        ax.text(0.98, 0.95, f"{len(closed)} of {len(forces)} sub-gaps closed", ha="right", va="top",
-                transform=ax.transAxes, fontsize=8)
-    ax.grid(True, alpha=0.3)
+def note(ax, message):
+    ax.text(0.5, 0.5, message, ha="center", va="center", transform=ax.transAxes, fontsize=9, color="0.3")
+    ax.set_yticks([])
 
 
-def main(src, dst=None, window=None):
+def figure(src, window=None, in_g=False):
     with h5py.File(src, "r") as f:
-        items = list(panels(f))
+        items = list(runs(f))
     if not items:
-        sys.exit(f"{src}: no time histories (simulate --output, or sweep.histories in a sweep)")
+        raise SystemExit(f"{src}: no time histories (simulate --output, or sweep.histories in a sweep)")
+    k, unit = accel_units(in_g)
+    contacts = any(s["contact_force"] is not None for _, _, s in items)
+    # runs without the joint (simulate --no-joint) have the first panel only
+    nrows = (5 if contacts else 4) if any(joint for _, joint, _ in items) else 1
     fig, axes = plt.subplots(
-        len(items), 3, figsize=(18, 3.4 * len(items)), squeeze=False, gridspec_kw={"width_ratios": [3, 2, 2]}
+        nrows, len(items), figsize=(7.5 * len(items), 2.3 * nrows + 0.6), squeeze=False, sharex="col"
     )
-    for (ax, axg, axf), (title, t, with_joint, without, gaps, forces) in zip(axes, items):
-        ax.plot(t, without, color="0.5", lw=0.9, label="without joint")
-        ax.plot(t, with_joint, color="tab:red", lw=0.7, label="with joint")
-        ax.set_title(title, fontsize=9, color="k" if "FLAGGED" not in title else "tab:red")
-        ax.set_xlabel("t [s]")
-        ax.set_ylabel("deck absolute acceleration [m/s$^2$]")
-        ax.legend(fontsize=8)
-        ax.grid(True, alpha=0.3)
-        contact_panel(axf, t, forces)
-        if gaps is None or len(gaps) == 0:
-            axg.set_axis_off()
+    for col, (title, joint, s) in enumerate(items):
+        ax = axes[0, col]
+        t = s["t"]
+        ax.plot(t, k * s["a_abs_without_joint"], color="0.45", lw=0.9, label="without joint (exact)")
+        if joint:
+            ax.plot(t, k * s["a_abs"], color="tab:red", lw=0.7, label="with joint")
+        ax.set_title(title, fontsize=9, color="tab:red" if "FLAGGED" in title else "k")
+        ax.set_ylabel(f"deck abs. acc. [{unit}]")
+        ax.legend(fontsize=7, loc="upper right")
+        for a in axes[:, col]:
+            a.grid(True, alpha=0.3)
+        axes[-1, col].set_xlabel("t [s]")
+        if window:
+            ax.set_xlim(*window)
+        if nrows == 1:
             continue
-        for k, g in enumerate(gaps):
-            axg.plot(t, 1e3 * g, lw=0.7, label=f"sub-gap {k + 1}" if len(gaps) <= 8 else None)
-        axg.axhline(0, color="k", lw=1.0, ls="--")
-        axg.set_title("clear sub-gaps (abutment side first); below 0: beams touch", fontsize=9)
-        axg.set_xlabel("t [s]")
-        axg.set_ylabel("clear sub-gap [mm]")
-        if len(gaps) <= 8:
-            axg.legend(fontsize=7, ncol=2)
-        axg.grid(True, alpha=0.3)
-    if window:
-        for row in axes:
-            for a in row:
-                if a.axison:
-                    a.set_xlim(*window)
+        axd, axf, axg = axes[1:4, col]
+        if joint:
+            diff = k * (s["a_abs"] - s["a_abs_without_joint"])
+            axd.plot(t, diff, color="tab:purple", lw=0.7, label="with - without")
+            peak = np.abs(s["a_abs_without_joint"]).max()
+            axd.set_title(
+                f"difference: largest {np.abs(diff).max():.3g} {unit.replace('$', '')}, "
+                f"{100 * np.abs(diff).max() / (k * peak):.2g} % of the peak without the joint",
+                fontsize=8,
+            )
+            axf.plot(t, 1e-3 * s["joint_force"], color="tab:green", lw=0.7)
+            axf.set_title("force of the joint on the deck", fontsize=8)
+        else:
+            note(axd, "no joint in this run: nothing to compare")
+            note(axf, "no joint in this run")
+        axd.set_ylabel(f"difference [{unit}]")
+        axf.set_ylabel("joint force [kN]")
+        gaps = s["subgaps"]
+        if gaps is None or len(gaps) == 0:
+            note(axg, "no sub-gaps (no joint)")
+        else:
+            for i, g in enumerate(gaps):
+                axg.plot(t, 1e3 * g, lw=0.7, color=f"C{i % 10}", label=f"sub-gap {i + 1}" if len(gaps) <= 8 else None)
+            axg.axhline(0, color="k", lw=1.0, ls="--", label="beams touch")
+            axg.set_title("clear sub-gaps, abutment side first", fontsize=8)
+            axg.legend(fontsize=6, ncol=3, loc="upper right")
+        axg.set_ylabel("sub-gap [mm]")
+        if contacts:
+            axc = axes[4, col]
+            forces = s["contact_force"]
+            if forces is None or len(forces) == 0:
+                note(axc, "no contacts in this model")
+            elif not forces.any():
+                note(axc, "no pounding: no sub-gap closed")
+            else:
+                closed = [i for i, fc in enumerate(forces) if fc.any()]
+                for i in closed:
+                    axc.plot(t, 1e-3 * forces[i], lw=0.8, color=f"C{i % 10}", label=f"sub-gap {i + 1}")
+                axc.legend(fontsize=6, ncol=3, loc="upper right")
+                axc.set_title(f"contact force, peak per time step ({len(closed)} of {len(forces)} sub-gaps closed)",
+                              fontsize=8)
+            axc.set_ylabel("contact force [kN]")
     fig.tight_layout()
+    return fig
+
+
+def main(src, dst=None, window=None, in_g=False):
+    fig = figure(src, window, in_g)
     out = dst or str(Path(src).with_name(Path(src).stem + "_history.png"))
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=100)
     print(out)
 
 
@@ -122,7 +161,11 @@ if __name__ == "__main__":
     parser.add_argument("input", help="simulate or sweep HDF5 file")
     parser.add_argument("output", nargs="?", help="PNG to write (default: beside the input)")
     parser.add_argument("--window", nargs=2, type=float, metavar=("T0", "T1"), help="time window [s]")
+    parser.add_argument("--g", action="store_true", help="accelerations in g instead of m/s^2")
     args = parser.parse_args()
     if args.window and not args.window[0] < args.window[1]:
         parser.error(f"--window {args.window[0]:g} {args.window[1]:g}: T0 must be below T1")
-    main(args.input, args.output, args.window)
+    try:
+        main(args.input, args.output, args.window, args.g)
+    except SystemExit as e:
+        sys.exit(e.code)

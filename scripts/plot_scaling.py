@@ -18,7 +18,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def main(src="target/bench-runs/scaling.json", dst="docs/figures/scaling.png"):
+def figure(src):
     rows = json.loads(Path(src).read_text())
     if not rows:
         raise SystemExit(f"{src}: no rows")
@@ -38,6 +38,11 @@ def main(src="target/bench-runs/scaling.json", dst="docs/figures/scaling.png"):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
+    return fig
+
+
+def main(src="target/bench-runs/scaling.json", dst="docs/figures/scaling.png"):
+    fig = figure(src)
     Path(dst).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(dst, dpi=120)
     print(f"wrote {dst}")

@@ -18,7 +18,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def main(src, dst=None):
+def figure(src):
     with h5py.File(src, "r") as f:
         g = f["sparsity"]
         rows, cols = g["row"][:], g["col"][:]
@@ -36,6 +36,11 @@ def main(src, dst=None):
     ax.set_xlabel("column (coordinates | equations)")
     ax.set_ylabel("row")
     fig.tight_layout()
+    return fig
+
+
+def main(src, dst=None):
+    fig = figure(src)
     out = dst or str(Path(src).with_name(Path(src).stem + ".png"))
     fig.savefig(out, dpi=120)
     print(out)

@@ -1,107 +1,113 @@
 #!/usr/bin/env python3
 """Spectral acceleration with and without the joint, and the reduction.
 
-    python3 scripts/plot_spectrum.py out.h5 [output.png]
+    python3 scripts/plot_spectrum.py out.h5 [output.png] [--g]
 
-One row of panels per case, record and damping ratio of a sweep file
-(`quakejoint sweep`): Sa against the bridge period with the joint (markers)
-and without it (line), and the reduction 1 - Sa_with / Sa_without. Jobs
-flagged as outside the model's validity (a collision, say) are drawn as open
-black markers and named in the legend; failed jobs as crosses on the axis.
-Writes out_spectrum.png beside the input unless an output name is given.
-Headless (Agg backend).
+One row of panels per record and damping ratio of a sweep file
+(`quakejoint sweep`), every case of the sweep in it: Sa against the bridge
+period with the joint (markers, one colour per case) and without it (the
+exact spectrum, a grey line), and the reduction 1 - Sa_with / Sa_without.
+Jobs outside the model's validity (a collision, say) are drawn as open
+black markers and their flags named in the legend; failed jobs as crosses
+on the axis, counted in the legend. A sweep of several cases at three
+periods or fewer is a parameter study: it is drawn by plot_study.py
+instead. `--g` gives Sa in g. Writes out_spectrum.png beside the input
+unless an output name is given. Headless (Agg backend).
 """
-import sys
+import argparse
 from pathlib import Path
 
 import h5py
 import matplotlib
-import matplotlib.ticker
 import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-def text(x):
-    return x.decode() if isinstance(x, bytes) else str(x)
-
-
-def flag_names(meaning):
-    """(bit, name) pairs from the `meaning` attribute of the validity dataset."""
-    pairs = []
-    for part in meaning.split(";")[-1].split(","):
-        bit, _, name = part.strip().partition(" ")
-        if bit.isdigit():
-            pairs.append((int(bit), name))
-    return pairs
+import plot_study  # noqa: E402
+from plotlib import accel_units, flag_names, job_masks, log_ticks, text  # noqa: E402
 
 
-# the `not_checked` bit of the validity flags
-NOT_CHECKED = 1 << 15
-
-
-def period_ticks(ax, periods):
-    """Plain-number period ticks (0.2, 0.5, 1, 2 s) on a log axis, no minor labels."""
-    lo, hi = periods.min(), periods.max()
-    ticks = [t for d in (0.01, 0.1, 1, 10) for t in (d, 2 * d, 5 * d) if lo * 0.9 <= t <= hi * 1.1]
-    ax.set_xticks(ticks)
-    ax.set_xticklabels([f"{t:g}" for t in ticks])
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-
-
-def main(src, dst=None):
+def read(src):
     with h5py.File(src, "r") as f:
         s = f["spectrum"]
-        periods = s["period"][:]
-        damping = s["damping"][:]
-        records = [text(r) for r in s["record"][:]]
-        cases = [text(c) for c in s["case"][:]]
-        sa_with = s["with_joint/sa"][:]
-        status = s["with_joint/status"][:]
-        validity = s["with_joint/validity"][:]
-        meaning = text(s["with_joint/validity"].attrs["meaning"])
-        sa_without = s["without_joint/sa"][:]
-        reduction = s["reduction"][:]
-    rows = [(c, r, z) for c in range(len(cases)) for r in range(len(records)) for z in range(len(damping))]
-    fig, axes = plt.subplots(len(rows), 2, figsize=(10, 3.2 * len(rows)), squeeze=False)
-    names = flag_names(meaning)
-    for row, (c, r, z) in enumerate(rows):
-        done = status[c, r, z] == 0
-        # not_checked (a job that did not finish) is not a finding
-        flagged = done & ((validity[c, r, z].astype(np.int64) & ~NOT_CHECKED) != 0)
-        ok = done & ~flagged
-        failed = (status[c, r, z] != 0) & (status[c, r, z] != -1)
-        ax, axr = axes[row]
-        ax.plot(periods, sa_without[r, z], "-", color="0.4", label="without joint (exact)")
-        ax.plot(periods[ok], sa_with[c, r, z][ok], "o", ms=4, color="tab:red", label="with joint")
-        if flagged.any():
-            bits = np.bitwise_or.reduce(validity[c, r, z][flagged])
-            label = "flagged: " + ", ".join(n for b, n in names if bits & b)
-            ax.plot(periods[flagged], sa_with[c, r, z][flagged], "o", ms=6, mfc="none", mec="k", label=label)
-            axr.plot(periods[flagged], 100 * reduction[c, r, z][flagged], "o", ms=6, mfc="none", mec="k", label=label)
-        if failed.any():
-            ax.plot(periods[failed], np.zeros(failed.sum()), "x", color="k", ms=7, label=f"failed ({failed.sum()})")
-        ax.set_xscale("log")
-        ax.set_ylabel("Sa [m/s$^2$]")
-        ax.set_title(f"{cases[c]} / {records[r]} / damping {damping[z]:g}", fontsize=9)
-        ax.legend(fontsize=8)
-        axr.plot(periods[ok], 100 * reduction[c, r, z][ok], "o-", ms=4, color="tab:blue", label="1 - Sa with / Sa without")
-        axr.set_xscale("log")
-        axr.legend(fontsize=8)
+        return {
+            "periods": s["period"][:],
+            "damping": s["damping"][:],
+            "records": [text(r) for r in s["record"][:]],
+            "cases": [text(c) for c in s["case"][:]],
+            "sa_with": s["with_joint/sa"][:],
+            "status": s["with_joint/status"][:],
+            "validity": s["with_joint/validity"][:],
+            "meaning": text(s["with_joint/validity"].attrs["meaning"]),
+            "sa_without": s["without_joint/sa"][:],
+            "reduction": s["reduction"][:],
+            "complete": int(f.attrs.get("complete", 1)),
+        }
+
+
+def is_study(d):
+    return len(d["cases"]) > 1 and len(d["periods"]) <= 3
+
+
+def figure(src, in_g=False):
+    """The figure of a sweep file (a study figure for a parameter study)."""
+    d = read(src)
+    if is_study(d):
+        return plot_study.figure(src, in_g)
+    k, unit = accel_units(in_g)
+    periods, cases = d["periods"], d["cases"]
+    rows = [(r, z) for r in range(len(d["records"])) for z in range(len(d["damping"]))]
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 3.6 * len(rows)), squeeze=False)
+    names = flag_names(d["meaning"])
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for (ax, axr), (r, z) in zip(axes, rows):
+        ax.plot(periods, k * d["sa_without"][r, z], "-", color="0.45", label="without joint (exact)")
+        for c, case in enumerate(cases):
+            colour = colours[(c + 3) % len(colours)]
+            ok, flagged, failed, _ = job_masks(d["status"][c, r, z], d["validity"][c, r, z])
+            label = "with joint" if len(cases) == 1 else f"with joint: {case}"
+            sa, red = k * d["sa_with"][c, r, z], 100 * d["reduction"][c, r, z]
+            ax.plot(periods[ok], sa[ok], "o", ms=4, color=colour, label=label)
+            axr.plot(periods[ok], red[ok], "o-", ms=4, color=colour, label=label)
+            if flagged.any():
+                bits = np.bitwise_or.reduce(d["validity"][c, r, z][flagged])
+                flag = "flagged: " + ", ".join(n for b, n in names if bits & b and n != "not_checked")
+                ax.plot(periods[flagged], sa[flagged], "o", ms=7, mfc="none", mec="k", label=flag)
+                axr.plot(periods[flagged], red[flagged], "o", ms=7, mfc="none", mec="k", label=flag)
+            if failed.any():
+                for a in (ax, axr):
+                    a.plot(periods[failed], np.zeros(failed.sum()), "x", color="k", ms=8, mew=1.5,
+                           label=f"failed ({failed.sum()} jobs)")
+        title = f"{d['records'][r]} / damping {d['damping'][z]:g}"
+        if not d["complete"]:
+            title += " (INCOMPLETE: some jobs have not run)"
+        ax.set_title(title, fontsize=9)
+        ax.set_ylabel(f"Sa [{unit}]")
         axr.axhline(0, color="0.6", lw=0.8)
-        axr.set_ylabel("reduction of Sa [%]")
+        axr.set_ylabel("reduction of Sa, 1 - with / without [%]")
+        axr.set_title("reduction by the joint", fontsize=9)
         for a in (ax, axr):
+            a.set_xscale("log")
             a.set_xlabel("bridge period T [s]")
             a.grid(True, which="both", alpha=0.3)
-            period_ticks(a, periods)
+            a.legend(fontsize=7)
+            log_ticks(a, periods)
     fig.tight_layout()
+    return fig
+
+
+def main(src, dst=None, in_g=False):
+    fig = figure(src, in_g)
     out = dst or str(Path(src).with_name(Path(src).stem + "_spectrum.png"))
     fig.savefig(out, dpi=110)
     print(out)
 
 
 if __name__ == "__main__":
-    if len(sys.argv) not in (2, 3):
-        sys.exit(__doc__)
-    main(*sys.argv[1:])
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("input", help="sweep HDF5 file")
+    parser.add_argument("output", nargs="?", help="PNG to write (default: beside the input)")
+    parser.add_argument("--g", action="store_true", help="Sa in g instead of m/s^2")
+    args = parser.parse_args()
+    main(args.input, args.output, args.g)

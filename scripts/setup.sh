@@ -28,3 +28,11 @@ python_env() {
   .venv/bin/python3 -m pip install --quiet --disable-pip-version-check -r scripts/requirements.txt
   export PATH="$PWD/.venv/bin:$PATH"
 }
+
+# python_package: the Python package quakejoint built from this checkout
+# (pyproject.toml: maturin builds crates/python in release) with its test
+# dependencies (pytest, xarray), into .venv
+python_package() {
+  echo "== installing the Python package quakejoint into .venv (builds the engine)"
+  .venv/bin/python3 -m pip install --quiet --disable-pip-version-check ".[test]"
+}

@@ -11,7 +11,10 @@
 #    (h5py, numpy, matplotlib): the tests call `python3` for the plotting
 #    scripts and to open outputs with h5py. It comes first on PATH.
 # 3. `cargo test --workspace`.
-# 4. The cluster test on a real one-node SLURM on localhost
+# 4. The Python package (pip install ".[test]" into .venv, which builds the
+#    engine with maturin) and its tests, python/tests: values against the
+#    command line and closed forms, every plot script, the examples.
+# 5. The cluster test on a real one-node SLURM on localhost
 #    (tests/slurm/start.sh, test_array.sh, stop.sh). It needs root; set
 #    QJ_SKIP_SLURM=1 to leave it out where that is impossible (it is then
 #    reported as not run, and CI never sets it).
@@ -24,6 +27,10 @@ python_env
 
 echo "== cargo test --workspace"
 cargo test --workspace
+
+python_package
+echo "== pytest python/tests"
+QUAKEJOINT_BIN="$PWD/target/debug/quakejoint" .venv/bin/python3 -m pytest -q python/tests
 
 echo "== cluster test on a real SLURM"
 if [ "${QJ_SKIP_SLURM:-0}" = 1 ]; then

@@ -69,3 +69,65 @@ def quick_sweep(cli, tmp_path_factory):
     out = tmp_path_factory.mktemp("sweep") / "quick.h5"
     run_cli(cli, "sweep", ROOT / "configs" / "quick.toml", "--output", out, "--progress", "none")
     return out
+
+
+STUDY = f"""
+[joint]
+center_beams = 3
+[[joint.support_beams]]
+kind = "guide"
+y = -7.2
+[[joint.support_beams]]
+kind = "joist"
+y = -1.0
+angle_deg = 13.0
+[[joint.support_beams]]
+kind = "joist"
+y = 5.0
+angle_deg = 17.0
+[record]
+file = "{RECORD}"
+scale = 0.15
+[simulation]
+duration = 3.0
+[sweep]
+periods = [0.6, 1.2]
+damping = [0.05]
+[[sweep.cases]]
+name = "mu 0.02"
+joint.friction.mu = 0.02
+[[sweep.cases]]
+name = "mu 0.05"
+[[sweep.cases]]
+name = "mu 0.2"
+joint.friction.mu = 0.2
+[[sweep.cases]]
+name = "mu 0.5"
+joint.friction.mu = 0.5
+"""
+
+
+@pytest.fixture(scope="session")
+def study_sweep(cli, tmp_path_factory):
+    """A friction study of the small joint: 4 values of mu at 2 periods."""
+    d = tmp_path_factory.mktemp("study")
+    (d / "study.toml").write_text(STUDY)
+    run_cli(cli, "sweep", d / "study.toml", "--output", d / "study.h5", "--progress", "none")
+    return d / "study.h5"
+
+
+@pytest.fixture(scope="session")
+def run_h5(cli, short_config, tmp_path_factory):
+    """`simulate --output` of the short small-joint run, with and without the joint."""
+    d = tmp_path_factory.mktemp("run")
+    run_cli(cli, "simulate", short_config, "--period", "1.2", "--output", d / "run.h5")
+    run_cli(cli, "simulate", short_config, "--period", "1.2", "--no-joint", "--output", d / "alone.h5")
+    return d / "run.h5", d / "alone.h5"
+
+
+@pytest.fixture(scope="session")
+def service_h5(cli, tmp_path_factory):
+    """`service --output` of the small joint opened and closed by 50 mm."""
+    out = tmp_path_factory.mktemp("service") / "loop.h5"
+    run_cli(cli, "service", ROOT / "configs" / "small.toml", "--amplitude", "0.05", "--cycles", "2", "--output", out)
+    return out

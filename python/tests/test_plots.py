@@ -1,0 +1,205 @@
+"""Every plotting script rendered from real outputs, and what it draws
+checked: axes, series, labels, units, marked failures."""
+import importlib
+import json
+import shutil
+import subprocess
+import sys
+
+import h5py
+import matplotlib
+import numpy as np
+import pytest
+
+from conftest import ROOT, run_cli
+
+matplotlib.use("Agg")
+sys.path.insert(0, str(ROOT / "scripts"))
+G = 9.80665
+
+
+def script(name):
+    return importlib.import_module(name)
+
+
+def labels(ax):
+    legend = ax.get_legend()
+    return [t.get_text() for t in legend.get_texts()] if legend else []
+
+
+def line(ax, label):
+    found = [ln for ln in ax.get_lines() if ln.get_label() == label]
+    assert found, f"no series `{label}` in {[ln.get_label() for ln in ax.get_lines()]}"
+    return found[0]
+
+
+def tick_labels(ax):
+    return [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
+
+
+@pytest.fixture()
+def damaged_sweep(quick_sweep, tmp_path):
+    """The quick sweep with one job marked failed and one flagged (a
+    collision), as a crashed run and a colliding one leave them."""
+    path = tmp_path / "damaged.h5"
+    shutil.copy(quick_sweep, path)
+    with h5py.File(path, "r+") as f:
+        w = f["spectrum/with_joint"]
+        status, sa, validity = w["status"][()], w["sa"][()], w["validity"][()]
+        status[0, 0, 0, 2], sa[0, 0, 0, 2], validity[0, 0, 0, 2] = 1, np.nan, 1 << 15
+        validity[0, 0, 1, 3] = 1
+        w["status"][...], w["sa"][...], w["validity"][...] = status, sa, validity
+    return path
+
+
+def test_spectrum_draws_every_damping_with_and_without_the_joint(quick_sweep):
+    fig = script("plot_spectrum").figure(quick_sweep)
+    axes = fig.axes
+    assert len(axes) == 4  # 2 damping ratios x (Sa, reduction)
+    with h5py.File(quick_sweep) as f:
+        periods = f["spectrum/period"][()]
+        sa = f["spectrum/with_joint/sa"][()]
+        without = f["spectrum/without_joint/sa"][()]
+    ax, axr = axes[0], axes[1]
+    assert ax.get_xlabel() == "bridge period T [s]" and ax.get_ylabel() == "Sa [m/s$^2$]"
+    assert "damping 0.02" in ax.get_title()
+    np.testing.assert_array_equal(line(ax, "without joint (exact)").get_ydata(), without[0, 0])
+    np.testing.assert_array_equal(line(ax, "with joint").get_xdata(), periods)
+    np.testing.assert_array_equal(line(ax, "with joint").get_ydata(), sa[0, 0, 0])
+    assert axr.get_ylabel().startswith("reduction of Sa")
+    assert tick_labels(ax) == ["0.2", "0.5", "1", "2"]
+
+
+def test_spectrum_in_g(quick_sweep):
+    ax = script("plot_spectrum").figure(quick_sweep, in_g=True).axes[0]
+    assert ax.get_ylabel() == "Sa [g]"
+    with h5py.File(quick_sweep) as f:
+        np.testing.assert_allclose(line(ax, "with joint").get_ydata(), f["spectrum/with_joint/sa"][0, 0, 0] / G)
+
+
+def test_failed_and_flagged_jobs_are_marked_not_dropped(damaged_sweep):
+    fig = script("plot_spectrum").figure(damaged_sweep)
+    ax0, ax1 = fig.axes[0], fig.axes[2]
+    failed = line(ax0, "failed (1 jobs)")
+    with h5py.File(damaged_sweep) as f:
+        periods = f["spectrum/period"][()]
+    assert failed.get_xdata().tolist() == [periods[2]] and failed.get_ydata().tolist() == [0.0]
+    assert len(line(ax0, "with joint").get_xdata()) == len(periods) - 1
+    flagged = line(ax1, "flagged: collision")
+    assert flagged.get_xdata().tolist() == [periods[3]]
+    assert flagged.get_markerfacecolor() == "none"
+
+
+def test_a_study_is_drawn_against_its_parameter(study_sweep):
+    fig = script("plot_spectrum").figure(study_sweep)  # few periods, several cases: the study view
+    ax, axr = fig.axes
+    assert ax.get_xlabel() == "joint.friction.mu" and ax.get_ylabel() == "Sa [m/s$^2$]"
+    with h5py.File(study_sweep) as f:
+        sa = f["spectrum/with_joint/sa"][()]
+        without = f["spectrum/without_joint/sa"][()]
+    for t, period in enumerate([0.6, 1.2]):
+        series = line(ax, f"with joint, T = {period:.3g} s")
+        np.testing.assert_array_equal(series.get_xdata(), [0.02, 0.05, 0.2, 0.5])
+        np.testing.assert_array_equal(series.get_ydata(), sa[:, 0, 0, t])
+        ref = line(ax, f"without joint, T = {period:.3g} s")
+        assert ref.get_ydata()[0] == without[0, 0, t]
+    assert ax.get_xscale() == "log" and tick_labels(ax) == ["0.02", "0.05", "0.1", "0.2", "0.5"]
+    assert labels(axr) == ["T = 0.6 s", "T = 1.2 s"]
+
+
+def test_history_panels_of_a_run(run_h5):
+    run, _ = run_h5
+    fig = script("plot_history").figure(run)
+    ax, axd, axf, axg, axc = fig.axes
+    with h5py.File(run) as f:
+        h = {k: f["history"][k][()] for k in ("t", "a_abs", "a_abs_without_joint", "joint_force", "subgaps")}
+    np.testing.assert_array_equal(line(ax, "with joint").get_ydata(), h["a_abs"])
+    np.testing.assert_array_equal(line(axd, "with - without").get_ydata(), h["a_abs"] - h["a_abs_without_joint"])
+    np.testing.assert_allclose(axf.get_lines()[0].get_ydata(), 1e-3 * h["joint_force"])
+    assert axf.get_ylabel() == "joint force [kN]" and axg.get_ylabel() == "sub-gap [mm]"
+    assert len([ln for ln in axg.get_lines() if ln.get_label().startswith("sub-gap")]) == 4
+    assert "T = 1.2 s" in ax.get_title()
+    assert axc.get_ylabel() == "contact force [kN]"
+    assert fig.axes[-1].get_xlabel() == "t [s]"
+
+
+def test_a_run_without_the_joint_says_so(run_h5):
+    _, alone = run_h5
+    fig = script("plot_history").figure(alone)
+    assert len(fig.axes) == 1
+    ax = fig.axes[0]
+    assert labels(ax) == ["without joint (exact)"] and "bridge alone" in ax.get_title()
+
+
+def test_sweep_histories_in_job_order_and_a_window(quick_sweep):
+    fig = script("plot_history").figure(quick_sweep, window=(2.0, 6.0), in_g=True)
+    titles = [a.get_title() for a in fig.axes if "damping" in a.get_title()]
+    assert [("0.02" in t, "0.05" in t) for t in titles] == [(True, False), (False, True)]  # job_4, job_12
+    assert fig.axes[0].get_xlim() == (2.0, 6.0) and fig.axes[0].get_ylabel() == "deck abs. acc. [g]"
+
+
+def test_the_service_loop(service_h5):
+    fig = script("plot_service").figure(service_h5)
+    ax, axb = fig.axes
+    assert ax.get_xlabel() == "deck opening u [mm]" and ax.get_ylabel() == "force of the joint on the deck [kN]"
+    with h5py.File(service_h5) as f:
+        work = f["service/loop_work_per_cycle"][()]
+        u, force, t, period = (f["service"][k][()] for k in ("u", "joint_force", "t", "period"))
+    last = [ln for ln in ax.get_lines() if ln.get_label().startswith("last cycle")][0]
+    assert f"loop area {1e-3 * work:.1f} kJ" in last.get_label()
+    # the drawn loop is the last cycle, and its area is the reported work
+    x, y = np.asarray(last.get_xdata()) * 1e-3, np.asarray(last.get_ydata()) * 1e3
+    trapezoid = getattr(np, "trapezoid", None) or np.trapz  # numpy < 2 has only trapz
+    assert abs(abs(trapezoid(y, x)) - work) <= 0.02 * work
+    assert len(last.get_xdata()) == int(np.sum(t >= t[-1] - period * (1 + 1e-9)))
+    assert "cycle 1" in labels(ax)
+    assert "deck opening" in labels(axb)
+
+
+def test_geometry_sparsity_and_scaling(cli, tmp_path):
+    _, out, _ = run_cli(cli, "model", ROOT / "configs" / "small.toml", "--json")
+    (tmp_path / "model.json").write_text(out)
+    model = json.loads(out)
+    ax = script("plot_geometry").figure(tmp_path / "model.json").axes[0]
+    assert f"{model['center_beams']} center beams" in ax.get_title()
+    assert set(labels(ax)) >= {"center beams", "bearings", "guide"}
+    run_cli(cli, "model", ROOT / "configs" / "small.toml", "--sparsity", tmp_path / "s.h5")
+    ax = script("plot_sparsity").figure(tmp_path / "s.h5").axes[0]
+    assert f"{model['coordinates']} coordinates" in ax.get_title()
+    rows = [
+        {"nc": nc, "coordinates": 34 * nc, "steps": 100, "newton_iterations": 150, "wall_time_s": 1e-4 * nc}
+        for nc in (3, 9, 27, 81)
+    ]
+    (tmp_path / "scaling.json").write_text(json.dumps(rows))
+    ax = script("plot_scaling").figure(tmp_path / "scaling.json").axes[0]
+    np.testing.assert_allclose(line(ax, "per step").get_ydata(), [1e-6 * nc / 100 * 1e6 * 100 for nc in (3, 9, 27, 81)])
+
+
+@pytest.mark.parametrize(
+    "values, expect",
+    [([0.3, 0.5], ["0.3", "0.5"]), ([0.1, 5.0], ["0.1", "0.2", "0.5", "1", "2", "5"]), ([2e4, 5e6], None)],
+)
+def test_log_ticks_stay_readable_on_short_ranges(values, expect):
+    import matplotlib.pyplot as plt
+
+    from plotlib import log_ticks
+
+    fig, ax = plt.subplots()
+    ax.set_xscale("log")
+    ax.plot(values, values)
+    log_ticks(ax, values)
+    got = tick_labels(ax)
+    assert len(got) >= 2 and len(set(got)) == len(got)
+    if expect:
+        assert set(expect) <= set(got)
+    else:
+        assert all(len(t) <= 4 for t in got), got  # 20k, 50k, 100k, 1M: no 500000 running into 1e+06
+    plt.close(fig)
+
+
+def test_the_scripts_run_from_the_command_line(quick_sweep, tmp_path):
+    out = tmp_path / "spectrum.png"
+    p = subprocess.run([sys.executable, str(ROOT / "scripts" / "plot_spectrum.py"), str(quick_sweep), str(out), "--g"],
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    assert out.stat().st_size > 10_000

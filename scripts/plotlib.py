@@ -1,0 +1,112 @@
+"""Helpers shared by the plotting scripts (imported from scripts/): reading
+strings and validity flags of quakejoint's HDF5 files, acceleration units,
+readable log-axis ticks, and the parameter a sweep's cases vary."""
+import math
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python < 3.11
+    import tomli as tomllib
+
+import matplotlib.ticker
+import numpy as np
+
+#: the `not_checked` bit of the validity flags
+NOT_CHECKED = 1 << 15
+#: standard gravity [m/s^2]
+G = 9.80665
+
+
+def text(x):
+    """A string from an h5py value (datasets give bytes, attributes str)."""
+    return x.decode() if isinstance(x, bytes) else str(x)
+
+
+def flag_names(meaning):
+    """(bit, name) pairs from a `validity_meaning`/`meaning` attribute."""
+    pairs = []
+    for part in text(meaning).split(";")[-1].split(","):
+        bit, _, name = part.strip().partition(" ")
+        if bit.isdigit():
+            pairs.append((int(bit), name))
+    return pairs
+
+
+def flagged_bits(validity):
+    """The validity bits that are findings (not_checked is not one)."""
+    return np.asarray(validity).astype(np.int64) & ~NOT_CHECKED
+
+
+def job_masks(status, validity):
+    """(ok, flagged, failed, not_run) boolean arrays of a sweep's jobs."""
+    status = np.asarray(status)
+    done = status == 0
+    flagged = done & (flagged_bits(validity) != 0)
+    return done & ~flagged, flagged, (status != 0) & (status != -1), status == -1
+
+
+def accel_units(in_g):
+    """(factor from m/s^2, axis unit) for accelerations."""
+    return (1 / G, "g") if in_g else (1.0, "m/s$^2$")
+
+
+def log_ticks(ax, values, axis="x"):
+    """Plain-number ticks on a log axis that stay readable when the range
+    spans less than a decade: 1-2-5 per decade, refined to 1-1.5-2-3-5-7
+    (or finer) until at least three ticks fall inside, no minor labels."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values) & (values > 0)]
+    if values.size == 0:
+        return
+    lo, hi = values.min(), values.max()
+    if hi <= lo:
+        lo, hi = lo / 1.5, hi * 1.5
+    ticks = []
+    for mantissas in ((1, 2, 5), (1, 1.5, 2, 3, 5, 7), (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 7, 8, 9)):
+        decades = range(math.floor(math.log10(lo)) - 1, math.ceil(math.log10(hi)) + 1)
+        ticks = sorted({round(m * 10.0**d, 12) for d in decades for m in mantissas})
+        ticks = [t for t in ticks if lo / 1.05 <= t <= hi * 1.05]
+        if len(ticks) >= 3:
+            break
+    if len(ticks) < 3:
+        ticks = sorted({float(f"{v:.2g}") for v in np.geomspace(lo, hi, 4)})
+    a = ax.xaxis if axis == "x" else ax.yaxis
+    a.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
+    a.set_major_formatter(matplotlib.ticker.FixedFormatter([compact(t) for t in ticks]))
+    a.set_minor_formatter(matplotlib.ticker.NullFormatter())
+
+
+def compact(value):
+    """A short label: 0.5, 2, 150, 20k, 2.5M (SI prefixes from 10^4 up)."""
+    for factor, prefix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
+        if abs(value) >= max(factor, 1e4):
+            return f"{value / factor:g}{prefix}"
+    return f"{value:g}"
+
+
+def _flatten(table, prefix=""):
+    out = {}
+    for k, v in table.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, dict):
+            out.update(_flatten(v, key + "."))
+        elif not isinstance(v, list):
+            out[key] = v
+    return out
+
+
+def case_parameter(case_configs):
+    """The one numeric config key a sweep's cases vary, as (key, values),
+    or None when they vary none or several (then cases are categories)."""
+    if len(case_configs) < 2:
+        return None
+    flat = [_flatten(tomllib.loads(text(c))) for c in case_configs]
+    keys = set().union(*flat)
+    varying = [k for k in sorted(keys) if len({repr(f.get(k)) for f in flat}) > 1 and not k.startswith("sweep.")]
+    if len(varying) != 1:
+        return None
+    key = varying[0]
+    values = [f.get(key) for f in flat]
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values):
+        return None
+    return key, np.array(values, dtype=float)
