@@ -6,8 +6,8 @@ beams pound, the contact forces.
     python3 scripts/plot_history.py run.h5 [output.png] [--window T0 T1] [--g]
 
 Reads a `quakejoint simulate --output run.h5` file or every stored history
-of a sweep file (`/histories/job_*`, in job order). One column per run,
-panels sharing the time axis:
+of a sweep file (`/histories/job_*`, in job order). One column per run (at
+most three side by side, then another row), panels sharing the time axis:
 1. the deck's absolute acceleration with the joint and without it (the
    exact linear response over the same window), like Figure 12 of the
    source paper;
@@ -84,10 +84,19 @@ def figure(src, window=None, in_g=False):
     contacts = any(s["contact_force"] is not None for _, _, s in items)
     # runs without the joint (simulate --no-joint) have the first panel only
     nrows = (5 if contacts else 4) if any(joint for _, joint, _ in items) else 1
-    fig, axes = plt.subplots(
-        nrows, len(items), figsize=(7.5 * len(items), 2.3 * nrows + 0.6), squeeze=False, sharex="col"
+    # one column of panels per run, at most three runs side by side
+    ncols = min(len(items), 3)
+    blocks = -(-len(items) // ncols)
+    grid = plt.subplots(
+        nrows * blocks, ncols, figsize=(7.5 * ncols, (2.3 * nrows + 0.6) * blocks), squeeze=False, sharex="col"
     )
-    for col, (title, joint, s) in enumerate(items):
+    fig, every = grid
+    for extra in range(len(items), blocks * ncols):
+        for a in every[(extra // ncols) * nrows:(extra // ncols + 1) * nrows, extra % ncols]:
+            a.set_axis_off()
+    for i, (title, joint, s) in enumerate(items):
+        block, col = divmod(i, ncols)
+        axes = every[block * nrows:(block + 1) * nrows]
         ax = axes[0, col]
         t = s["t"]
         ax.plot(t, k * s["a_abs_without_joint"], color="0.45", lw=0.9, label="without joint (exact)")
@@ -99,6 +108,7 @@ def figure(src, window=None, in_g=False):
         for a in axes[:, col]:
             a.grid(True, alpha=0.3)
         axes[-1, col].set_xlabel("t [s]")
+        axes[-1, col].xaxis.set_tick_params(labelbottom=True)
         if window:
             ax.set_xlim(*window)
         if nrows == 1:
@@ -124,8 +134,8 @@ def figure(src, window=None, in_g=False):
         if gaps is None or len(gaps) == 0:
             note(axg, "no sub-gaps (no joint)")
         else:
-            for i, g in enumerate(gaps):
-                axg.plot(t, 1e3 * g, lw=0.7, color=f"C{i % 10}", label=f"sub-gap {i + 1}" if len(gaps) <= 8 else None)
+            for j, g in enumerate(gaps):
+                axg.plot(t, 1e3 * g, lw=0.7, color=f"C{j % 10}", label=f"sub-gap {j + 1}" if len(gaps) <= 8 else None)
             axg.axhline(0, color="k", lw=1.0, ls="--", label="beams touch")
             axg.set_title("clear sub-gaps, abutment side first", fontsize=8)
             axg.legend(fontsize=6, ncol=3, loc="upper right")
@@ -139,9 +149,10 @@ def figure(src, window=None, in_g=False):
                 note(axc, "no pounding: no sub-gap closed")
             else:
                 closed = [i for i, fc in enumerate(forces) if fc.any()]
-                for i in closed:
-                    axc.plot(t, 1e-3 * forces[i], lw=0.8, color=f"C{i % 10}", label=f"sub-gap {i + 1}")
-                axc.legend(fontsize=6, ncol=3, loc="upper right")
+                for j in closed:
+                    axc.plot(t, 1e-3 * forces[j], lw=0.8, color=f"C{j % 10}", label=f"sub-gap {j + 1}")
+                if len(closed) <= 8:
+                    axc.legend(fontsize=6, ncol=3, loc="upper right")
                 axc.set_title(f"contact force, peak per time step ({len(closed)} of {len(forces)} sub-gaps closed)",
                               fontsize=8)
             axc.set_ylabel("contact force [kN]")

@@ -25,7 +25,10 @@ def figure(src):
         n, m, nnz = int(g.attrs["coordinates"]), int(g.attrs["equations"]), int(g.attrs["nnz"])
     size = n + m
     fig, ax = plt.subplots(figsize=(7, 7))
-    ax.plot(cols, rows, ",", color="k", markersize=1)
+    if size <= 300:  # a small model: one visible square per non-zero
+        ax.plot(cols, rows, "s", color="k", markersize=300 / size, markeredgewidth=0)
+    else:
+        ax.plot(cols, rows, ",", color="k", markersize=1)
     ax.axhline(n - 0.5, color="tab:red", lw=0.6)
     ax.axvline(n - 0.5, color="tab:red", lw=0.6)
     ax.set_xlim(-0.5, size - 0.5)

@@ -8,7 +8,8 @@ One row of panels per record and damping ratio of a sweep file
 period with the joint (markers, one colour per case) and without it (the
 exact spectrum, a grey line), and the reduction 1 - Sa_with / Sa_without.
 Jobs outside the model's validity (a collision, say) are drawn as open
-black markers and their flags named in the legend; failed jobs as crosses
+markers (black, or the case's colour when there are several) and their
+flags named in the legend; failed jobs as crosses
 on the axis, counted in the legend. A sweep of several cases at three
 periods or fewer is a parameter study: it is drawn by plot_study.py
 instead. `--g` gives Sa in g. Writes out_spectrum.png beside the input
@@ -73,8 +74,12 @@ def figure(src, in_g=False):
             if flagged.any():
                 bits = np.bitwise_or.reduce(d["validity"][c, r, z][flagged])
                 flag = "flagged: " + ", ".join(n for b, n in names if bits & b and n != "not_checked")
-                ax.plot(periods[flagged], sa[flagged], "o", ms=7, mfc="none", mec="k", label=flag)
-                axr.plot(periods[flagged], red[flagged], "o", ms=7, mfc="none", mec="k", label=flag)
+                if len(cases) > 1:
+                    flag = f"{case}: {flag}"
+                # open markers: outside the model's validity (in the case's colour when there are several)
+                edge = "k" if len(cases) == 1 else colour
+                ax.plot(periods[flagged], sa[flagged], "o", ms=7, mfc="none", mec=edge, mew=1.5, label=flag)
+                axr.plot(periods[flagged], red[flagged], "o", ms=7, mfc="none", mec=edge, mew=1.5, label=flag)
             if failed.any():
                 for a in (ax, axr):
                     a.plot(periods[failed], np.zeros(failed.sum()), "x", color="k", ms=8, mew=1.5,
