@@ -12,7 +12,9 @@ markers (black, or the case's colour when there are several) and their
 flags named in the legend; failed jobs as crosses
 on the axis, counted in the legend. A sweep of several cases at three
 periods or fewer is a parameter study: it is drawn by plot_study.py
-instead. `--g` gives Sa in g. Writes out_spectrum.png beside the input
+instead, and a suite (`[sweep.suite]`) by plot_suite.py (statistics over
+the records); `--records` draws one row per record for them too. `--g`
+gives Sa in g. Writes out_spectrum.png beside the input
 unless an output name is given. Headless (Agg backend).
 """
 import argparse
@@ -26,6 +28,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import plot_study  # noqa: E402
+import plot_suite  # noqa: E402
 from plotlib import accel_units, flag_names, job_masks, log_ticks, text  # noqa: E402
 
 
@@ -44,6 +47,7 @@ def read(src):
             "sa_without": s["without_joint/sa"][:],
             "reduction": s["reduction"][:],
             "complete": int(f.attrs.get("complete", 1)),
+            "suite": "suite" in f,
         }
 
 
@@ -51,10 +55,14 @@ def is_study(d):
     return len(d["cases"]) > 1 and len(d["periods"]) <= 3
 
 
-def figure(src, in_g=False):
-    """The figure of a sweep file (a study figure for a parameter study)."""
+def figure(src, in_g=False, per_record=False):
+    """The figure of a sweep file: the suite's statistics for a suite, a
+    study figure for a parameter study, else (or with `per_record`) one row
+    per record and damping."""
     d = read(src)
-    if is_study(d):
+    if d["suite"] and not per_record:
+        return plot_suite.figure(src, in_g)
+    if is_study(d) and not per_record:
         return plot_study.figure(src, in_g)
     k, unit = accel_units(in_g)
     periods, cases = d["periods"], d["cases"]
@@ -102,8 +110,8 @@ def figure(src, in_g=False):
     return fig
 
 
-def main(src, dst=None, in_g=False):
-    fig = figure(src, in_g)
+def main(src, dst=None, in_g=False, per_record=False):
+    fig = figure(src, in_g, per_record)
     out = dst or str(Path(src).with_name(Path(src).stem + "_spectrum.png"))
     fig.savefig(out, dpi=110)
     print(out)
@@ -114,5 +122,6 @@ if __name__ == "__main__":
     parser.add_argument("input", help="sweep HDF5 file")
     parser.add_argument("output", nargs="?", help="PNG to write (default: beside the input)")
     parser.add_argument("--g", action="store_true", help="Sa in g instead of m/s^2")
+    parser.add_argument("--records", action="store_true", help="one row per record, also for a suite or a study")
     args = parser.parse_args()
-    main(args.input, args.output, args.g)
+    main(args.input, args.output, args.g, args.records)

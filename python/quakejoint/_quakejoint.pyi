@@ -1,5 +1,6 @@
 """Type stubs of the extension module (crates/python). SI units throughout."""
 from os import PathLike
+from pathlib import Path
 from typing import Any, Optional, Sequence, Union
 
 import numpy as np
@@ -39,15 +40,15 @@ class Record:
         the header or `units` ("g", "m/s2", "cm/s2", "gal"), never guessed."""
     @staticmethod
     def from_array(
-        acceleration: npt.NDArray[np.float64],
+        acceleration: npt.ArrayLike,
         dt: float,
         *,
         units: Optional[str] = None,
         scale: Optional[float] = None,
         target_pga_g: Optional[float] = None,
-        name: str = "array",
+        name: Optional[str] = None,
     ) -> Record:
-        """A record from samples in `units` (required) at time step `dt` [s]."""
+        """A record from 1-D samples in `units` (required) at time step `dt` [s]; named "array" by default."""
     @property
     def acceleration(self) -> npt.NDArray[np.float64]:
         """Ground acceleration [m/s^2] (a copy)."""
@@ -128,7 +129,7 @@ class Spectrum:
         """[s]"""
 
 def spectrum(
-    record: Union[Record, npt.NDArray[np.float64]],
+    record: Union[Record, npt.ArrayLike],
     periods: _Numbers,
     damping: Optional[_Numbers] = None,
     *,
@@ -152,7 +153,7 @@ class Config:
     def to_dict(self) -> dict[str, Any]: ...
     def to_toml(self) -> str: ...
     @property
-    def base_dir(self) -> str: ...
+    def base_dir(self) -> Path: ...
     @property
     def source(self) -> str: ...
     @property

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Optional
 
 import h5py
 import numpy as np
@@ -22,7 +23,7 @@ NOT_CHECKED = 1 << 15
 STATUS = {0: "ok", 1: "simulation failed", 2: "invalid parameters", 3: "time or step limit", -1: "not run"}
 
 
-@dataclass
+@dataclass(repr=False)
 class Sweep:
     """The results of a sweep file.
 
@@ -50,6 +51,24 @@ class Sweep:
     reduction: np.ndarray
     flag_names: list[tuple[int, str]]
     attrs: dict = field(default_factory=dict)
+    #: over the records, per (case, damping, period) ((damping, period)
+    #: without the joint): {"with_joint": {"mean", "median", "dispersion"},
+    #: "without_joint": {...}, "reduction": {"mean", "median", "std",
+    #: "of_mean"}, "count", "flagged"}; None for a single record
+    statistics: Optional[dict] = None
+    #: the suite's target and scaling: target (in words), rule, range [s],
+    #: factor (per record), rule_factor, min_ratio, min_ratio_period [s],
+    #: ec8_satisfied, target_sa (at the swept periods) [m/s^2], fit_period,
+    #: fit_target, fit_mean; None when the records are not a suite
+    suite: Optional[dict] = None
+
+    def __repr__(self) -> str:
+        shape = (len(self.cases), len(self.records), len(self.damping), len(self.periods))
+        return (
+            f"Sweep({self.path!r}, (case, record, damping, period) = {shape}, "
+            f"{int(self.ok.sum())} ok, {int(self.flagged.sum())} flagged, {int(self.failed.sum())} failed, "
+            f"complete={self.complete}{', suite' if self.suite else ''})"
+        )
 
     @property
     def complete(self) -> bool:
@@ -124,6 +143,18 @@ class Sweep:
         data["validity"] = (DIMS, self.validity)
         data["message"] = (DIMS, self.message)
         data["findings"] = (DIMS, self.findings)
+        if self.statistics:
+            czt = ("case", "damping", "period")
+            for group, arrays in self.statistics.items():
+                if isinstance(arrays, dict):
+                    dims = czt if group != "without_joint" else czt[1:]
+                    for name, a in arrays.items():
+                        data[f"{group}_{name}"] = (dims, a)
+                else:
+                    data[f"records_{group}"] = (czt, arrays)
+        if self.suite:
+            data["suite_factor"] = (("record",), self.suite["factor"], {"units": "1"})
+            data["target_sa"] = (("period",), self.suite["target_sa"], {"units": "m/s^2"})
         return xr.Dataset(data, coords=coords, attrs={k: v for k, v in self.attrs.items() if k != "config_file"})
 
 
@@ -178,4 +209,31 @@ def read_sweep(path) -> Sweep:
             reduction=s["reduction"][()],
             flag_names=_flag_names(str(wj["validity"].attrs.get("meaning", ""))),
             attrs={k: (v.item() if hasattr(v, "item") else v) for k, v in f.attrs.items()},
+            statistics=_statistics(s),
+            suite=_suite(f),
         )
+
+
+def _statistics(s) -> Optional[dict]:
+    if "statistics" not in s:
+        return None
+    g = s["statistics"]
+    out = {k: {n: g[k][n][()] for n in g[k]} for k in ("with_joint", "without_joint", "reduction")}
+    out["count"] = g["count"][()]
+    out["flagged"] = g["flagged"][()]
+    return out
+
+
+def _suite(f) -> Optional[dict]:
+    if "suite" not in f:
+        return None
+    g = f["suite"]
+    out = {k: str(g.attrs[k]) for k in ("target", "target_config", "rule")}
+    out["ec8_satisfied"] = bool(g.attrs["ec8_satisfied"])
+    for k in ("factor", "range", "target_sa"):
+        out[k] = g[k][()]
+    for k in ("rule_factor", "min_ratio", "min_ratio_period"):
+        out[k] = float(g[k][()])
+    for k in ("period", "target", "mean"):
+        out[f"fit_{k}"] = g["fit"][k][()]
+    return out

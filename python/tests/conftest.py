@@ -131,3 +131,44 @@ def service_h5(cli, tmp_path_factory):
     out = tmp_path_factory.mktemp("service") / "loop.h5"
     run_cli(cli, "service", ROOT / "configs" / "small.toml", "--amplitude", "0.05", "--cycles", "2", "--output", out)
     return out
+
+
+def suite_config():
+    gm = ROOT / "ground_motions"
+    return f"""
+[joint]
+center_beams = 3
+[[joint.support_beams]]
+kind = "guide"
+y = -7.2
+[[joint.support_beams]]
+kind = "joist"
+y = -1.0
+angle_deg = 13.0
+[[joint.support_beams]]
+kind = "joist"
+y = 5.0
+angle_deg = 17.0
+[simulation]
+duration = 3.0
+[sweep]
+periods = [0.5, 1.0]
+damping = [0.05]
+records = [
+  {{ file = "{gm / 'RSN753_LOMAP_CLS090-hor2.AT2'}" }},
+  {{ file = "{gm / 'RSN6_IMPVALL.I_I-ELC180-hor1.AT2'}" }},
+  {{ file = "{gm / 'RSN77_SFERN_PUL164-hor1.AT2'}" }},
+]
+[sweep.suite]
+target = {{ code = "ec8", type = 1, ground = "C", ag_g = 0.3 }}
+range = [0.2, 2.0]
+"""
+
+
+@pytest.fixture(scope="session")
+def suite_sweep(cli, tmp_path_factory):
+    """Three records scaled to Eurocode 8 type 1, ground C, 0.3 g; the small joint at 2 periods."""
+    d = tmp_path_factory.mktemp("suite")
+    (d / "suite.toml").write_text(suite_config())
+    run_cli(cli, "sweep", d / "suite.toml", "--output", d / "suite.h5", "--progress", "none")
+    return d / "suite.h5"

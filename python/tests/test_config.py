@@ -68,3 +68,12 @@ def test_toml_round_trip():
     again = qj.Config.from_toml(c.to_toml(), base_dir=c.base_dir)
     assert again.to_dict() == c.to_dict()
     assert c.period == pytest.approx(2 * 3.141592653589793 / 6.3)
+
+
+def test_a_config_keeps_its_records_after_a_change_of_directory(tmp_path, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    config = qj.Config.from_file("configs/small.toml").replace({"simulation.duration": 1.0})
+    assert str(config.base_dir) == str(ROOT / "configs") and config.source == "configs/small.toml (replaced)"
+    assert config.replace({"bridge.mass": 2e8}).source == "configs/small.toml (replaced)"
+    monkeypatch.chdir(tmp_path)
+    assert qj.simulate(config, history=False).sa > 0

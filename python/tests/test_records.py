@@ -37,6 +37,13 @@ def test_an_array_in_g_is_converted_to_si():
     np.testing.assert_allclose(gal.acceleration, rec.acceleration, rtol=1e-14, atol=1e-15)
 
 
+def test_a_list_is_an_array_and_a_2d_array_is_refused():
+    rec = qj.Record.from_array([0.0, 0.01, -0.02, 0.0], 0.01, units="g")
+    assert rec.name == "array" and len(rec) == 4
+    with pytest.raises(qj.InputError, match=r"1-D array of samples, not an array of shape \[2, 3\]"):
+        qj.Record.from_array(np.zeros((2, 3)), 0.01, units="g")
+
+
 def test_an_array_without_units_is_refused():
     with pytest.raises(qj.InputError, match="cannot say its units"):
         qj.Record.from_array(np.zeros(100), 0.01)

@@ -190,4 +190,15 @@ pub enum SpectrumError {
     /// An invalid period range.
     #[error("period range: {0}")]
     Range(String),
+    /// A target spectrum parameter out of range.
+    #[error("target.{field}: {message}")]
+    Target {
+        /// The parameter.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A suite that cannot be scaled.
+    #[error("suite: {0}")]
+    Suite(String),
 }

@@ -54,6 +54,8 @@ pub mod record;
 pub mod spec;
 pub mod spectrum;
 pub mod stats;
+pub mod suite;
+pub mod target;
 pub mod text;
 
 pub use at2::parse_at2;
@@ -70,6 +72,8 @@ pub use spectrum::{
     MAX_PERIODS, MAX_SUBDIVISIONS,
 };
 pub use stats::RecordStats;
+pub use suite::{scale_suite, SuiteRule, SuiteScaling};
+pub use target::{Ec8Type, TargetSpectrum};
 pub use text::{excerpt, number, parse_number, parse_one_column, parse_sequence, parse_two_column};
 
 /// Standard gravity [m/s²] used for the unit `g` and for Arias intensity.

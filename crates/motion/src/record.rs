@@ -304,7 +304,7 @@ pub fn load_record_from_samples(spec: &RecordSpec, dt: f64, values: Vec<f64>) ->
         return Err(RecordError::Spec {
             file,
             field: "units",
-            message: "an array cannot say its units: give them with `units` (`g`, `m/s2` or `cm/s2`)".into(),
+            message: "an array cannot say its units: give them with `units` (`g`, `m/s2`, `cm/s2` or `gal`)".into(),
         });
     }
     RecordSpec { format: Format::Sequence, dt: Some(dt), ..spec.clone() }.validate()?;

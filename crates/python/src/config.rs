@@ -11,8 +11,9 @@ use quakejoint_model::Config;
 use crate::convert::{from_toml, to_toml};
 use crate::{config_error, InputError};
 
-/// A validated config. Record paths are relative to `base_dir` (the config
-/// file's directory).
+/// A validated config. Relative record paths are read from `base_dir` (the
+/// config file's directory, made absolute when the config is made, so that
+/// changing the working directory later does not lose them).
 #[pyclass(name = "Config", module = "quakejoint", frozen)]
 #[derive(Clone)]
 pub struct PyConfig {
@@ -34,6 +35,11 @@ impl PyConfig {
     fn table(&self) -> PyResult<toml::Table> {
         toml::Table::try_from(&self.config).map_err(|e| InputError::new_err(format!("{}: {e}", self.source)))
     }
+}
+
+/// `path` made absolute against the current directory (as it is now).
+fn absolute(path: PathBuf) -> PathBuf {
+    std::path::absolute(&path).unwrap_or(path)
 }
 
 /// Whether the joint's geometry can work (beams fit their pitch, joists
@@ -90,7 +96,7 @@ impl PyConfig {
             }
             None => String::new(),
         };
-        Self::parse(&text, "config (dict)", base_dir)
+        Self::parse(&text, "config (dict)", absolute(base_dir))
     }
 
     /// Reads a config file (as `quakejoint simulate <config>` does).
@@ -99,14 +105,15 @@ impl PyConfig {
         let source = path.display().to_string();
         let config = Config::from_file(&path).map_err(|e| config_error(e, &source))?;
         check_geometry(&config, &source)?;
-        Ok(PyConfig { config, base_dir: base_dir(&path), source })
+        // absolute: a later os.chdir must not lose the config's records
+        Ok(PyConfig { config, base_dir: absolute(base_dir(&path)), source })
     }
 
     /// Parses TOML text; `source` names it in messages.
     #[staticmethod]
     #[pyo3(signature = (text, *, base_dir=PathBuf::from("."), source="config (text)".to_string()))]
     fn from_toml(text: &str, base_dir: PathBuf, source: String) -> PyResult<Self> {
-        Self::parse(text, &source, base_dir)
+        Self::parse(text, &source, absolute(base_dir))
     }
 
     /// A copy with some values changed and validated again: dotted keys
@@ -119,7 +126,12 @@ impl PyConfig {
             set_dotted(&mut table, &key, to_toml(&v, &key)?);
         }
         let text = toml::to_string(&table).map_err(|e| InputError::new_err(format!("replace: {e}")))?;
-        Self::parse(&text, &format!("{} (replaced)", self.source), self.base_dir.clone())
+        let source = if self.source.ends_with(" (replaced)") {
+            self.source.clone()
+        } else {
+            format!("{} (replaced)", self.source)
+        };
+        Self::parse(&text, &source, self.base_dir.clone())
     }
 
     /// Every value, defaults filled in, as nested dicts (SI units).

@@ -54,16 +54,17 @@ impl PyRecord {
     /// "m/s2", "cm/s2" or "gal"), checked as a file's numbers are (finite,
     /// at most 5 g, dt from 1e-5 to 1 s).
     #[staticmethod]
-    #[pyo3(signature = (acceleration, dt, *, units=None, scale=None, target_pga_g=None, name="array".to_string()))]
+    #[pyo3(signature = (acceleration, dt, *, units=None, scale=None, target_pga_g=None, name=None))]
     fn from_array(
-        acceleration: PyReadonlyArray1<'_, f64>,
+        acceleration: &Bound<'_, PyAny>,
         dt: f64,
         units: Option<String>,
         scale: Option<f64>,
         target_pga_g: Option<f64>,
-        name: String,
+        name: Option<String>,
     ) -> PyResult<Self> {
-        let values = acceleration.as_array().to_vec();
+        let values = samples_of(acceleration)?;
+        let name = name.unwrap_or_else(|| "array".to_string());
         let fields = SpecFields { format: None, units, dt: None, column: None, scale, target_pga_g, name: Some(name) };
         let label = fields.name.clone().unwrap_or_default();
         let spec = record_spec(Path::new(&label), fields)?;
@@ -332,17 +333,33 @@ fn spectrum(
         let r = &r.get().loaded.record;
         return compute(py, &r.acceleration, r.dt, periods, damping, subdivisions);
     }
-    let samples: PyReadonlyArray1<'_, f64> = record.extract().map_err(|_| {
-        crate::InputError::new_err("spectrum: `record` must be a quakejoint.Record or a 1-D array of floats")
-    })?;
+    let samples = samples_of(record)?;
     let Some(dt) = dt else {
         return Err(crate::InputError::new_err("spectrum: an array needs its time step `dt` [s]"));
     };
     let fields = SpecFields { units, ..SpecFields::default() };
     let spec = record_spec(Path::new("array"), fields)?;
-    let loaded = load_record_from_samples(&spec, dt, samples.as_array().to_vec()).map_err(input_error)?;
+    let loaded = load_record_from_samples(&spec, dt, samples).map_err(input_error)?;
     let r = &loaded.record;
     compute(py, &r.acceleration, r.dt, periods, damping, subdivisions)
+}
+
+/// Ground-acceleration samples from a 1-D numpy array of floats or a
+/// sequence of numbers.
+fn samples_of(obj: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    if let Ok(a) = obj.extract::<PyReadonlyArray1<'_, f64>>() {
+        return Ok(a.as_array().to_vec());
+    }
+    if let Ok(shape) = obj.getattr("shape").and_then(|s| s.extract::<Vec<usize>>()) {
+        if shape.len() != 1 {
+            return Err(crate::InputError::new_err(format!(
+                "the acceleration must be a 1-D array of samples, not an array of shape {shape:?}"
+            )));
+        }
+    }
+    obj.extract::<Vec<f64>>().map_err(|_| {
+        crate::InputError::new_err("the acceleration must be a Record, a 1-D array of floats or a sequence of numbers")
+    })
 }
 
 /// The spectrum of samples [m/s^2], GIL released.

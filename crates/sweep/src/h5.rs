@@ -47,6 +47,11 @@ pub fn temporary_name(path: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
+/// Reads a string attribute.
+pub fn read_attr_str(loc: &hdf5::Location, name: &str) -> hdf5::Result<String> {
+    Ok(loc.attr(name)?.read_scalar::<VarLenUnicode>()?.as_str().to_string())
+}
+
 /// Writes a string attribute.
 pub fn attr_str(loc: &hdf5::Location, name: &str, value: &str) -> hdf5::Result<()> {
     let v: VarLenUnicode = value.parse().map_err(|e| hdf5::Error::from(format!("{e}")))?;

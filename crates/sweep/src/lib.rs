@@ -18,6 +18,8 @@ pub mod progress;
 pub mod results;
 pub mod run_h5;
 pub mod runner;
+pub mod statistics;
+pub mod suite_h5;
 pub mod sweep_h5;
 pub mod time;
 

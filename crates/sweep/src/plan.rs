@@ -23,12 +23,32 @@ use std::path::{Path, PathBuf};
 
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::sha256_hex;
-use quakejoint_motion::{load_record, period_range, Record, RecordSpec};
+use quakejoint_motion::{
+    load_record, period_range, scale_suite, Record, RecordSpec, SuiteRule, SuiteScaling, TargetSpectrum,
+};
 
 use crate::error::SweepError;
 
 /// The keys of the `[sweep]` table.
-pub const SWEEP_KEYS: [&str; 6] = ["periods", "damping", "records", "cases", "histories", "checkpoint_seconds"];
+pub const SWEEP_KEYS: [&str; 7] =
+    ["periods", "damping", "records", "cases", "histories", "checkpoint_seconds", "suite"];
+
+/// The keys of the `[sweep.suite]` table.
+pub const SUITE_KEYS: [&str; 3] = ["target", "range", "rule"];
+
+/// A suite of records scaled to a target spectrum (`[sweep.suite]`).
+#[derive(Debug, Clone)]
+pub struct Suite {
+    /// The target spectrum.
+    pub target: TargetSpectrum,
+    /// Periods of the fit [s].
+    pub range: (f64, f64),
+    /// What the Eurocode 8 rule does.
+    pub rule: SuiteRule,
+    /// The factors and the check (the records of the plan are scaled by
+    /// them already).
+    pub scaling: SuiteScaling,
+}
 
 /// One named parameter set.
 #[derive(Debug, Clone)]
@@ -74,6 +94,9 @@ pub struct Plan {
     pub records: Vec<SweepRecord>,
     /// The config's transverse record (`[record_y]`), applied in every job.
     pub record_y: Option<SweepRecord>,
+    /// The suite's target and scaling, when the records are a suite
+    /// (`[sweep.suite]`).
+    pub suite: Option<Suite>,
     /// Damping ratios [-].
     pub damping: Vec<f64>,
     /// Bridge periods [s].
@@ -195,6 +218,68 @@ fn check_swept(values: &[f64], field: &str, key: &str, what: &str) -> Result<(),
 /// cuts `record` short: both spectra cover the window only, and how much
 /// the spectrum without the joint over the whole record is larger says how
 /// much of the record's effect the window leaves out.
+/// Reads `[sweep.suite]`, scales the suite's records to its target (in
+/// place) and returns it.
+fn suite_of(v: &toml::Value, periods: &[f64], records: &mut [SweepRecord]) -> Result<Suite, SweepError> {
+    let toml::Value::Table(t) = v else {
+        return Err(sweep_err("sweep.suite", "must be a table ([sweep.suite])"));
+    };
+    for key in t.keys() {
+        if !SUITE_KEYS.contains(&key.as_str()) {
+            return Err(sweep_err(
+                &format!("sweep.suite.{key}"),
+                format!("unknown key (expected {})", SUITE_KEYS.join(", ")),
+            ));
+        }
+    }
+    let target: TargetSpectrum = t
+        .get("target")
+        .ok_or_else(|| sweep_err("sweep.suite.target", "missing: the target spectrum (code = \"ec8\", \"asce7\" or \"table\")"))?
+        .clone()
+        .try_into()
+        .map_err(|e: toml::de::Error| sweep_err("sweep.suite.target", e.message().to_string()))?;
+    target.validate().map_err(|e| sweep_err("sweep.suite", e.to_string()))?;
+    let (shortest, longest) = periods.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &p| (a.min(p), b.max(p)));
+    let range = match t.get("range") {
+        Some(v) => match list_of_f64(v, "sweep.suite.range")?[..] {
+            [a, b] => (a, b),
+            _ => return Err(sweep_err("sweep.suite.range", "two periods [from, to] in s")),
+        },
+        // Eurocode 8's 0.2 T1 to 2 T1 around every swept period
+        None => ((0.2 * shortest).max(0.01), (2.0 * longest).min(10.0)),
+    };
+    let rule = match t.get("rule") {
+        Some(v) => v.clone().try_into().map_err(|e: toml::de::Error| {
+            sweep_err("sweep.suite.rule", format!("{} (\"ec8\" scales the suite up to the rule, \"check\" only reports)", e.message()))
+        })?,
+        None => SuiteRule::Ec8,
+    };
+    let refs: Vec<&Record> = records.iter().map(|r| &r.record).collect();
+    let scaling = scale_suite(&refs, &target, range, rule).map_err(|e| sweep_err("sweep.suite", e.to_string()))?;
+    for (r, f) in records.iter_mut().zip(&scaling.factors) {
+        let rec = &mut r.record;
+        rec.acceleration.iter_mut().for_each(|a| *a *= f);
+        rec.scale *= f;
+        rec.user_scale *= f;
+    }
+    Ok(Suite { target, range, rule, scaling })
+}
+
+/// What the suite's scaling says a user should know.
+fn suite_warnings(suite: &Suite) -> Vec<String> {
+    let s = &suite.scaling;
+    let mut out: Vec<String> = s.warnings.iter().map(|w| format!("suite: {w}")).collect();
+    if !s.ec8_satisfied {
+        out.push(format!(
+            "suite: the mean of the scaled records is {:.1} % of the target at T = {:.3} s, below the 90 % of \
+             Eurocode 8 (rule = \"check\" reports it; rule = \"ec8\" scales the suite up)",
+            100.0 * s.min_ratio.0,
+            s.min_ratio.1
+        ));
+    }
+    out
+}
+
 fn window_warning(config: &Config, record: &Record, periods: &[f64], damping: &[f64]) -> Option<String> {
     use quakejoint_motion::{spectrum, SpectrumOptions};
     let window = quakejoint_model::run::run_window(config, record);
@@ -363,7 +448,24 @@ impl Plan {
         if specs.is_empty() {
             return Err(sweep_err("sweep.records", "the list of records is empty"));
         }
-        let records = specs.into_iter().map(|s| SweepRecord::load(s, base_dir)).collect::<Result<Vec<_>, _>>()?;
+        if sweep.contains_key("suite") {
+            for (i, spec) in specs.iter().enumerate() {
+                if spec.scale != 1.0 || spec.target_pga_g.is_some() {
+                    return Err(sweep_err(
+                        &format!("sweep.records[{i}]"),
+                        format!(
+                            "{}: the suite scales its records to the target; remove `scale` and `target_pga_g`",
+                            spec.file.display()
+                        ),
+                    ));
+                }
+            }
+        }
+        let mut records = specs.into_iter().map(|s| SweepRecord::load(s, base_dir)).collect::<Result<Vec<_>, _>>()?;
+        let suite = match sweep.get("suite") {
+            Some(v) => Some(suite_of(v, &periods, &mut records)?),
+            None => None,
+        };
         let record_y = base_config.record_y.clone().map(|s| SweepRecord::load(s, base_dir)).transpose()?;
         for (i, r) in records.iter().enumerate() {
             if records[..i].iter().any(|o| o.record.name == r.record.name) {
@@ -456,6 +558,9 @@ impl Plan {
             }
         }
         let mut warnings = Vec::new();
+        if let Some(suite) = &suite {
+            warnings.extend(suite_warnings(suite));
+        }
         for r in &records {
             warnings.extend(window_warning(&base_config, &r.record, &periods, &damping));
         }
@@ -467,6 +572,7 @@ impl Plan {
             cases,
             records,
             record_y,
+            suite,
             damping,
             periods,
             history_periods,

@@ -170,6 +170,7 @@ pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>, provenance: Proven
         periods: plan.periods.clone(),
         damping: plan.damping.clone(),
         cases: plan.cases.iter().map(|c| c.name.clone()).collect(),
+        suite: plan.suite.as_ref().map(|s| crate::suite_h5::StoredSuite::of(s, &plan.periods)),
         records: plan
             .records
             .iter()

@@ -7,12 +7,14 @@ use hdf5::types::VarLenUnicode;
 use ndarray::{ArrayView1, ArrayView3, ArrayView4};
 
 use crate::error::OutputError;
-use crate::h5::{attach_scales, attr_str, scalar, set_scale, strings_1d, vlu, write_atomically};
+use crate::h5::{attach_scales, attr_str, read_attr_str, scalar, set_scale, strings_1d, vlu, write_atomically};
+use crate::statistics::Statistics;
+use crate::suite_h5::{read_suite, write_statistics, write_suite, StoredSuite};
 use crate::results::{JobHistory, Results, FIELDS, UNITS};
 use crate::run_h5::{write_provenance, Provenance, RecordSource};
 
 /// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 5;
+pub const SCHEMA_VERSION: u32 = 6;
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]
@@ -61,6 +63,8 @@ pub struct SweepFile {
     pub case_configs: Vec<String>,
     /// Records.
     pub records: Vec<StoredRecord>,
+    /// The suite's target and scaling, when the records are a suite.
+    pub suite: Option<StoredSuite>,
     /// The result arrays.
     pub results: Results,
 }
@@ -152,6 +156,12 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         axes.ds4(&with, "findings", &strings(&r.findings)?)?;
         let ds = axes.ds4(&spec, "reduction", &r.reduction())?;
         attr_str(&ds, "units", "1")?;
+        if r.dims[1] >= 2 {
+            write_statistics(&spec, &Statistics::of(r), r.dims, [&case, &damping, &period])?;
+        }
+        if let Some(suite) = &f.suite {
+            write_suite(file, suite, &record, &period)?;
+        }
         crate::fault::point(crate::fault::Point::Checkpoint, path);
 
         let recs = file.create_group("records")?;
@@ -218,10 +228,6 @@ fn read_rows(g: &hdf5::Group, name: &str) -> hdf5::Result<Vec<Vec<f64>>> {
 
 fn read_strings(ds: &hdf5::Dataset) -> hdf5::Result<Vec<String>> {
     Ok(ds.read_raw::<VarLenUnicode>()?.iter().map(|s| s.as_str().to_string()).collect())
-}
-
-fn read_attr_str(loc: &hdf5::Location, name: &str) -> hdf5::Result<String> {
-    Ok(loc.attr(name)?.read_scalar::<VarLenUnicode>()?.as_str().to_string())
 }
 
 /// Reads what [`write_provenance`] wrote.
@@ -348,6 +354,7 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
             damping,
             cases,
             records,
+            suite: read_suite(&file)?,
             results,
         })
     };

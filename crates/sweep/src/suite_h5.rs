@@ -1,0 +1,168 @@
+//! The suite and statistics groups of a sweep file (`/suite`,
+//! `/spectrum/statistics`; layout in `docs/hdf5-layout.md`).
+
+use ndarray::{ArrayView1, ArrayView2, ArrayView3};
+
+use crate::h5::{attach_scales, attr_str, read_attr_str, scalar};
+use crate::plan::Suite;
+use crate::statistics::Statistics;
+
+/// A suite as stored in `/suite`: the target, the factors and the
+/// Eurocode 8 check.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoredSuite {
+    /// The target spectrum in words.
+    pub target: String,
+    /// The target as the config gives it (TOML).
+    pub target_config: String,
+    /// `ec8` or `check`.
+    pub rule: String,
+    /// Periods of the fit [s].
+    pub range: [f64; 2],
+    /// Factor of each record [-] (in the records' `scale` already).
+    pub factors: Vec<f64>,
+    /// The rule's common factor [-].
+    pub rule_factor: f64,
+    /// Periods of the fit [s].
+    pub fit_periods: Vec<f64>,
+    /// The target there [m/s^2].
+    pub fit_target: Vec<f64>,
+    /// The mean of the scaled records' spectra there [m/s^2].
+    pub fit_mean: Vec<f64>,
+    /// Lowest ratio of the mean to the target [-] and its period [s].
+    pub min_ratio: [f64; 2],
+    /// Whether the mean stays at or above 90 % of the target.
+    pub ec8_satisfied: bool,
+    /// The target at the swept periods [m/s^2].
+    pub target_sa: Vec<f64>,
+}
+
+impl StoredSuite {
+    /// What a plan's suite stores, with the target at the swept `periods`.
+    pub fn of(suite: &Suite, periods: &[f64]) -> Self {
+        let s = &suite.scaling;
+        let target_config = toml::Table::try_from(&suite.target).map(|t| t.to_string()).unwrap_or_default();
+        StoredSuite {
+            target: suite.target.label(),
+            target_config,
+            rule: toml::Value::try_from(suite.rule).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default(),
+            range: [suite.range.0, suite.range.1],
+            factors: s.factors.clone(),
+            rule_factor: s.rule_factor,
+            fit_periods: s.periods.clone(),
+            fit_target: s.target.clone(),
+            fit_mean: s.mean.clone(),
+            min_ratio: [s.min_ratio.0, s.min_ratio.1],
+            ec8_satisfied: s.ec8_satisfied,
+            target_sa: periods.iter().map(|&t| suite.target.sa(t)).collect(),
+        }
+    }
+}
+
+/// Writes `/suite`; `record` and `period` are the dimension scales.
+pub fn write_suite(
+    file: &hdf5::File,
+    s: &StoredSuite,
+    record: &hdf5::Dataset,
+    period: &hdf5::Dataset,
+) -> hdf5::Result<()> {
+    let g = file.create_group("suite")?;
+    attr_str(&g, "target", &s.target)?;
+    attr_str(&g, "target_config", &s.target_config)?;
+    attr_str(&g, "rule", &s.rule)?;
+    g.new_attr::<u8>().create("ec8_satisfied")?.write_scalar(&u8::from(s.ec8_satisfied))?;
+    let ds = g.new_dataset_builder().with_data(ArrayView1::from(&s.factors)).create("factor")?;
+    attr_str(&ds, "units", "1")?;
+    attach_scales(&ds, &[(record, "record")])?;
+    let ds = g.new_dataset_builder().with_data(ArrayView1::from(&s.range)).create("range")?;
+    attr_str(&ds, "units", "s")?;
+    scalar(&g, "rule_factor", s.rule_factor, "1")?;
+    scalar(&g, "min_ratio", s.min_ratio[0], "1")?;
+    scalar(&g, "min_ratio_period", s.min_ratio[1], "s")?;
+    let ds = g.new_dataset_builder().with_data(ArrayView1::from(&s.target_sa)).create("target_sa")?;
+    attr_str(&ds, "units", "m/s^2")?;
+    attach_scales(&ds, &[(period, "period")])?;
+    let fit = g.create_group("fit")?;
+    for (name, data, units) in
+        [("period", &s.fit_periods, "s"), ("target", &s.fit_target, "m/s^2"), ("mean", &s.fit_mean, "m/s^2")]
+    {
+        let ds = fit.new_dataset_builder().with_data(ArrayView1::from(data)).create(name)?;
+        attr_str(&ds, "units", units)?;
+    }
+    Ok(())
+}
+
+/// Reads `/suite` (None when the sweep has no suite).
+pub fn read_suite(file: &hdf5::File) -> hdf5::Result<Option<StoredSuite>> {
+    let Ok(g) = file.group("suite") else { return Ok(None) };
+    let vec = |n: &str| -> hdf5::Result<Vec<f64>> { g.dataset(n)?.read_raw() };
+    let num = |n: &str| -> hdf5::Result<f64> { g.dataset(n)?.read_scalar() };
+    let fit = g.group("fit")?;
+    let fv = |n: &str| -> hdf5::Result<Vec<f64>> { fit.dataset(n)?.read_raw() };
+    let range = vec("range")?;
+    Ok(Some(StoredSuite {
+        target: read_attr_str(&g, "target")?,
+        target_config: read_attr_str(&g, "target_config")?,
+        rule: read_attr_str(&g, "rule")?,
+        range: [range.first().copied().unwrap_or(f64::NAN), range.get(1).copied().unwrap_or(f64::NAN)],
+        factors: vec("factor")?,
+        rule_factor: num("rule_factor")?,
+        fit_periods: fv("period")?,
+        fit_target: fv("target")?,
+        fit_mean: fv("mean")?,
+        min_ratio: [num("min_ratio")?, num("min_ratio_period")?],
+        ec8_satisfied: g.attr("ec8_satisfied")?.read_scalar::<u8>()? != 0,
+        target_sa: vec("target_sa")?,
+    }))
+}
+
+/// Writes `/spectrum/statistics` (sweeps of two records or more); `scales`
+/// are the case, damping and period dimension scales.
+pub fn write_statistics(
+    spec: &hdf5::Group,
+    st: &Statistics,
+    dims: [usize; 4],
+    scales: [&hdf5::Dataset; 3],
+) -> hdf5::Result<()> {
+    let [nc, _, nz, nt] = dims;
+    let [case, damping, period] = scales;
+    let g = spec.create_group("statistics")?;
+    attr_str(
+        &g,
+        "meaning",
+        "over the records, per case, damping and period; NaN where a record's job did not finish (count < records)",
+    )?;
+    let shape = |e: ndarray::ShapeError| hdf5::Error::from(e.to_string());
+    let three = |g: &hdf5::Group, name: &str, data: &[f64], units: &str| -> hdf5::Result<()> {
+        let view = ArrayView3::from_shape((nc, nz, nt), data).map_err(shape)?;
+        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        attr_str(&ds, "units", units)?;
+        attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, "period")])
+    };
+    let two = |g: &hdf5::Group, name: &str, data: &[f64], units: &str| -> hdf5::Result<()> {
+        let view = ArrayView2::from_shape((nz, nt), data).map_err(shape)?;
+        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        attr_str(&ds, "units", units)?;
+        attach_scales(&ds, &[(damping, "damping"), (period, "period")])
+    };
+    let with = g.create_group("with_joint")?;
+    three(&with, "mean", &st.with_mean, "m/s^2")?;
+    three(&with, "median", &st.with_median, "m/s^2")?;
+    three(&with, "dispersion", &st.with_dispersion, "1")?;
+    let without = g.create_group("without_joint")?;
+    two(&without, "mean", &st.without_mean, "m/s^2")?;
+    two(&without, "median", &st.without_median, "m/s^2")?;
+    two(&without, "dispersion", &st.without_dispersion, "1")?;
+    let red = g.create_group("reduction")?;
+    three(&red, "mean", &st.reduction_mean, "1")?;
+    three(&red, "median", &st.reduction_median, "1")?;
+    three(&red, "std", &st.reduction_std, "1")?;
+    three(&red, "of_mean", &st.reduction_of_mean, "1")?;
+    for (name, data) in [("count", &st.count), ("flagged", &st.flagged)] {
+        let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape)?;
+        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        attr_str(&ds, "units", "1")?;
+        attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, "period")])?;
+    }
+    Ok(())
+}
