@@ -157,6 +157,17 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
                 }),
             );
             extend(&mut out, residuals_json(&r.residuals));
+            if let Some(y) = &r.transverse {
+                extend(
+                    &mut out,
+                    json!({
+                        "period_y": 2.0 * std::f64::consts::PI / y.omega,
+                        "sa_y": y.sa, "t_sa_y": y.t_sa, "sd_y": y.sd, "sv_y": y.sv,
+                        "peak_joint_force_y": y.peak_joint_force,
+                        "sa_y_without_joint": y.sa_without,
+                    }),
+                );
+            }
         }
         out!("{out}");
         return;
@@ -172,6 +183,18 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
     if r.exact_linear {
         out!("validity: not checked (no joint)");
         return;
+    }
+    if let Some(y) = &r.transverse {
+        out!(
+            "  across: T_y {:.4} s, Sa_y {:.5} m/s^2 at t = {:.3} s (without the joint {:.5}), Sd_y {:.6} m, joint \
+             force across {:.1} N",
+            2.0 * std::f64::consts::PI / y.omega,
+            y.sa,
+            y.t_sa,
+            y.sa_without,
+            y.sd,
+            y.peak_joint_force
+        );
     }
     out!("joint demands");
     out!("  peak joint force on the deck  {:>12.1} N", r.peak_joint_force);

@@ -138,6 +138,41 @@ fn every_file_says_what_produced_it_and_carries_units() {
     assert_eq!(attr_string(&f, "method"), "exact linear, without the joint");
     all.extend(paths_of(&exact));
 
+    // the deck across the bridge under a transverse record
+    let across = config(
+        &d,
+        "across.toml",
+        &format!(
+            "[bridge]\ntransverse_period = 1.0\n[record_y]\nfile = {:?}\nscale = 0.15\n",
+            root().join("ground_motions/RSN753_LOMAP_CLS000-hor1.AT2")
+        ),
+        2.0,
+    );
+    let across_h5 = d.join("across.h5");
+    let res = run(&["simulate", across.to_str().unwrap(), "--output", across_h5.to_str().unwrap()]);
+    assert!(matches!(res.status.code(), Some(0 | 4)), "{}", String::from_utf8_lossy(&res.stderr));
+    let f = hdf5::File::open(&across_h5).unwrap();
+    assert!(f.dataset("result/sa_y").unwrap().read_scalar::<f64>().unwrap() > 0.0);
+    all.extend(paths_of(&across_h5));
+
+    // a suite of two records scaled to a target spectrum, with its statistics
+    let records = ["RSN753_LOMAP_CLS090-hor2.AT2", "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"]
+        .map(|r| format!("{{ file = {:?} }}", root().join("ground_motions").join(r)));
+    let suite = config(
+        &d,
+        "suite.toml",
+        &format!(
+            "[sweep]\nperiods = [0.5]\nrecords = [{}]\n[sweep.suite]\ntarget = {{ code = \"asce7\", sds_g = 0.2, \
+             sd1_g = 0.1, tl = 8.0 }}\n",
+            records.join(", ")
+        ),
+        1.0,
+    );
+    let suite_h5 = d.join("suite.h5");
+    let res = run(&["sweep", suite.to_str().unwrap(), "--output", suite_h5.to_str().unwrap()]);
+    assert!(matches!(res.status.code(), Some(0 | 4)), "{}", String::from_utf8_lossy(&res.stderr));
+    all.extend(paths_of(&suite_h5));
+
     // service with options from the command line
     let loop_h5 = d.join("loop.h5");
     let medium = root().join("configs/medium.toml");

@@ -327,11 +327,17 @@ pub struct BridgeConfig {
     pub period: Option<f64>,
     /// Damping ratio [-].
     pub damping: f64,
+    /// Natural period across the bridge (y) [s]: the deck then has a
+    /// transverse degree of freedom of its own; none: the deck does not
+    /// move across.
+    pub transverse_period: Option<f64>,
+    /// Damping ratio across the bridge [-] (default `damping`).
+    pub transverse_damping: Option<f64>,
 }
 
 impl Default for BridgeConfig {
     fn default() -> Self {
-        Self { mass: 1.0e8, w0: None, period: None, damping: 0.05 }
+        Self { mass: 1.0e8, w0: None, period: None, damping: 0.05, transverse_period: None, transverse_damping: None }
     }
 }
 
@@ -348,6 +354,13 @@ impl BridgeConfig {
     /// Natural period [s].
     pub fn natural_period(&self) -> f64 {
         2.0 * std::f64::consts::PI / self.omega()
+    }
+
+    /// Circular frequency and damping ratio across the bridge, when the
+    /// deck moves across ([rad/s], [-]).
+    pub fn transverse(&self) -> Option<(f64, f64)> {
+        self.transverse_period
+            .map(|t| (2.0 * std::f64::consts::PI / t, self.transverse_damping.unwrap_or(self.damping)))
     }
 }
 
@@ -533,6 +546,19 @@ impl Config {
             (None, None) => {}
         }
         check("bridge.damping", b.damping)?;
+        if let Some(t) = b.transverse_period {
+            check("bridge.transverse_period", t)?;
+        }
+        if let Some(z) = b.transverse_damping {
+            check("bridge.transverse_damping", z)?;
+            if b.transverse_period.is_none() {
+                return Err(invalid(
+                    "bridge.transverse_damping",
+                    z,
+                    "is for a deck that moves across: give bridge.transverse_period too",
+                ));
+            }
+        }
         let s = &self.simulation;
         check("simulation.extra_time", s.extra_time)?;
         for (key, v) in [

@@ -68,6 +68,9 @@ pub struct Bridge {
     pub omega: f64,
     /// Damping ratio [-].
     pub damping: f64,
+    /// Circular frequency [rad/s] and damping ratio [-] across the bridge,
+    /// when the deck moves across.
+    pub transverse: Option<(f64, f64)>,
 }
 
 impl Bridge {
@@ -204,6 +207,7 @@ pub fn build_with(
         mass: config.bridge.mass,
         omega: omega.unwrap_or_else(|| config.bridge.omega()),
         damping: config.bridge.damping,
+        transverse: config.bridge.transverse(),
     };
     if !(bridge.omega.is_finite() && bridge.omega > 0.0) {
         return Err(crate::config::invalid("bridge.w0", bridge.omega, "must be positive"));
@@ -311,7 +315,8 @@ pub fn build_with(
         }
         model.geometry = Some(geo);
     }
-    let deck = sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(&[Coord::X]));
+    let deck_coords: &[Coord] = if bridge.transverse.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
+    let deck = sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords));
     model.deck = deck;
     if let Some(geo) = &model.geometry {
         for (k, s) in geo.supports.iter().enumerate() {
@@ -366,6 +371,18 @@ pub fn build_with(
             rest: 0.0,
         }),
     );
+    if let Some((w, zeta)) = bridge.transverse {
+        sys.add_force_named(
+            "bridge spring and damper across",
+            ForceElement::CoordinateSpring(CoordinateSpring {
+                body: deck,
+                coord: Coord::Y,
+                stiffness: bridge.mass * w * w,
+                damping: 2.0 * zeta * bridge.mass * w,
+                rest: 0.0,
+            }),
+        );
+    }
     model.counts = Counts {
         bodies: sys.body_count() - 1,
         coordinates: sys.coordinate_count(),

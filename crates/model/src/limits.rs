@@ -113,6 +113,8 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     ("bridge.period", "s", closed(PERIOD_RANGE.0, PERIOD_RANGE.1)),
     // bridges with added dampers reach about 0.3
     ("bridge.damping", "1", closed(0.0, 0.3)),
+    ("bridge.transverse_period", "s", closed(PERIOD_RANGE.0, PERIOD_RANGE.1)),
+    ("bridge.transverse_damping", "1", closed(0.0, 0.3)),
     ("simulation.extra_time", "s", closed(0.0, 86_400.0)),
     ("simulation.duration", "s", closed(1e-3, 86_400.0)),
     ("simulation.rtol", "1", closed(1e-12, 0.1)),

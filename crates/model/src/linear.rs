@@ -32,6 +32,7 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
             subgaps: Vec::new(),
             contact_force: Vec::new(),
             impacts: Vec::new(),
+            ..Histories::default()
         }
     });
     RunResult {
@@ -49,6 +50,8 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
         histories,
         exact_linear: true,
         pounding: crate::pounding::Pounding::not_computed(),
+        // across the bridge: see the with-joint run's `sa_without`
+        transverse: None,
         validity: crate::validity::Validity::not_checked("no joint: the exact linear solution of the bridge alone"),
         // not computed without the joint (NaN in every output)
         peak_joint_force: f64::NAN,

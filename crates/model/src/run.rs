@@ -86,6 +86,36 @@ pub struct Histories {
     pub contact_force: Vec<Vec<f64>>,
     /// Every impact (contact onset), in time order.
     pub impacts: Vec<crate::pounding::Impact>,
+    /// Deck displacement across the bridge relative to the ground `u_y` [m]
+    /// (empty when the deck does not move across).
+    pub uy: Vec<f64>,
+    /// Deck absolute acceleration across the bridge [m/s^2] (empty when
+    /// the deck does not move across).
+    pub a_abs_y: Vec<f64>,
+    /// Force of the joint on the deck across the bridge, y [N] (empty when
+    /// the deck does not move across).
+    pub joint_force_y: Vec<f64>,
+}
+
+/// The deck's response across the bridge (`bridge.transverse_period`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Transverse {
+    /// Circular frequency across the bridge [rad/s].
+    pub omega: f64,
+    /// Peak absolute acceleration of the deck across the bridge [m/s^2].
+    pub sa: f64,
+    /// Time of `sa` [s].
+    pub t_sa: f64,
+    /// Peak deck displacement across the bridge relative to the ground [m].
+    pub sd: f64,
+    /// Peak deck velocity across the bridge relative to the ground [m/s].
+    pub sv: f64,
+    /// Peak force of the joint on the deck across the bridge [N].
+    pub peak_joint_force: f64,
+    /// Sa across the bridge without the joint: the exact linear response of
+    /// the transverse oscillator to `[record_y]` over the run's window
+    /// [m/s^2] (0 without `[record_y]`).
+    pub sa_without: f64,
 }
 
 /// Results of one earthquake run (SI units).
@@ -130,6 +160,8 @@ pub struct RunResult {
     /// Pounding: impacts, contact forces, the closed joint's force on the
     /// deck, contact dissipation.
     pub pounding: Pounding,
+    /// The deck's response across the bridge, when it moves across.
+    pub transverse: Option<Transverse>,
     /// Largest energy-balance error divided by the largest earthquake work [-].
     pub energy_error: f64,
     /// Largest constraint residuals over the run, by kind and unit.
@@ -297,6 +329,25 @@ pub fn simulate_records(
         h.impacts = log;
     }
     let w = model.bridge.omega;
+    let transverse = model.bridge.transverse.map(|(wy, zeta)| {
+        let [sa, sd, sv, f] = obs.across;
+        let sa_without = record_y.map_or(0.0, |r| {
+            let samples = (duration / r.dt * (1.0 + 1e-12)).floor() as usize + 1;
+            let mut a = r.acceleration.clone();
+            a.resize(samples.max(2), 0.0);
+            let period = 2.0 * std::f64::consts::PI / wy;
+            quakejoint_motion::peaks(&a, r.dt, period, zeta, quakejoint_motion::SpectrumOptions::default()).sa
+        });
+        Transverse {
+            omega: wy,
+            sa: sa.value,
+            t_sa: sa.time,
+            sd: sd.value,
+            sv: sv.value,
+            peak_joint_force: f.value,
+            sa_without,
+        }
+    });
     Ok(RunResult {
         omega: w,
         sa: obs.sa.value,
@@ -316,6 +367,7 @@ pub fn simulate_records(
         max_subgap: obs.gaps.as_ref().map(|g| g.max),
         max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
         pounding,
+        transverse,
         energy_error,
         residuals: sim.constraint_residuals(),
         validity,
@@ -352,6 +404,8 @@ impl Peak {
 /// Evaluates the reported quantities at the output times.
 struct EarthquakeObserver {
     deck: usize,
+    /// The deck's y coordinate, when it moves across.
+    deck_y: Option<usize>,
     deck_body: BodyId,
     boxes: Vec<ConstraintId>,
     bridge: Bridge,
@@ -362,6 +416,8 @@ struct EarthquakeObserver {
     sd: Peak,
     sv: Peak,
     joint_force: Peak,
+    /// Across the bridge: Sa, Sd, Sv and the joint's force.
+    across: [Peak; 4],
     bushing: f64,
     friction: f64,
     gaps: Option<Gaps>,
@@ -413,6 +469,7 @@ impl EarthquakeObserver {
         let (n, m) = (asm.coordinates(), asm.equations());
         Ok(Self {
             deck,
+            deck_y: asm.coordinate(model.deck, quakejoint_solver::Coord::Y),
             deck_body: model.deck,
             boxes: model.joist_boxes.clone(),
             bridge: model.bridge,
@@ -423,6 +480,7 @@ impl EarthquakeObserver {
             sd: Peak::default(),
             sv: Peak::default(),
             joint_force: Peak::default(),
+            across: [Peak::default(); 4],
             bushing: 0.0,
             friction: 0.0,
             gaps,
@@ -488,9 +546,22 @@ impl EarthquakeObserver {
             Some(c) => c.at(asm, ws, q, v, Some(&mut self.gap_forces)),
             None => 0.0,
         };
-        let fj = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body)[0] + pushed;
+        let reaction = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body);
+        let fj = reaction[0] + pushed;
         let b = &self.bridge;
         let a_abs = (-b.stiffness() * u - b.damper() * ud + fj) / b.mass;
+        // across: the joist boxes alone hold the deck (contacts push along x)
+        let across = match (self.deck_y, b.transverse) {
+            (Some(c), Some((w, zeta))) => {
+                let (uy, vy, fy) = (q[c], v[c], reaction[1]);
+                let a = (-b.mass * w * w * uy - 2.0 * zeta * b.mass * w * vy + fy) / b.mass;
+                for (peak, x) in self.across.iter_mut().zip([a, uy, vy, fy]) {
+                    peak.update(x, t);
+                }
+                Some((uy, a, fy))
+            }
+            _ => None,
+        };
         self.sa.update(a_abs, t);
         self.sd.update(u, t);
         self.sv.update(ud, t);
@@ -508,6 +579,11 @@ impl EarthquakeObserver {
             h.v.push(ud);
             h.a_abs.push(a_abs);
             h.joint_force.push(fj);
+            if let Some((uy, a, fy)) = across {
+                h.uy.push(uy);
+                h.a_abs_y.push(a);
+                h.joint_force_y.push(fy);
+            }
             h.friction_power.push(asm.powers(ws, t, q, v, lam).friction);
             if let Some(g) = &self.gaps {
                 for (i, &c) in g.beams.iter().enumerate() {

@@ -181,6 +181,9 @@ pub struct Monitor {
     max_penetration: Option<f64>,
     max_subgap: f64,
     bearings: Vec<Bearing>,
+    /// The deck's y coordinate, when it moves across: the joist boxes move
+    /// with it.
+    deck_y: Option<usize>,
     contact_places: Vec<crate::generator::ContactPlace>,
     collision: Option<Crossing>,
     off_support: Option<Crossing>,
@@ -214,6 +217,7 @@ impl Monitor {
             max_penetration: j.contact.enabled.then_some(j.contact.max_penetration),
             max_subgap: j.capacity.max_subgap,
             bearings,
+            deck_y: asm.coordinate(model.deck, Coord::Y),
             contact_places: model.contacts.clone(),
             collision: None,
             off_support: None,
@@ -248,6 +252,7 @@ impl Monitor {
             }
         }
         let g = &self.geometry;
+        let uy = self.deck_y.map_or(0.0, |c| q[c]);
         for (n, b) in self.bearings.iter().enumerate() {
             let sup = &g.supports[b.support];
             // distance along the support from its pivot (abutment) end, and
@@ -255,7 +260,7 @@ impl Monitor {
             let (along, reach) = match b.phi {
                 Some(phi) => {
                     let (sin, cos) = q[phi].sin_cos();
-                    (q[b.x] * cos + (q[b.y] - sup.y0) * sin, (g.gap + u).hypot(sup.box_dy))
+                    (q[b.x] * cos + (q[b.y] - sup.y0) * sin, (g.gap + u).hypot(sup.box_dy + uy))
                 }
                 None => (q[b.x], g.gap + u),
             };
@@ -266,7 +271,7 @@ impl Monitor {
         }
         for (k, sup) in g.supports.iter().enumerate() {
             if sup.kind == SupportKind::Joist {
-                let excess = (g.gap + u).hypot(sup.box_dy) - self.joist_length;
+                let excess = (g.gap + u).hypot(sup.box_dy + uy) - self.joist_length;
                 if excess > 0.0 {
                     Crossing::update(&mut self.pulled_out, t, excess, k);
                 }

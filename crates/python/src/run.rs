@@ -181,6 +181,20 @@ fn scalars<'py>(py: Python<'py>, r: &RunResult, record: &LoadedRecord) -> PyResu
     for (k, v) in joint_numbers {
         d.set_item(k, j(v))?;
     }
+    // across the bridge (NaN when the deck does not move across)
+    let y = r.transverse.as_ref();
+    let across = [
+        ("period_y", y.map_or(nan, |y| 2.0 * std::f64::consts::PI / y.omega)),
+        ("sa_y", y.map_or(nan, |y| y.sa)),
+        ("t_sa_y", y.map_or(nan, |y| y.t_sa)),
+        ("sd_y", y.map_or(nan, |y| y.sd)),
+        ("sv_y", y.map_or(nan, |y| y.sv)),
+        ("peak_joint_force_y", y.map_or(nan, |y| y.peak_joint_force)),
+        ("sa_y_without_joint", y.map_or(nan, |y| y.sa_without)),
+    ];
+    for (k, v) in across {
+        d.set_item(k, v)?;
+    }
     Ok(d)
 }
 
@@ -203,6 +217,11 @@ fn history_dict<'py>(py: Python<'py>, h: &Histories, without: Vec<f64>, joint: b
     let matrix = |m: &[Vec<f64>]| -> PyResult<Bound<'py, PyArray2<f64>>> {
         PyArray2::from_vec2(py, m).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
     };
+    if !h.uy.is_empty() {
+        d.set_item("uy", arr(&h.uy))?;
+        d.set_item("a_abs_y", arr(&h.a_abs_y))?;
+        d.set_item("joint_force_y", arr(&h.joint_force_y))?;
+    }
     if !h.center_beam_dx.is_empty() {
         d.set_item("center_beam_dx", matrix(&h.center_beam_dx)?)?;
     }

@@ -4,7 +4,7 @@ use quakejoint_model::validity::Flags;
 use serde::{Deserialize, Serialize};
 
 /// Per-job values stored in `/spectrum/with_joint/<name>`, in this order.
-pub const FIELDS: [&str; 33] = [
+pub const FIELDS: [&str; 36] = [
     "sa",
     "psa",
     "sd",
@@ -38,12 +38,15 @@ pub const FIELDS: [&str; 33] = [
     "factorizations",
     "wall_time_s",
     "cpu_time_s",
+    "sa_y",
+    "sd_y",
+    "sa_y_without_joint",
 ];
 
 /// Units of [`FIELDS`] (`1` for counts and ratios).
-pub const UNITS: [&str; 33] = [
+pub const UNITS: [&str; 36] = [
     "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "1", "N", "J", "N", "m",
-    "1", "m", "rad", "m/s", "rad/s", "1", "1", "1", "1", "1", "s", "s",
+    "1", "m", "rad", "m/s", "rad/s", "1", "1", "1", "1", "1", "s", "s", "m/s^2", "m", "m/s^2",
 ];
 
 /// Fields that depend on the machine, not on the inputs (left out of

@@ -103,6 +103,7 @@ pub fn scalar_results(r: &RunResult) -> Vec<(&'static str, f64, &'static str)> {
     let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
     let count = |n: u64| if r.exact_linear { f64::NAN } else { n as f64 };
     let s = &r.stats;
+    let y = r.transverse.as_ref();
     vec![
         ("omega", r.omega, "rad/s"),
         ("period", 2.0 * std::f64::consts::PI / r.omega, "s"),
@@ -141,6 +142,13 @@ pub fn scalar_results(r: &RunResult) -> Vec<(&'static str, f64, &'static str)> {
         ("wall_time_s", r.wall_time_s, "s"),
         ("cpu_time_s", r.cpu_time_s, "s"),
         ("duration", r.duration, "s"),
+        ("period_y", y.map_or(f64::NAN, |y| 2.0 * std::f64::consts::PI / y.omega), "s"),
+        ("sa_y", y.map_or(f64::NAN, |y| y.sa), "m/s^2"),
+        ("t_sa_y", y.map_or(f64::NAN, |y| y.t_sa), "s"),
+        ("sd_y", y.map_or(f64::NAN, |y| y.sd), "m"),
+        ("sv_y", y.map_or(f64::NAN, |y| y.sv), "m/s"),
+        ("peak_joint_force_y", y.map_or(f64::NAN, |y| y.peak_joint_force), "N"),
+        ("sa_y_without_joint", y.map_or(f64::NAN, |y| y.sa_without), "m/s^2"),
     ]
 }
 
@@ -185,6 +193,11 @@ pub fn write_run(
                 let mut w = w[..w.len().min(h.t.len())].to_vec();
                 w.resize(h.t.len(), f64::NAN);
                 dataset_1d(&g, "a_abs_without_joint", &w, "m/s^2")?;
+            }
+            if !h.uy.is_empty() {
+                dataset_1d(&g, "uy", &h.uy, "m")?;
+                dataset_1d(&g, "a_abs_y", &h.a_abs_y, "m/s^2")?;
+                dataset_1d(&g, "joint_force_y", &h.joint_force_y, "N")?;
             }
             if !h.center_beam_dx.is_empty() {
                 dataset_2d(&g, "center_beam_dx", &h.center_beam_dx, "m")?;

@@ -14,7 +14,7 @@ use crate::results::{JobHistory, Results, FIELDS, UNITS};
 use crate::run_h5::{write_provenance, Provenance, RecordSource};
 
 /// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 6;
+pub const SCHEMA_VERSION: u32 = 7;
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]

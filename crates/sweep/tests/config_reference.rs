@@ -61,6 +61,8 @@ fn full() -> Config {
     c.joint.center_beam.inertia = Some(1.0);
     c.joint.support_beam.inertia = Some(1.0);
     c.bridge.w0 = Some(6.3);
+    c.bridge.transverse_period = Some(1.0);
+    c.bridge.transverse_damping = Some(0.05);
     c.simulation.duration = Some(1.0);
     c.simulation.h_max = Some(1.0);
     c.simulation.max_wall_time = Some(1.0);
