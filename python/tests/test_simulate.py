@@ -108,3 +108,17 @@ def test_the_service_loop(short_config):
     # the loop's area is what friction, dampers and impacts dissipate
     dissipated = loop["friction_work_per_cycle"] + loop["damping_work_per_cycle"] + loop["contact_work_per_cycle"]
     assert loop["loop_work_per_cycle"] == pytest.approx(dissipated, rel=1e-2)
+
+
+def test_the_deck_across_the_bridge(short_config):
+    text = short_config.read_text() + (
+        f'\n[record_y]\nfile = "{ROOT / "ground_motions" / "RSN753_LOMAP_CLS000-hor1.AT2"}"\nscale = 0.3\n'
+    )
+    config = qj.Config.from_toml(text).replace({"bridge.transverse_period": 0.8})
+    run = qj.simulate(config, period=1.2)
+    h = run.history
+    assert run.period_y == pytest.approx(0.8) and run.sa_y > 0
+    assert np.abs(h["a_abs_y"]).max() == run.sa_y and np.abs(h["uy"]).max() == run.sd_y
+    assert run.sa_y_without_joint > 0 and run.energy_error < 1e-6
+    alone = qj.simulate(qj.Config.from_file(short_config), period=1.2, history=False)
+    assert np.isnan(alone.sa_y) and "uy" not in run.history.keys() - h.keys()
