@@ -7,8 +7,8 @@ without the joint, and of the reduction.
 For a sweep of several records (a suite, `[sweep.suite]`): one row per case
 and damping ratio. Left: each record's Sa with the joint (thin lines), the
 mean with the joint and without it, the median x/÷ exp(dispersion) band
-with the joint, and the target spectrum the suite was scaled to (dashed,
-with the fit range shaded and the 90 % Eurocode 8 bound dotted). Right: each
+with the joint, and the target spectrum the suite was scaled to (solid
+blue, with the fit range shaded and the 90 % Eurocode 8 bound dotted). Right: each
 record's reduction (thin), their mean with a +-1 standard deviation band,
 and the reduction of the mean spectrum 1 - mean with / mean without.
 Periods where a record's job failed or has not run have no statistic (a

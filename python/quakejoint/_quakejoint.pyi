@@ -88,7 +88,7 @@ class Record:
     def pga(self) -> float:
         """Peak ground acceleration [m/s^2]."""
     @property
-    def stats(self) -> dict[str, float]:
+    def stats(self) -> dict[str, Union[float, int]]:
         """dt, samples, duration [s], pga [m/s^2], pgv [m/s], pgd [m], their times, arias [m/s], d5_95, t5, t95 [s]."""
     def spectrum(self, periods: _Numbers, damping: Optional[_Numbers] = None, *, subdivisions: int = 0) -> Spectrum:
         """The exact linear response spectrum (see `spectrum`)."""

@@ -232,7 +232,7 @@ def _suite(f) -> Optional[dict]:
     out["ec8_satisfied"] = bool(g.attrs["ec8_satisfied"])
     for k in ("factor", "range", "target_sa"):
         out[k] = g[k][()]
-    for k in ("rule_factor", "min_ratio", "min_ratio_period"):
+    for k in ("rule_factor", "min_ratio", "min_ratio_period", "pga_ratio"):
         out[k] = float(g[k][()])
     for k in ("period", "target", "mean"):
         out[f"fit_{k}"] = g["fit"][k][()]

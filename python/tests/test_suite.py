@@ -41,20 +41,23 @@ def test_the_suites_mean_meets_the_eurocode_8_rule(suite_sweep):
     s = qj.read_sweep(suite_sweep)
     suite = s.suite
     periods = suite["fit_period"]
+    spectra = []
     with h5py.File(suite_sweep) as f:
-        spectra = [
-            qj.spectrum(f["records"][r]["acceleration"][()], periods, 0.05, dt=f["records"][r]["dt"][()],
-                        units="m/s2").sa[0]
-            for r in s.records
-        ]
+        for r in s.records:
+            # fitted over the runs' window (simulation.duration = 3 s), as the jobs see the records
+            dt = f["records"][r]["dt"][()]
+            window = f["records"][r]["acceleration"][: int(round(3.0 / dt)) + 1]
+            spectra.append(qj.spectrum(window, periods, 0.05, dt=dt, units="m/s2").sa[0])
     mean = np.mean(spectra, axis=0)
     np.testing.assert_allclose(mean, suite["fit_mean"], rtol=1e-12)
     ratio = mean / suite["fit_target"]
     assert ratio.min() >= 0.9 * (1 - 1e-12) and suite["ec8_satisfied"]
     assert suite["min_ratio"] == pytest.approx(ratio.min(), rel=1e-12)
+    if suite["rule_factor"] > 1:  # scaled up by the rule: exactly to 90 %, no further
+        assert ratio.min() == pytest.approx(0.9, rel=1e-12)
     # each record alone is fitted by least squares in logarithms: with the
     # rule's common factor taken out, its log-ratio to the target averages 0
-    for sa, f in zip(spectra, suite["factor"]):
+    for sa in spectra:
         assert np.mean(np.log(suite["fit_target"] / (sa / suite["rule_factor"]))) == pytest.approx(0, abs=1e-12)
 
 

@@ -19,7 +19,8 @@ def test_a_sweep_reads_into_labelled_arrays(quick_sweep):
     np.testing.assert_allclose(s["reduction"], reduction, rtol=1e-12)
     c, r, z = s.index(damping=0.05)
     assert (c, r, z) == (0, 0, 1)
-    assert (s.ok | s.flagged | s.failed).all() or (s.status == -1).any()
+    # the quick sweep finishes every job inside the model's validity
+    assert s.ok.all() and not s.flagged.any() and not s.failed.any()
 
 
 def test_to_xarray(quick_sweep):

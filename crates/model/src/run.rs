@@ -186,6 +186,65 @@ pub struct RunResult {
     pub histories: Option<Histories>,
 }
 
+impl RunResult {
+    /// Scalar results of a run: name, value, unit. Quantities a run did not
+    /// compute are NaN (the joint's, the energy balance and the solver counters
+    /// of the exact linear solution without the joint).
+    pub fn scalars(&self) -> Vec<(&'static str, f64, &'static str)> {
+        let r = self;
+        let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
+        let count = |n: u64| if r.exact_linear { f64::NAN } else { n as f64 };
+        let s = &r.stats;
+        let y = r.transverse.as_ref();
+        vec![
+            ("omega", r.omega, "rad/s"),
+            ("period", 2.0 * std::f64::consts::PI / r.omega, "s"),
+            ("sa", r.sa, "m/s^2"),
+            ("t_sa", r.t_sa, "s"),
+            ("psa", r.psa, "m/s^2"),
+            ("sd", r.sd, "m"),
+            ("t_sd", r.t_sd, "s"),
+            ("sv", r.sv, "m/s"),
+            ("t_sv", r.t_sv, "s"),
+            ("peak_joint_force", r.peak_joint_force, "N"),
+            ("peak_bushing_force", r.peak_bushing_force, "N"),
+            ("peak_friction_force", r.peak_friction_force, "N"),
+            ("friction_energy", r.friction_energy, "J"),
+            ("damping_energy", r.damping_energy, "J"),
+            ("earthquake_work", r.earthquake_work, "J"),
+            ("min_subgap", opt(r.min_subgap), "m"),
+            ("max_subgap", opt(r.max_subgap), "m"),
+            ("max_subgap_deviation", opt(r.max_subgap_deviation), "m"),
+            ("impacts", count(r.pounding.impacts), "1"),
+            ("peak_contact_force", r.pounding.peak_contact_force, "N"),
+            ("peak_contact_time", r.pounding.peak_contact_time, "s"),
+            ("contact_energy", r.pounding.contact_energy, "J"),
+            ("peak_deck_contact_force", r.pounding.peak_deck_contact_force, "N"),
+            ("max_penetration", r.pounding.max_penetration, "m"),
+            ("energy_error", r.energy_error, "1"),
+            ("max_position_residual", r.residuals.position, "m"),
+            ("max_angle_residual", r.residuals.angle, "rad"),
+            ("max_velocity_residual", r.residuals.velocity, "m/s"),
+            ("max_angular_velocity_residual", r.residuals.angular_velocity, "rad/s"),
+            ("steps", count(s.steps), "1"),
+            ("rejected_steps", count(s.rejected), "1"),
+            ("failed_attempts", count(s.failed_attempts), "1"),
+            ("newton_iterations", count(s.newton_iterations), "1"),
+            ("factorizations", count(s.factorizations), "1"),
+            ("wall_time_s", r.wall_time_s, "s"),
+            ("cpu_time_s", r.cpu_time_s, "s"),
+            ("duration", r.duration, "s"),
+            ("period_y", y.map_or(f64::NAN, |y| 2.0 * std::f64::consts::PI / y.omega), "s"),
+            ("sa_y", y.map_or(f64::NAN, |y| y.sa), "m/s^2"),
+            ("t_sa_y", y.map_or(f64::NAN, |y| y.t_sa), "s"),
+            ("sd_y", y.map_or(f64::NAN, |y| y.sd), "m"),
+            ("sv_y", y.map_or(f64::NAN, |y| y.sv), "m/s"),
+            ("peak_joint_force_y", y.map_or(f64::NAN, |y| y.peak_joint_force), "N"),
+            ("sa_y_without_joint", y.map_or(f64::NAN, |y| y.sa_without), "m/s^2"),
+        ]
+    }
+}
+
 /// Loads the records of a config (x, and y if given), with their hashes
 /// and the warnings raised while reading them.
 pub fn load_records(config: &Config, base_dir: &Path) -> Result<(LoadedRecord, Option<LoadedRecord>), ModelError> {

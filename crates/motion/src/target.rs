@@ -142,6 +142,15 @@ impl TargetSpectrum {
                 if !(tl.is_finite() && *tl >= 1.0 && *tl <= 20.0) {
                     return Err(invalid("tl", format!("{tl} s: T_L must be within 1 to 20 s (ASCE 7 maps 4 to 16 s)")));
                 }
+                if sd1_g / sds_g >= *tl {
+                    return Err(invalid(
+                        "sd1_g",
+                        format!(
+                            "T_S = S_D1 / S_DS = {} s is not below T_L = {tl} s",
+                            crate::text::number(sd1_g / sds_g)
+                        ),
+                    ));
+                }
                 Ok(())
             }
             TargetSpectrum::Table { points, damping } => {
@@ -175,7 +184,9 @@ impl TargetSpectrum {
     /// The periods [s] the spectrum is defined over.
     pub fn domain(&self) -> (f64, f64) {
         match self {
-            TargetSpectrum::Table { points, .. } => (points[0][0], points[points.len() - 1][0]),
+            TargetSpectrum::Table { points, .. } => {
+                (points.first().map_or(f64::NAN, |p| p[0]), points.last().map_or(f64::NAN, |p| p[0]))
+            }
             _ => (0.0, f64::INFINITY),
         }
     }
@@ -227,16 +238,22 @@ impl TargetSpectrum {
             TargetSpectrum::Ec8 { kind, ground, ag_g, damping } => format!(
                 "Eurocode 8 type {}, ground {ground}, a_g = {ag_g} g, {} % damping",
                 if *kind == Ec8Type::One { 1 } else { 2 },
-                100.0 * damping
+                percent(*damping)
             ),
             TargetSpectrum::Asce7 { sds_g, sd1_g, tl } => {
                 format!("ASCE 7, S_DS = {sds_g} g, S_D1 = {sd1_g} g, T_L = {tl} s, 5 % damping")
             }
             TargetSpectrum::Table { points, damping } => {
-                format!("table of {} points, {} % damping", points.len(), 100.0 * damping)
+                format!("table of {} points, {} % damping", points.len(), percent(*damping))
             }
         }
     }
+}
+
+/// A damping ratio in percent without the float's last-digit noise (7, not
+/// 7.000000000000001).
+fn percent(ratio: f64) -> f64 {
+    (ratio * 1e11).round() / 1e9
 }
 
 fn check_damping(damping: f64) -> Result<(), SpectrumError> {
@@ -317,6 +334,8 @@ mod tests {
             (ec8(Ec8Type::One, "C", -0.3, 0.05), "ag_g"),
             (ec8(Ec8Type::One, "C", 0.3, 0.5), "damping"),
             (TargetSpectrum::Asce7 { sds_g: 0.0, sd1_g: 0.6, tl: 8.0 }, "sds_g"),
+            // T_S = 5 s beyond T_L = 4 s: a spectrum with a jump
+            (TargetSpectrum::Asce7 { sds_g: 0.2, sd1_g: 1.0, tl: 4.0 }, "T_S"),
             (TargetSpectrum::Table { points: vec![[1.0, 0.1], [0.5, 0.2]], damping: 0.05 }, "points"),
         ];
         for (s, field) in bad {

@@ -120,7 +120,8 @@ impl PyRunResult {
     }
 }
 
-/// The scalar results of a run, named as in `quakejoint simulate --json`.
+/// The scalar results of a run, named as in `quakejoint simulate --json`
+/// and a run file's `/result` ([`RunResult::scalars`]).
 fn scalars<'py>(py: Python<'py>, r: &RunResult, record: &LoadedRecord) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let rec = &record.record;
@@ -132,67 +133,8 @@ fn scalars<'py>(py: Python<'py>, r: &RunResult, record: &LoadedRecord) -> PyResu
     d.set_item("method", if r.exact_linear { "exact linear" } else { "multibody" })?;
     d.set_item("validity", r.validity.flags.0)?;
     d.set_item("validity_label", r.validity.flags.label())?;
-    let numbers = [
-        ("omega", r.omega),
-        ("period", 2.0 * std::f64::consts::PI / r.omega),
-        ("sa", r.sa),
-        ("psa", r.psa),
-        ("sd", r.sd),
-        ("sv", r.sv),
-        ("t_sa", r.t_sa),
-        ("t_sd", r.t_sd),
-        ("t_sv", r.t_sv),
-        ("duration", r.duration),
-        ("wall_time_s", r.wall_time_s),
-        ("cpu_time_s", r.cpu_time_s),
-    ];
-    for (k, v) in numbers {
-        d.set_item(k, v)?;
-    }
-    let nan = f64::NAN;
-    let joint = !r.exact_linear;
-    let j = |v: f64| if joint { v } else { nan };
-    let p = &r.pounding;
-    let joint_numbers = [
-        ("peak_joint_force", r.peak_joint_force),
-        ("peak_bushing_force", r.peak_bushing_force),
-        ("peak_friction_force", r.peak_friction_force),
-        ("friction_energy", r.friction_energy),
-        ("damping_energy", r.damping_energy),
-        ("earthquake_work", r.earthquake_work),
-        ("min_subgap", r.min_subgap.unwrap_or(nan)),
-        ("max_subgap", r.max_subgap.unwrap_or(nan)),
-        ("max_subgap_deviation", r.max_subgap_deviation.unwrap_or(nan)),
-        ("impacts", p.impacts as f64),
-        ("peak_contact_force", p.peak_contact_force),
-        ("peak_contact_time", p.peak_contact_time),
-        ("contact_energy", p.contact_energy),
-        ("peak_deck_contact_force", p.peak_deck_contact_force),
-        ("max_penetration", p.max_penetration),
-        ("energy_error", r.energy_error),
-        ("max_position_residual", r.residuals.position),
-        ("max_angle_residual", r.residuals.angle),
-        ("max_velocity_residual", r.residuals.velocity),
-        ("max_angular_velocity_residual", r.residuals.angular_velocity),
-        ("steps", r.stats.steps as f64),
-        ("rejected_steps", r.stats.rejected as f64),
-        ("newton_iterations", r.stats.newton_iterations as f64),
-    ];
-    for (k, v) in joint_numbers {
-        d.set_item(k, j(v))?;
-    }
-    // across the bridge (NaN when the deck does not move across)
-    let y = r.transverse.as_ref();
-    let across = [
-        ("period_y", y.map_or(nan, |y| 2.0 * std::f64::consts::PI / y.omega)),
-        ("sa_y", y.map_or(nan, |y| y.sa)),
-        ("t_sa_y", y.map_or(nan, |y| y.t_sa)),
-        ("sd_y", y.map_or(nan, |y| y.sd)),
-        ("sv_y", y.map_or(nan, |y| y.sv)),
-        ("peak_joint_force_y", y.map_or(nan, |y| y.peak_joint_force)),
-        ("sa_y_without_joint", y.map_or(nan, |y| y.sa_without)),
-    ];
-    for (k, v) in across {
+    // the values of a run file's /result, with its names
+    for (k, v, _units) in r.scalars() {
         d.set_item(k, v)?;
     }
     Ok(d)

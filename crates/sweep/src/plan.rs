@@ -24,7 +24,8 @@ use std::path::{Path, PathBuf};
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::sha256_hex;
 use quakejoint_motion::{
-    load_record, period_range, scale_suite, Record, RecordSpec, SuiteRule, SuiteScaling, TargetSpectrum,
+    load_record, period_range, scale_suite, Record, RecordSpec, SuiteRule, SuiteScaling, TargetSpectrum, G,
+    MAX_ACCELERATION_G,
 };
 
 use crate::error::SweepError;
@@ -214,13 +215,16 @@ fn check_swept(values: &[f64], field: &str, key: &str, what: &str) -> Result<(),
     Ok(())
 }
 
-/// A warning when the run window ([`quakejoint_model::run::run_window`])
-/// cuts `record` short: both spectra cover the window only, and how much
-/// the spectrum without the joint over the whole record is larger says how
-/// much of the record's effect the window leaves out.
 /// Reads `[sweep.suite]`, scales the suite's records to its target (in
-/// place) and returns it.
-fn suite_of(v: &toml::Value, periods: &[f64], records: &mut [SweepRecord]) -> Result<Suite, SweepError> {
+/// place) and returns it. The records are fitted over the runs' window
+/// (what the jobs see), and each scaled record is checked again against
+/// the bound on a record's acceleration.
+fn suite_of(
+    v: &toml::Value,
+    periods: &[f64],
+    records: &mut [SweepRecord],
+    config: &Config,
+) -> Result<Suite, SweepError> {
     let toml::Value::Table(t) = v else {
         return Err(sweep_err("sweep.suite", "must be a table ([sweep.suite])"));
     };
@@ -234,7 +238,9 @@ fn suite_of(v: &toml::Value, periods: &[f64], records: &mut [SweepRecord]) -> Re
     }
     let target: TargetSpectrum = t
         .get("target")
-        .ok_or_else(|| sweep_err("sweep.suite.target", "missing: the target spectrum (code = \"ec8\", \"asce7\" or \"table\")"))?
+        .ok_or_else(|| {
+            sweep_err("sweep.suite.target", "missing: the target spectrum (code = \"ec8\", \"asce7\" or \"table\")")
+        })?
         .clone()
         .try_into()
         .map_err(|e: toml::de::Error| sweep_err("sweep.suite.target", e.message().to_string()))?;
@@ -250,17 +256,34 @@ fn suite_of(v: &toml::Value, periods: &[f64], records: &mut [SweepRecord]) -> Re
     };
     let rule = match t.get("rule") {
         Some(v) => v.clone().try_into().map_err(|e: toml::de::Error| {
-            sweep_err("sweep.suite.rule", format!("{} (\"ec8\" scales the suite up to the rule, \"check\" only reports)", e.message()))
+            sweep_err(
+                "sweep.suite.rule",
+                format!("{} (\"ec8\" scales the suite up to the rule, \"check\" only reports)", e.message()),
+            )
         })?,
         None => SuiteRule::Ec8,
     };
-    let refs: Vec<&Record> = records.iter().map(|r| &r.record).collect();
+    let windows: Vec<Record> = records.iter().map(|r| quakejoint_model::run::run_window(config, &r.record)).collect();
+    let refs: Vec<&Record> = windows.iter().collect();
     let scaling = scale_suite(&refs, &target, range, rule).map_err(|e| sweep_err("sweep.suite", e.to_string()))?;
+    let limit = MAX_ACCELERATION_G * G;
     for (r, f) in records.iter_mut().zip(&scaling.factors) {
         let rec = &mut r.record;
         rec.acceleration.iter_mut().for_each(|a| *a *= f);
         rec.scale *= f;
         rec.user_scale *= f;
+        let peak = rec.pga();
+        if peak > limit {
+            return Err(sweep_err(
+                "sweep.suite",
+                format!(
+                    "record {:?} scaled by {f:.3} peaks at {:.2} g, beyond {MAX_ACCELERATION_G} g: no recorded ground \
+                     motion is that strong; leave the record out of the suite or choose a weaker target",
+                    rec.name,
+                    peak / G
+                ),
+            ));
+        }
     }
     Ok(Suite { target, range, rule, scaling })
 }
@@ -280,6 +303,10 @@ fn suite_warnings(suite: &Suite) -> Vec<String> {
     out
 }
 
+/// A warning when the run window ([`quakejoint_model::run::run_window`])
+/// cuts `record` short: both spectra cover the window only, and how much
+/// the spectrum without the joint over the whole record is larger says how
+/// much of the record's effect the window leaves out.
 fn window_warning(config: &Config, record: &Record, periods: &[f64], damping: &[f64]) -> Option<String> {
     use quakejoint_motion::{spectrum, SpectrumOptions};
     let window = quakejoint_model::run::run_window(config, record);
@@ -448,6 +475,16 @@ impl Plan {
         if specs.is_empty() {
             return Err(sweep_err("sweep.records", "the list of records is empty"));
         }
+        if let (true, Some(y)) = (sweep.contains_key("suite"), &base_config.record_y) {
+            return Err(sweep_err(
+                "sweep.suite",
+                format!(
+                    "the suite scales its records along the bridge to the target; [record_y] ({}) would stay \
+                     unscaled: remove it (suites of transverse records are not supported)",
+                    y.file.display()
+                ),
+            ));
+        }
         if sweep.contains_key("suite") {
             for (i, spec) in specs.iter().enumerate() {
                 if spec.scale != 1.0 || spec.target_pga_g.is_some() {
@@ -463,7 +500,7 @@ impl Plan {
         }
         let mut records = specs.into_iter().map(|s| SweepRecord::load(s, base_dir)).collect::<Result<Vec<_>, _>>()?;
         let suite = match sweep.get("suite") {
-            Some(v) => Some(suite_of(v, &periods, &mut records)?),
+            Some(v) => Some(suite_of(v, &periods, &mut records, &base_config)?),
             None => None,
         };
         let record_y = base_config.record_y.clone().map(|s| SweepRecord::load(s, base_dir)).transpose()?;

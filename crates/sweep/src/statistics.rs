@@ -16,7 +16,9 @@ use quakejoint_model::validity::Flags;
 /// (n - 1), NaN for one value.
 pub fn summary(values: &[f64], log: bool) -> (f64, f64, f64) {
     let n = values.len();
-    if n == 0 {
+    // a value that is not a number (or not positive, for logarithms) makes
+    // every statistic undefined rather than quietly left out
+    if n == 0 || values.iter().any(|v| !v.is_finite() || (log && *v <= 0.0)) {
         return (f64::NAN, f64::NAN, f64::NAN);
     }
     let mean = values.iter().sum::<f64>() / n as f64;
@@ -25,7 +27,8 @@ pub fn summary(values: &[f64], log: bool) -> (f64, f64, f64) {
     let median = if n % 2 == 1 { sorted[n / 2] } else { 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]) };
     let xs: Vec<f64> = if log { values.iter().map(|v| v.ln()).collect() } else { values.to_vec() };
     let m = xs.iter().sum::<f64>() / n as f64;
-    let spread = if n > 1 { (xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1) as f64).sqrt() } else { f64::NAN };
+    let spread =
+        if n > 1 { (xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1) as f64).sqrt() } else { f64::NAN };
     (mean, median, spread)
 }
 

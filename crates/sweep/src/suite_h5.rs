@@ -33,6 +33,8 @@ pub struct StoredSuite {
     pub min_ratio: [f64; 2],
     /// Whether the mean stays at or above 90 % of the target.
     pub ec8_satisfied: bool,
+    /// The scaled records' mean PGA over the target at T = 0 [-].
+    pub pga_ratio: f64,
     /// The target at the swept periods [m/s^2].
     pub target_sa: Vec<f64>,
 }
@@ -45,7 +47,10 @@ impl StoredSuite {
         StoredSuite {
             target: suite.target.label(),
             target_config,
-            rule: toml::Value::try_from(suite.rule).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default(),
+            rule: toml::Value::try_from(suite.rule)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default(),
             range: [suite.range.0, suite.range.1],
             factors: s.factors.clone(),
             rule_factor: s.rule_factor,
@@ -54,6 +59,7 @@ impl StoredSuite {
             fit_mean: s.mean.clone(),
             min_ratio: [s.min_ratio.0, s.min_ratio.1],
             ec8_satisfied: s.ec8_satisfied,
+            pga_ratio: s.pga_ratio,
             target_sa: periods.iter().map(|&t| suite.target.sa(t)).collect(),
         }
     }
@@ -79,6 +85,7 @@ pub fn write_suite(
     scalar(&g, "rule_factor", s.rule_factor, "1")?;
     scalar(&g, "min_ratio", s.min_ratio[0], "1")?;
     scalar(&g, "min_ratio_period", s.min_ratio[1], "s")?;
+    scalar(&g, "pga_ratio", s.pga_ratio, "1")?;
     let ds = g.new_dataset_builder().with_data(ArrayView1::from(&s.target_sa)).create("target_sa")?;
     attr_str(&ds, "units", "m/s^2")?;
     attach_scales(&ds, &[(period, "period")])?;
@@ -112,6 +119,7 @@ pub fn read_suite(file: &hdf5::File) -> hdf5::Result<Option<StoredSuite>> {
         fit_mean: fv("mean")?,
         min_ratio: [num("min_ratio")?, num("min_ratio_period")?],
         ec8_satisfied: g.attr("ec8_satisfied")?.read_scalar::<u8>()? != 0,
+        pga_ratio: num("pga_ratio")?,
         target_sa: vec("target_sa")?,
     }))
 }

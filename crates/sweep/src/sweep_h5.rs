@@ -8,10 +8,10 @@ use ndarray::{ArrayView1, ArrayView3, ArrayView4};
 
 use crate::error::OutputError;
 use crate::h5::{attach_scales, attr_str, read_attr_str, scalar, set_scale, strings_1d, vlu, write_atomically};
-use crate::statistics::Statistics;
-use crate::suite_h5::{read_suite, write_statistics, write_suite, StoredSuite};
 use crate::results::{JobHistory, Results, FIELDS, UNITS};
 use crate::run_h5::{write_provenance, Provenance, RecordSource};
+use crate::statistics::Statistics;
+use crate::suite_h5::{read_suite, write_statistics, write_suite, StoredSuite};
 
 /// Version of the sweep file layout.
 pub const SCHEMA_VERSION: u32 = 7;

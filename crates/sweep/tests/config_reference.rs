@@ -119,8 +119,7 @@ fn every_key_is_documented_with_its_default() {
         }
     }
     let support_keys = ["kind", "y", "angle_deg"].map(|k| format!("joint.support_beams[k].{k}"));
-    let mut sweep_keys: Vec<String> =
-        quakejoint_sweep::plan::SWEEP_KEYS.iter().map(|k| format!("sweep.{k}")).collect();
+    let mut sweep_keys: Vec<String> = quakejoint_sweep::plan::SWEEP_KEYS.iter().map(|k| format!("sweep.{k}")).collect();
     sweep_keys.extend(quakejoint_sweep::plan::SUITE_KEYS.iter().map(|k| format!("sweep.suite.{k}")));
     for key in support_keys.iter().chain(&sweep_keys) {
         if !rows.contains_key(key) {
