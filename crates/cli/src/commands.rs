@@ -380,6 +380,12 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     }
     if a.no_joint {
         config.joint.enabled = false;
+        if config.bridge.transverse_period.is_some() {
+            eprintln!(
+                "note: --no-joint solves the bridge along x only; across, the run with the joint reports the bridge \
+                 alone as sa_y_without_joint"
+            );
+        }
     }
     let histories = a.output.is_some();
     // the bridge alone over the same window as a run with the joint
