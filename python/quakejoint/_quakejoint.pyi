@@ -170,7 +170,10 @@ class RunResult:
     max_subgap_deviation, max_penetration [m], impacts, peak_contact_force,
     peak_deck_contact_force [N], peak_contact_time [s], energy_error [-], steps,
     rejected_steps, newton_iterations, wall_time_s, cpu_time_s, duration [s], record,
-    record_pga_g, joint, method, validity, validity_label (NaN: not computed)."""
+    record_pga_g, joint, method, validity, validity_label; across the bridge period_y [s],
+    sa_y, sa_y_without_joint [m/s^2], t_sa_y [s], sd_y [m], sv_y [m/s], peak_joint_force_y [N];
+    an adjacent segment period_far [s], sa_far, sa_far_without_joint [m/s^2], t_sa_far [s],
+    sd_far, max_relative_displacement [m], peak_joint_force_far [N] (NaN: not computed)."""
 
     history: Optional[dict[str, npt.NDArray[np.float64]]]
     impacts_log: list[dict[str, float]]

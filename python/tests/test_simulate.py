@@ -122,3 +122,12 @@ def test_the_deck_across_the_bridge(short_config):
     assert run.sa_y_without_joint > 0 and run.energy_error < 1e-6
     along = qj.simulate(qj.Config.from_file(short_config), period=1.2)
     assert np.isnan(along.sa_y) and "uy" not in along.history
+
+
+def test_the_joint_between_two_segments(short_config):
+    config = qj.Config.from_file(short_config).replace({"bridge.far": {"period_ratio": 0.5}})
+    run = qj.simulate(config, period=1.2, history=False)
+    assert run.period_far == pytest.approx(0.6) and run.sa_far > 0 and run.sa_far_without_joint > 0
+    assert run.max_relative_displacement > 0 and run.energy_error < 1e-6
+    alone = qj.simulate(qj.Config.from_file(short_config), period=1.2, history=False)
+    assert np.isnan(alone.sa_far)

@@ -157,6 +157,18 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
                 }),
             );
             extend(&mut out, residuals_json(&r.residuals));
+            if let Some(f) = &r.far {
+                extend(
+                    &mut out,
+                    json!({
+                        "period_far": 2.0 * std::f64::consts::PI / f.omega,
+                        "sa_far": f.sa, "t_sa_far": f.t_sa, "sd_far": f.sd,
+                        "peak_joint_force_far": f.peak_joint_force,
+                        "sa_far_without_joint": f.sa_without,
+                        "max_relative_displacement": f.max_relative_displacement,
+                    }),
+                );
+            }
             if let Some(y) = &r.transverse {
                 extend(
                     &mut out,
@@ -183,6 +195,18 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
     if r.exact_linear {
         out!("validity: not checked (no joint)");
         return;
+    }
+    if let Some(f) = &r.far {
+        out!(
+            "  adjacent segment: T {:.4} s, Sa {:.5} m/s^2 at t = {:.3} s (without the joint {:.5}), Sd {:.6} m; \
+             decks apart by up to {:.4} m",
+            2.0 * std::f64::consts::PI / f.omega,
+            f.sa,
+            f.t_sa,
+            f.sa_without,
+            f.sd,
+            f.max_relative_displacement
+        );
     }
     if let Some(y) = &r.transverse {
         out!(

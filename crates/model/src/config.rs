@@ -333,11 +333,39 @@ pub struct BridgeConfig {
     pub transverse_period: Option<f64>,
     /// Damping ratio across the bridge [-] (default `damping`).
     pub transverse_damping: Option<f64>,
+    /// An adjacent bridge segment on the abutment side (`[bridge.far]`): the
+    /// joint then sits between two decks; none: between the abutment and
+    /// the deck.
+    pub far: Option<FarSegmentConfig>,
+}
+
+/// The adjacent segment the joint's abutment side rests on: a single-DOF
+/// oscillator along the bridge under the same ground motion.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FarSegmentConfig {
+    /// Deck mass [kg] (default the near deck's `bridge.mass`).
+    pub mass: Option<f64>,
+    /// Natural period [s] (give this or `period_ratio`).
+    pub period: Option<f64>,
+    /// Natural period as a multiple of the near deck's [-] (follows the
+    /// swept period in a sweep).
+    pub period_ratio: Option<f64>,
+    /// Damping ratio [-] (default `bridge.damping`).
+    pub damping: Option<f64>,
 }
 
 impl Default for BridgeConfig {
     fn default() -> Self {
-        Self { mass: 1.0e8, w0: None, period: None, damping: 0.05, transverse_period: None, transverse_damping: None }
+        Self {
+            mass: 1.0e8,
+            w0: None,
+            period: None,
+            damping: 0.05,
+            transverse_period: None,
+            transverse_damping: None,
+            far: None,
+        }
     }
 }
 
@@ -354,6 +382,19 @@ impl BridgeConfig {
     /// Natural period [s].
     pub fn natural_period(&self) -> f64 {
         2.0 * std::f64::consts::PI / self.omega()
+    }
+
+    /// Mass [kg], circular frequency [rad/s] and damping ratio [-] of the
+    /// adjacent segment, for the near deck at `omega` [rad/s].
+    pub fn far_segment(&self, omega: f64) -> Option<(f64, f64, f64)> {
+        self.far.as_ref().map(|f| {
+            let w = match (f.period, f.period_ratio) {
+                (Some(t), _) => 2.0 * std::f64::consts::PI / t,
+                (None, Some(r)) => omega / r,
+                (None, None) => omega,
+            };
+            (f.mass.unwrap_or(self.mass), w, f.damping.unwrap_or(self.damping))
+        })
     }
 
     /// Circular frequency and damping ratio across the bridge, when the
@@ -556,6 +597,33 @@ impl Config {
                     "bridge.transverse_damping",
                     z,
                     "is for a deck that moves across: give bridge.transverse_period too",
+                ));
+            }
+        }
+        if let Some(f) = &b.far {
+            for (key, v) in [
+                ("bridge.far.mass", f.mass),
+                ("bridge.far.period", f.period),
+                ("bridge.far.period_ratio", f.period_ratio),
+                ("bridge.far.damping", f.damping),
+            ] {
+                if let Some(v) = v {
+                    check(key, v)?;
+                }
+            }
+            if let (Some(_), Some(r)) = (f.period, f.period_ratio) {
+                return Err(invalid(
+                    "bridge.far.period_ratio",
+                    r,
+                    "give either bridge.far.period or period_ratio, not both",
+                ));
+            }
+            if b.transverse_period.is_some() {
+                return Err(invalid(
+                    "bridge.transverse_period",
+                    b.transverse_period.unwrap_or_default(),
+                    "an adjacent segment ([bridge.far]) moves along the bridge only: a deck moving across between two \
+                     segments is not modelled",
                 ));
             }
         }

@@ -71,6 +71,9 @@ pub struct Bridge {
     /// Circular frequency [rad/s] and damping ratio [-] across the bridge,
     /// when the deck moves across.
     pub transverse: Option<(f64, f64)>,
+    /// Mass [kg], circular frequency [rad/s] and damping ratio [-] of the
+    /// adjacent segment on the abutment side, if there is one.
+    pub far: Option<(f64, f64, f64)>,
 }
 
 impl Bridge {
@@ -125,14 +128,14 @@ fn contact_law(config: &Config) -> ContactLaw {
 }
 
 /// The contacts of the joint: at both ends of every sub-gap.
-fn add_contacts(sys: &mut System, model: &mut JointModel, geo: &Geometry, law: ContactLaw) {
+fn add_contacts(sys: &mut System, model: &mut JointModel, geo: &Geometry, law: ContactLaw, abutment: BodyId) {
     let (half_w, half_l) = (0.5 * geo.width, geo.half_length);
     let nc = model.center_beams.len();
     for gap in 0..=nc {
         for (end, y) in [-half_l, half_l].into_iter().enumerate() {
             // the corner on the abutment side's beam, the face of the other
             let (body, point, base, edge_point, edge_normal) = match gap {
-                0 => (model.center_beams[0], [-half_w, y], BodyId::GROUND, [half_w, 0.0], [1.0, 0.0]),
+                0 => (model.center_beams[0], [-half_w, y], abutment, [half_w, 0.0], [1.0, 0.0]),
                 g if g == nc => {
                     (model.center_beams[g - 1], [half_w, y], model.deck, [geo.gap - half_w, 0.0], [-1.0, 0.0])
                 }
@@ -177,6 +180,11 @@ pub struct JointModel {
     pub bearings: Vec<Vec<BodyId>>,
     /// The joist-box constraints (the joint's only connection to the deck).
     pub joist_boxes: Vec<ConstraintId>,
+    /// The adjacent segment's deck on the abutment side, if there is one.
+    pub far_deck: Option<BodyId>,
+    /// The joist pivots and guide welds (the joint's connection to the
+    /// abutment, or to the adjacent segment).
+    pub abutment_links: Vec<ConstraintId>,
     /// The service driver, if any.
     pub driver: Option<ConstraintId>,
     /// Where each contact is, in the order the solver numbers them.
@@ -208,7 +216,9 @@ pub fn build_with(
         omega: omega.unwrap_or_else(|| config.bridge.omega()),
         damping: config.bridge.damping,
         transverse: config.bridge.transverse(),
+        far: None,
     };
+    let bridge = Bridge { far: config.bridge.far_segment(bridge.omega), ..bridge };
     if !(bridge.omega.is_finite() && bridge.omega > 0.0) {
         return Err(crate::config::invalid("bridge.w0", bridge.omega, "must be positive"));
     }
@@ -221,6 +231,8 @@ pub fn build_with(
         supports: Vec::new(),
         bearings: Vec::new(),
         joist_boxes: Vec::new(),
+        far_deck: None,
+        abutment_links: Vec::new(),
         contacts: Vec::new(),
         driver: None,
         bridge,
@@ -315,6 +327,25 @@ pub fn build_with(
         }
         model.geometry = Some(geo);
     }
+    // the abutment, or the adjacent segment's deck the joint rests on there
+    let abutment = match bridge.far {
+        Some((mass, w, zeta)) => {
+            let far = sys.add_body(Body::new("far deck", mass, 1.0, [0.0; 3]).only(&[Coord::X]));
+            sys.add_force_named(
+                "far segment spring and damper",
+                ForceElement::CoordinateSpring(CoordinateSpring {
+                    body: far,
+                    coord: Coord::X,
+                    stiffness: mass * w * w,
+                    damping: 2.0 * zeta * mass * w,
+                    rest: 0.0,
+                }),
+            );
+            model.far_deck = Some(far);
+            far
+        }
+        None => BodyId::GROUND,
+    };
     let deck_coords: &[Coord] = if bridge.transverse.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
     let deck = sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords));
     model.deck = deck;
@@ -323,15 +354,16 @@ pub fn build_with(
             let body = model.supports[k];
             match s.kind {
                 SupportKind::Joist => {
-                    sys.add_constraint_named(
+                    let pivot = sys.add_constraint_named(
                         format!("pivot {k}"),
                         quakejoint_solver::Constraint::Revolute(Revolute {
                             body_a: body,
                             point_a: [-s.half_span, 0.0],
-                            body_b: BodyId::GROUND,
+                            body_b: abutment,
                             point_b: [0.0, s.y0],
                         }),
                     );
+                    model.abutment_links.push(pivot);
                     let c = sys.add_constraint_named(
                         format!("joist box {k}"),
                         quakejoint_solver::Constraint::PointOnLine(PointOnLine {
@@ -345,21 +377,22 @@ pub fn build_with(
                     model.joist_boxes.push(c);
                 }
                 SupportKind::Guide => {
-                    sys.add_constraint_named(
+                    let weld = sys.add_constraint_named(
                         format!("guide weld {k}"),
                         quakejoint_solver::Constraint::Weld(Weld {
                             body_a: body,
                             point_a: [0.0, 0.0],
-                            body_b: BodyId::GROUND,
+                            body_b: abutment,
                             point_b: s.centre,
                         }),
                     );
+                    model.abutment_links.push(weld);
                 }
             }
         }
     }
     if let (true, Some(geo)) = (j.enabled && j.contact.enabled, model.geometry.clone()) {
-        add_contacts(&mut sys, &mut model, &geo, contact_law(config));
+        add_contacts(&mut sys, &mut model, &geo, contact_law(config), abutment);
     }
     sys.add_force_named(
         "bridge spring and damper",

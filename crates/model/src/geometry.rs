@@ -144,19 +144,20 @@ impl Geometry {
     }
 
     /// Clear sub-gaps at both ends of the center beams (y = ±L/2), for
-    /// center-beam axes at `x` turned by `phi` [rad] and deck opening `u`:
+    /// center-beam axes at `x` turned by `phi` [rad], the deck displaced by
+    /// `u` and the abutment side (an adjacent segment) by `u0` [m]:
     /// from the abutment's edge beam to the first beam, between beams, and
     /// from the last beam to the deck's edge beam, `[at y = -L/2, at y =
     /// +L/2]` [m]. A beam turned by phi has its faces at `x ∓ y sin(phi) ±
     /// (w/2) cos(phi)`; the edge beams do not turn. Turning makes one end
     /// of a sub-gap close before its middle: 1 mrad on a 15 m beam moves its
     /// ends by 7.5 mm.
-    pub fn subgaps(&self, x: &[f64], phi: &[f64], u: f64, out: &mut Vec<[f64; 2]>) {
+    pub fn subgaps(&self, x: &[f64], phi: &[f64], u: f64, u0: f64, out: &mut Vec<[f64; 2]>) {
         out.clear();
         let half_w = 0.5 * self.width;
         let ends = [-self.half_length, self.half_length];
-        // faces of the abutment's edge beam (axis x = 0)
-        let mut prev = [half_w; 2];
+        // faces of the abutment's edge beam (axis x = u0)
+        let mut prev = [u0 + half_w; 2];
         for (&xi, &p) in x.iter().zip(phi) {
             let (sin, cos) = p.sin_cos();
             let back = ends.map(|y| xi - y * sin - half_w * cos);

@@ -52,6 +52,7 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
         pounding: crate::pounding::Pounding::not_computed(),
         // across the bridge: see the with-joint run's `sa_without`
         transverse: None,
+        far: None,
         validity: crate::validity::Validity::not_checked("no joint: the exact linear solution of the bridge alone"),
         // not computed without the joint (NaN in every output)
         peak_joint_force: f64::NAN,

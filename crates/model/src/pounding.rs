@@ -264,6 +264,13 @@ impl ContactWatch {
         deck
     }
 
+    /// The abutment-side contacts push an adjacent segment's deck along -x
+    /// (their edge normal is +x on a deck that does not turn), from the
+    /// values of the last [`ContactWatch::at`].
+    pub(crate) fn far_push(&self) -> f64 {
+        -self.values.iter().zip(&self.places).filter(|(c, p)| c.closed && p.gap == 0).map(|(c, _)| c.force).sum::<f64>()
+    }
+
     /// The deck's edge contacts push the deck along +x (their edge normal is
     /// -x on a deck that does not turn).
     fn deck_force_of_values(&self) -> f64 {

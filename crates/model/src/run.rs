@@ -97,6 +97,26 @@ pub struct Histories {
     pub joint_force_y: Vec<f64>,
 }
 
+/// The adjacent segment's response (`[bridge.far]`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FarSegment {
+    /// Its circular frequency [rad/s].
+    pub omega: f64,
+    /// Peak absolute acceleration of its deck [m/s^2].
+    pub sa: f64,
+    /// Time of `sa` [s].
+    pub t_sa: f64,
+    /// Peak displacement of its deck relative to the ground [m].
+    pub sd: f64,
+    /// Peak force of the joint on it [N].
+    pub peak_joint_force: f64,
+    /// Its Sa without the joint: the exact linear response to the record
+    /// over the run's window [m/s^2].
+    pub sa_without: f64,
+    /// Largest relative displacement of the two decks, |u - u_far| [m].
+    pub max_relative_displacement: f64,
+}
+
 /// The deck's response across the bridge (`bridge.transverse_period`).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Transverse {
@@ -162,6 +182,9 @@ pub struct RunResult {
     pub pounding: Pounding,
     /// The deck's response across the bridge, when it moves across.
     pub transverse: Option<Transverse>,
+    /// The adjacent segment's response, when the joint sits between two
+    /// segments.
+    pub far: Option<FarSegment>,
     /// Largest energy-balance error divided by the largest earthquake work [-].
     pub energy_error: f64,
     /// Largest constraint residuals over the run, by kind and unit.
@@ -196,6 +219,7 @@ impl RunResult {
         let count = |n: u64| if r.exact_linear { f64::NAN } else { n as f64 };
         let s = &r.stats;
         let y = r.transverse.as_ref();
+        let f = r.far.as_ref();
         vec![
             ("omega", r.omega, "rad/s"),
             ("period", 2.0 * std::f64::consts::PI / r.omega, "s"),
@@ -241,6 +265,13 @@ impl RunResult {
             ("sv_y", y.map_or(f64::NAN, |y| y.sv), "m/s"),
             ("peak_joint_force_y", y.map_or(f64::NAN, |y| y.peak_joint_force), "N"),
             ("sa_y_without_joint", y.map_or(f64::NAN, |y| y.sa_without), "m/s^2"),
+            ("period_far", f.map_or(f64::NAN, |f| 2.0 * std::f64::consts::PI / f.omega), "s"),
+            ("sa_far", f.map_or(f64::NAN, |f| f.sa), "m/s^2"),
+            ("t_sa_far", f.map_or(f64::NAN, |f| f.t_sa), "s"),
+            ("sd_far", f.map_or(f64::NAN, |f| f.sd), "m"),
+            ("peak_joint_force_far", f.map_or(f64::NAN, |f| f.peak_joint_force), "N"),
+            ("sa_far_without_joint", f.map_or(f64::NAN, |f| f.sa_without), "m/s^2"),
+            ("max_relative_displacement", f.map_or(f64::NAN, |f| f.max_relative_displacement), "m"),
         ]
     }
 }
@@ -407,6 +438,21 @@ pub fn simulate_records(
             sa_without,
         }
     });
+    let far = model.bridge.far.map(|(_, wf, zeta)| {
+        let [sa, sd, f, rel] = obs.far_peaks;
+        let window = run_window(config, record_x);
+        let period = 2.0 * std::f64::consts::PI / wf;
+        let exact = quakejoint_motion::peaks(&window.acceleration, record_x.dt, period, zeta, Default::default()).sa;
+        FarSegment {
+            omega: wf,
+            sa: sa.value,
+            t_sa: sa.time,
+            sd: sd.value,
+            peak_joint_force: f.value,
+            sa_without: exact,
+            max_relative_displacement: rel.value,
+        }
+    });
     Ok(RunResult {
         omega: w,
         sa: obs.sa.value,
@@ -427,6 +473,7 @@ pub fn simulate_records(
         max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
         pounding,
         transverse,
+        far,
         energy_error,
         residuals: sim.constraint_residuals(),
         validity,
@@ -465,6 +512,9 @@ struct EarthquakeObserver {
     deck: usize,
     /// The deck's y coordinate, when it moves across.
     deck_y: Option<usize>,
+    /// The adjacent segment's deck: its x coordinate and body.
+    far: Option<(usize, BodyId)>,
+    abutment_links: Vec<ConstraintId>,
     deck_body: BodyId,
     boxes: Vec<ConstraintId>,
     bridge: Bridge,
@@ -477,6 +527,9 @@ struct EarthquakeObserver {
     joint_force: Peak,
     /// Across the bridge: Sa, Sd, Sv and the joint's force.
     across: [Peak; 4],
+    /// The adjacent segment: Sa, Sd, the joint's force on it and the decks'
+    /// relative displacement.
+    far_peaks: [Peak; 4],
     bushing: f64,
     friction: f64,
     gaps: Option<Gaps>,
@@ -529,6 +582,8 @@ impl EarthquakeObserver {
         Ok(Self {
             deck,
             deck_y: asm.coordinate(model.deck, quakejoint_solver::Coord::Y),
+            far: model.far_deck.and_then(|b| asm.coordinate(b, quakejoint_solver::Coord::X).map(|c| (c, b))),
+            abutment_links: model.abutment_links.clone(),
             deck_body: model.deck,
             boxes: model.joist_boxes.clone(),
             bridge: model.bridge,
@@ -540,6 +595,7 @@ impl EarthquakeObserver {
             sv: Peak::default(),
             joint_force: Peak::default(),
             across: [Peak::default(); 4],
+            far_peaks: [Peak::default(); 4],
             bushing: 0.0,
             friction: 0.0,
             gaps,
@@ -609,6 +665,15 @@ impl EarthquakeObserver {
         let fj = reaction[0] + pushed;
         let b = &self.bridge;
         let a_abs = (-b.stiffness() * u - b.damper() * ud + fj) / b.mass;
+        if let (Some((c, body)), Some((mass, w, zeta))) = (self.far, b.far) {
+            let (uf, vf) = (q[c], v[c]);
+            let pushed_far = self.contacts.as_ref().map_or(0.0, |w| w.far_push());
+            let ff = asm.reaction_sum(ws, t, q, lam, &self.abutment_links, body)[0] + pushed_far;
+            let a = (-mass * w * w * uf - 2.0 * zeta * mass * w * vf + ff) / mass;
+            for (peak, x) in self.far_peaks.iter_mut().zip([a, uf, ff, u - uf]) {
+                peak.update(x, t);
+            }
+        }
         // across: the joist boxes alone hold the deck (contacts push along x)
         let across = match (self.deck_y, b.transverse) {
             (Some(c), Some((w, zeta))) => {

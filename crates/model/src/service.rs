@@ -359,9 +359,11 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
     // term is the joint's dampers alone
     let mut driven = config.clone();
     driven.bridge.damping = 0.0;
-    // the service case opens the joint along the bridge only: the deck does
-    // not move across
+    // the service case opens the joint along the bridge only, against the
+    // abutment: the deck does not move across
     (driven.bridge.transverse_period, driven.bridge.transverse_damping) = (None, None);
+    // and against the abutment: an adjacent segment would be pushed away
+    driven.bridge.far = None;
     let model = build(&driven, None, Drive::Service(tri))?;
     if model.joist_boxes.is_empty() && model.geometry.is_none() {
         return Err(ModelError::Invalid {

@@ -184,6 +184,9 @@ pub struct Monitor {
     /// The deck's y coordinate, when it moves across: the joist boxes move
     /// with it.
     deck_y: Option<usize>,
+    /// The adjacent segment's deck x coordinate, when the abutment side is
+    /// one: the pivots and guides move with it.
+    far: Option<usize>,
     contact_places: Vec<crate::generator::ContactPlace>,
     collision: Option<Crossing>,
     off_support: Option<Crossing>,
@@ -218,6 +221,7 @@ impl Monitor {
             max_subgap: j.capacity.max_subgap,
             bearings,
             deck_y: asm.coordinate(model.deck, Coord::Y),
+            far: model.far_deck.and_then(|b| asm.coordinate(b, Coord::X)),
             contact_places: model.contacts.clone(),
             collision: None,
             off_support: None,
@@ -253,6 +257,9 @@ impl Monitor {
         }
         let g = &self.geometry;
         let uy = self.deck_y.map_or(0.0, |c| q[c]);
+        // the opening between the pivots' side (abutment or adjacent segment) and the deck
+        let u0 = self.far.map_or(0.0, |c| q[c]);
+        let open = g.gap + u - u0;
         for (n, b) in self.bearings.iter().enumerate() {
             let sup = &g.supports[b.support];
             // distance along the support from its pivot (abutment) end, and
@@ -260,9 +267,9 @@ impl Monitor {
             let (along, reach) = match b.phi {
                 Some(phi) => {
                     let (sin, cos) = q[phi].sin_cos();
-                    (q[b.x] * cos + (q[b.y] - sup.y0) * sin, (g.gap + u).hypot(sup.box_dy + uy))
+                    ((q[b.x] - u0) * cos + (q[b.y] - sup.y0) * sin, open.hypot(sup.box_dy + uy))
                 }
-                None => (q[b.x], g.gap + u),
+                None => (q[b.x] - u0, open),
             };
             let excess = (-along).max(along - reach);
             if excess > 0.0 {
@@ -271,7 +278,7 @@ impl Monitor {
         }
         for (k, sup) in g.supports.iter().enumerate() {
             if sup.kind == SupportKind::Joist {
-                let excess = (g.gap + u).hypot(sup.box_dy + uy) - self.joist_length;
+                let excess = open.hypot(sup.box_dy + uy) - self.joist_length;
                 if excess > 0.0 {
                     Crossing::update(&mut self.pulled_out, t, excess, k);
                 }

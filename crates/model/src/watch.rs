@@ -17,6 +17,8 @@ pub(crate) struct Gaps {
     /// x and angle coordinates of each center beam
     pub beams: Vec<usize>,
     angles: Vec<usize>,
+    /// x coordinate of the adjacent segment's deck, if the abutment side is one
+    far: Option<usize>,
     x: Vec<f64>,
     phi: Vec<f64>,
     /// clear sub-gaps at both ends [m]
@@ -42,6 +44,7 @@ impl Gaps {
             geometry: g.clone(),
             beams: model.center_beams.iter().map(|&b| coord(b, Coord::X)).collect::<Result<_, _>>()?,
             angles: model.center_beams.iter().map(|&b| coord(b, Coord::Phi)).collect::<Result<_, _>>()?,
+            far: model.far_deck.map(|b| coord(b, Coord::X)).transpose()?,
             x: vec![0.0; g.center_beams],
             phi: vec![0.0; g.center_beams],
             ends: Vec::with_capacity(g.center_beams + 1),
@@ -59,8 +62,9 @@ impl Gaps {
         for ((x, phi), (&c, &a)) in self.x.iter_mut().zip(&mut self.phi).zip(self.beams.iter().zip(&self.angles)) {
             (*x, *phi) = (q[c], q[a]);
         }
-        self.geometry.subgaps(&self.x, &self.phi, u, &mut self.ends);
-        let equal = (self.geometry.gap + u) / (self.geometry.center_beams + 1) as f64 - self.geometry.width;
+        let u0 = self.far.map_or(0.0, |c| q[c]);
+        self.geometry.subgaps(&self.x, &self.phi, u, u0, &mut self.ends);
+        let equal = (self.geometry.gap + u - u0) / (self.geometry.center_beams + 1) as f64 - self.geometry.width;
         self.smallest.clear();
         self.largest.clear();
         for &[a, b] in &self.ends {

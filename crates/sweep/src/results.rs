@@ -4,7 +4,7 @@ use quakejoint_model::validity::Flags;
 use serde::{Deserialize, Serialize};
 
 /// Per-job values stored in `/spectrum/with_joint/<name>`, in this order.
-pub const FIELDS: [&str; 36] = [
+pub const FIELDS: [&str; 39] = [
     "sa",
     "psa",
     "sd",
@@ -41,12 +41,15 @@ pub const FIELDS: [&str; 36] = [
     "sa_y",
     "sd_y",
     "sa_y_without_joint",
+    "sa_far",
+    "sa_far_without_joint",
+    "max_relative_displacement",
 ];
 
 /// Units of [`FIELDS`] (`1` for counts and ratios).
-pub const UNITS: [&str; 36] = [
+pub const UNITS: [&str; 39] = [
     "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "1", "N", "J", "N", "m",
-    "1", "m", "rad", "m/s", "rad/s", "1", "1", "1", "1", "1", "s", "s", "m/s^2", "m", "m/s^2",
+    "1", "m", "rad", "m/s", "rad/s", "1", "1", "1", "1", "1", "s", "s", "m/s^2", "m", "m/s^2", "m/s^2", "m/s^2", "m",
 ];
 
 /// Fields that depend on the machine, not on the inputs (left out of

@@ -41,7 +41,7 @@ use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
 /// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
 /// and contact-force histories; 6: each job's CPU time).
-const JOURNAL_SCHEMA: u32 = 7;
+const JOURNAL_SCHEMA: u32 = 8;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
@@ -249,6 +249,9 @@ fn values_of(r: &RunResult) -> Vec<f64> {
         r.transverse.map_or(f64::NAN, |y| y.sa),
         r.transverse.map_or(f64::NAN, |y| y.sd),
         r.transverse.map_or(f64::NAN, |y| y.sa_without),
+        r.far.map_or(f64::NAN, |f| f.sa),
+        r.far.map_or(f64::NAN, |f| f.sa_without),
+        r.far.map_or(f64::NAN, |f| f.max_relative_displacement),
     ];
     debug_assert_eq!(v.len(), FIELDS.len());
     v

@@ -14,7 +14,7 @@ use crate::statistics::Statistics;
 use crate::suite_h5::{read_suite, write_statistics, write_suite, StoredSuite};
 
 /// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 7;
+pub const SCHEMA_VERSION: u32 = 8;
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]

@@ -63,6 +63,12 @@ fn full() -> Config {
     c.bridge.w0 = Some(6.3);
     c.bridge.transverse_period = Some(1.0);
     c.bridge.transverse_damping = Some(0.05);
+    c.bridge.far = Some(quakejoint_model::config::FarSegmentConfig {
+        mass: Some(1e8),
+        period: None,
+        period_ratio: Some(1.0),
+        damping: Some(0.05),
+    });
     c.simulation.duration = Some(1.0);
     c.simulation.h_max = Some(1.0);
     c.simulation.max_wall_time = Some(1.0);
@@ -91,6 +97,10 @@ fn every_key_is_documented_with_its_default() {
     flatten("", &table_of(&full()), &mut all);
     let mut by_period = full();
     (by_period.bridge.w0, by_period.bridge.period) = (None, Some(1.0));
+    if let Some(f) = &mut by_period.bridge.far {
+        (f.period, f.period_ratio) = (Some(1.0), None);
+    }
+    by_period.bridge.transverse_period = None;
     flatten("", &table_of(&by_period), &mut all);
     let mut problems = Vec::new();
     for (key, value) in &defaults {
