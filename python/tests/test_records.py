@@ -83,3 +83,20 @@ def test_a_text_file_needs_its_units_and_dt(tmp_path):
 def test_every_error_is_a_quakejoint_error():
     assert issubclass(qj.InputError, qj.Error) and issubclass(qj.SimulationError, qj.Error)
     assert (ROOT / "ground_motions" / "PROVENANCE.md").exists()
+
+
+@pytest.mark.parametrize(
+    "name, fmt",
+    [
+        ("CE.CLS..HGE.D.19891018.000415.C.ACC.ASC", "esm"),
+        ("CLS0001910181704.EW", "knet"),
+        ("CLS090.V2", "cosmos"),
+    ],
+)
+def test_other_databases_formats_read_as_the_command_line_reads_them(cli, name, fmt):
+    path = ROOT / "crates" / "motion" / "tests" / "data" / name
+    rec = qj.Record.read(path)
+    expect = cli_json(cli, "record", path)
+    assert rec.format == fmt == expect["format"] and rec.units == expect["file_units"]
+    for key in ("pga", "pgv", "arias", "d5_95"):
+        assert rec.stats[key] == expect[key], key
