@@ -17,19 +17,17 @@ the records); `--records` draws one row per record for them too. `--g`
 gives Sa in g. Writes out_spectrum.png beside the input
 unless an output name is given. Headless (Agg backend).
 """
-import argparse
-from pathlib import Path
-
 import h5py
 import matplotlib
-import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 import plot_study  # noqa: E402
 import plot_suite  # noqa: E402
-from plotlib import accel_units, flag_names, job_masks, log_ticks, text  # noqa: E402
+from plotlib import (  # noqa: E402
+    accel_units, flag_names, incomplete, job_masks, log_ticks, mark_jobs, save, sweep_parser, text,
+)
 
 
 def read(src):
@@ -80,23 +78,10 @@ def figure(src, in_g=False, per_record=False):
             sa, red = k * d["sa_with"][c, r, z], 100 * d["reduction"][c, r, z]
             ax.plot(periods[ok], sa[ok], "o", ms=4, color=colour, label=label)
             axr.plot(periods[ok], red[ok], "o-", ms=4, color=colour, label=label)
-            if flagged.any():
-                bits = np.bitwise_or.reduce(d["validity"][c, r, z][flagged])
-                flag = "flagged: " + ", ".join(n for b, n in names if bits & b and n != "not_checked")
-                if len(cases) > 1:
-                    flag = f"{case}: {flag}"
-                # open markers: outside the model's validity (in the case's colour when there are several)
-                edge = "k" if len(cases) == 1 else colour
-                ax.plot(periods[flagged], sa[flagged], "o", ms=7, mfc="none", mec=edge, mew=1.5, label=flag)
-                axr.plot(periods[flagged], red[flagged], "o", ms=7, mfc="none", mec=edge, mew=1.5, label=flag)
-            if failed.any():
-                for a in (ax, axr):
-                    a.plot(periods[failed], np.zeros(failed.sum()), "x", color="k", ms=8, mew=1.5,
-                           label=f"failed ({failed.sum()} jobs)")
-        title = f"{d['records'][r]} / damping {d['damping'][z]:g}"
-        if not d["complete"]:
-            title += " (INCOMPLETE: some jobs have not run)"
-        ax.set_title(title, fontsize=9)
+            # open markers in the case's colour when there are several
+            mark_jobs((ax, axr), periods, (sa, red), flagged, failed, d["validity"][c, r, z], names,
+                      prefix=f"{case}: " if len(cases) > 1 else "", edge="k" if len(cases) == 1 else colour)
+        ax.set_title(f"{d['records'][r]} / damping {d['damping'][z]:g}" + incomplete(d["complete"]), fontsize=9)
         ax.set_ylabel(f"Sa [{unit}]")
         axr.axhline(0, color="0.6", lw=0.8)
         axr.set_ylabel("reduction of Sa, 1 - with / without [%]")
@@ -112,17 +97,11 @@ def figure(src, in_g=False, per_record=False):
 
 
 def main(src, dst=None, in_g=False, per_record=False):
-    fig = figure(src, in_g, per_record)
-    out = dst or str(Path(src).with_name(Path(src).stem + "_spectrum.png"))
-    fig.savefig(out, dpi=110)
-    print(out)
+    save(figure(src, in_g, per_record), src, dst, "spectrum")
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("input", help="sweep HDF5 file")
-    parser.add_argument("output", nargs="?", help="PNG to write (default: beside the input)")
-    parser.add_argument("--g", action="store_true", help="Sa in g instead of m/s^2")
+    parser = sweep_parser(__doc__)
     parser.add_argument("--records", action="store_true", help="one row per record, also for a suite or a study")
     args = parser.parse_args()
     main(args.input, args.output, args.g, args.records)

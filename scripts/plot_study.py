@@ -14,9 +14,6 @@ drawn as categories named on the axis. Flagged jobs are open black markers
 (flags named), failed ones crosses at zero. `--g` gives Sa in g. Writes
 study_study.png beside the input unless an output name is given. Headless.
 """
-import argparse
-from pathlib import Path
-
 import h5py
 import matplotlib
 import numpy as np
@@ -24,7 +21,9 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from plotlib import accel_units, case_parameter, flag_names, job_masks, log_ticks, text  # noqa: E402
+from plotlib import (  # noqa: E402
+    accel_units, case_parameter, flag_names, incomplete, job_masks, log_ticks, mark_jobs, save, sweep_parser, text,
+)
 
 
 def figure(src, in_g=False):
@@ -38,6 +37,7 @@ def figure(src, in_g=False):
         status, validity = s["with_joint/status"][:], s["with_joint/validity"][:]
         names = flag_names(s["with_joint/validity"].attrs["meaning"])
         reduction = s["reduction"][:]
+        complete = int(f.attrs.get("complete", 1))
     k, unit = accel_units(in_g)
     if parameter:
         key, x = parameter
@@ -56,16 +56,8 @@ def figure(src, in_g=False):
             ax.plot(x[ok], sa[ok], "o-", color=colour, ms=5, label=f"with joint, T = {period:.3g} s")
             ax.axhline(k * sa_without[r, z, t], color=colour, ls="--", lw=1, label=f"without joint, T = {period:.3g} s")
             axr.plot(x[ok], red[ok], "o-", color=colour, ms=5, label=f"T = {period:.3g} s")
-            if flagged.any():
-                bits = np.bitwise_or.reduce(validity[:, r, z, t][flagged])
-                flag = "flagged: " + ", ".join(n for b, n in names if bits & b and n != "not_checked")
-                ax.plot(x[flagged], sa[flagged], "o", ms=8, mfc="none", mec="k", label=flag)
-                axr.plot(x[flagged], red[flagged], "o", ms=8, mfc="none", mec="k", label=flag)
-            if failed.any():
-                for a in (ax, axr):
-                    a.plot(x[failed], np.zeros(failed.sum()), "x", color="k", ms=8, mew=1.5,
-                           label=f"failed ({failed.sum()} jobs)")
-        ax.set_title(f"{records[r]} / damping {damping[z]:g}", fontsize=9)
+            mark_jobs((ax, axr), x, (sa, red), flagged, failed, validity[:, r, z, t], names, ms=8)
+        ax.set_title(f"{records[r]} / damping {damping[z]:g}" + incomplete(complete), fontsize=9)
         ax.set_ylabel(f"Sa [{unit}]")
         axr.axhline(0, color="0.6", lw=0.8)
         axr.set_ylabel("reduction of Sa, 1 - with / without [%]")
@@ -85,16 +77,9 @@ def figure(src, in_g=False):
 
 
 def main(src, dst=None, in_g=False):
-    fig = figure(src, in_g)
-    out = dst or str(Path(src).with_name(Path(src).stem + "_study.png"))
-    fig.savefig(out, dpi=110)
-    print(out)
+    save(figure(src, in_g), src, dst, "study")
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("input", help="sweep HDF5 file")
-    parser.add_argument("output", nargs="?", help="PNG to write (default: beside the input)")
-    parser.add_argument("--g", action="store_true", help="Sa in g instead of m/s^2")
-    args = parser.parse_args()
+    args = sweep_parser(__doc__).parse_args()
     main(args.input, args.output, args.g)

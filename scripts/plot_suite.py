@@ -16,22 +16,16 @@ gap); the count of flagged records is written above such periods. `--g`
 gives Sa in g. Writes suite_suite.png beside the input unless an output
 name is given. Headless (Agg).
 """
-import argparse
-from pathlib import Path
-
+import h5py
 import matplotlib
 import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from plotlib import accel_units, log_ticks  # noqa: E402
+from plotlib import accel_units, incomplete, log_ticks, save, sweep_parser, text  # noqa: E402
 
 def load(src):
-    import h5py
-
-    from plotlib import text
-
     with h5py.File(src, "r") as f:
         s = f["spectrum"]
         if "statistics" not in s:
@@ -46,6 +40,7 @@ def load(src):
             "reduction": s["reduction"][()],
             "stats": {k: {n: g[k][n][()] for n in g[k]} for k in ("with_joint", "without_joint", "reduction")},
             "flagged": g["flagged"][()],
+            "complete": int(f.attrs.get("complete", 1)),
             "suite": None,
         }
         if "suite" in f:
@@ -99,7 +94,8 @@ def figure(src, in_g=False):
         axr.plot(periods, 100 * red["of_mean"][c, z], "s--", color="k", ms=3, lw=1,
                  label="reduction of the mean, 1 - mean with / mean without")
         axr.axhline(0, color="0.5", lw=0.8)
-        ax.set_title(f"{d['cases'][c]} / damping {d['damping'][z]:g} / suite of {n} records", fontsize=9)
+        title = f"{d['cases'][c]} / damping {d['damping'][z]:g} / suite of {n} records" + incomplete(d["complete"])
+        ax.set_title(title, fontsize=9)
         ax.set_ylabel(f"Sa [{unit}]")
         axr.set_ylabel("reduction of Sa, 1 - with / without [%]")
         axr.set_title("reduction by the joint over the suite", fontsize=9)
@@ -114,16 +110,9 @@ def figure(src, in_g=False):
 
 
 def main(src, dst=None, in_g=False):
-    fig = figure(src, in_g)
-    out = dst or str(Path(src).with_name(Path(src).stem + "_suite.png"))
-    fig.savefig(out, dpi=110)
-    print(out)
+    save(figure(src, in_g), src, dst, "suite")
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("input", help="sweep HDF5 file")
-    parser.add_argument("output", nargs="?", help="PNG to write (default: beside the input)")
-    parser.add_argument("--g", action="store_true", help="Sa in g instead of m/s^2")
-    args = parser.parse_args()
+    args = sweep_parser(__doc__).parse_args()
     main(args.input, args.output, args.g)

@@ -1,7 +1,9 @@
 """Helpers shared by the plotting scripts (imported from scripts/): reading
 strings and validity flags of quakejoint's HDF5 files, acceleration units,
 readable log-axis ticks, and the parameter a sweep's cases vary."""
+import argparse
 import math
+from pathlib import Path
 
 try:
     import tomllib
@@ -43,6 +45,43 @@ def job_masks(status, validity):
     done = status == 0
     flagged = done & (flagged_bits(validity) != 0)
     return done & ~flagged, flagged, (status != 0) & (status != -1), status == -1
+
+
+def mark_jobs(axes, x, values, flagged, failed, validity, names, prefix="", edge="k", ms=7):
+    """Marks a series' jobs that are not plain results, on each axis with
+    its values: flagged ones (outside the model's validity) as open markers
+    labelled with their flags, failed ones as crosses at zero."""
+    if flagged.any():
+        bits = np.bitwise_or.reduce(np.asarray(validity)[flagged])
+        label = prefix + "flagged: " + ", ".join(n for b, n in names if bits & b and n != "not_checked")
+        for ax, v in zip(axes, values):
+            ax.plot(x[flagged], v[flagged], "o", ms=ms, mfc="none", mec=edge, mew=1.5, label=label)
+    if failed.any():
+        for ax in axes:
+            ax.plot(x[failed], np.zeros(failed.sum()), "x", color="k", ms=8, mew=1.5,
+                    label=f"failed ({failed.sum()} jobs)")
+
+
+def incomplete(complete):
+    """What a title adds for a file whose jobs have not all run."""
+    return "" if complete else " (INCOMPLETE: some jobs have not run)"
+
+
+def sweep_parser(doc):
+    """The command line of a sweep plot: input, optional output, --g."""
+    parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("input", help="sweep HDF5 file")
+    parser.add_argument("output", nargs="?", help="PNG to write (default: beside the input)")
+    parser.add_argument("--g", action="store_true", help="Sa in g instead of m/s^2")
+    return parser
+
+
+def save(fig, src, dst, suffix, dpi=110):
+    """Writes `fig` to `dst`, or beside `src` as <stem>_<suffix>.png, and
+    prints the name."""
+    out = dst or str(Path(src).with_name(f"{Path(src).stem}_{suffix}.png"))
+    fig.savefig(out, dpi=dpi)
+    print(out)
 
 
 def accel_units(in_g):

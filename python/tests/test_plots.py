@@ -203,3 +203,13 @@ def test_the_scripts_run_from_the_command_line(quick_sweep, tmp_path):
                        capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     assert out.stat().st_size > 10_000
+
+
+def test_an_incomplete_file_says_so(quick_sweep, study_sweep, tmp_path):
+    for src, name in [(quick_sweep, "quick.h5"), (study_sweep, "study.h5")]:
+        path = tmp_path / name
+        shutil.copy(src, path)
+        with h5py.File(path, "r+") as f:
+            f.attrs["complete"] = np.uint8(0)
+        fig = script("plot_spectrum").figure(path)
+        assert "INCOMPLETE" in fig.axes[0].get_title(), name
