@@ -347,7 +347,12 @@ pub fn run_duration(config: &Config, record_x: &Record) -> f64 {
 /// time: the peaks of a 40 s record's response are not compared with those
 /// of a run that stopped after 10 s.
 pub fn run_window(config: &Config, record: &Record) -> Record {
-    let duration = run_duration(config, record);
+    window_to(record, run_duration(config, record))
+}
+
+/// `record` over `[0, duration]` [s]: cut at the last sample inside, or
+/// followed by zeros.
+fn window_to(record: &Record, duration: f64) -> Record {
     let samples = (duration / record.dt * (1.0 + 1e-12)).floor() as usize + 1;
     let mut acceleration = record.acceleration.clone();
     acceleration.resize(samples.max(2), 0.0);
@@ -422,11 +427,9 @@ pub fn simulate_records(
     let transverse = model.bridge.transverse.map(|(wy, zeta)| {
         let [sa, sd, sv, f] = obs.across;
         let sa_without = record_y.map_or(0.0, |r| {
-            let samples = (duration / r.dt * (1.0 + 1e-12)).floor() as usize + 1;
-            let mut a = r.acceleration.clone();
-            a.resize(samples.max(2), 0.0);
+            let window = window_to(r, duration);
             let period = 2.0 * std::f64::consts::PI / wy;
-            quakejoint_motion::peaks(&a, r.dt, period, zeta, quakejoint_motion::SpectrumOptions::default()).sa
+            quakejoint_motion::peaks(&window.acceleration, r.dt, period, zeta, Default::default()).sa
         });
         Transverse {
             omega: wy,

@@ -209,52 +209,11 @@ pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepErro
     Ok(())
 }
 
+/// The job's values in [`FIELDS`] order, taken by name from the run's
+/// scalars (the list a run file's `/result` holds).
 fn values_of(r: &RunResult) -> Vec<f64> {
-    let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
-    let s = &r.stats;
-    let v = vec![
-        r.sa,
-        r.psa,
-        r.sd,
-        r.sv,
-        r.t_sa,
-        r.t_sd,
-        r.t_sv,
-        r.peak_joint_force,
-        r.peak_bushing_force,
-        r.peak_friction_force,
-        r.friction_energy,
-        r.damping_energy,
-        r.earthquake_work,
-        opt(r.min_subgap),
-        opt(r.max_subgap),
-        opt(r.max_subgap_deviation),
-        if r.exact_linear { f64::NAN } else { r.pounding.impacts as f64 },
-        r.pounding.peak_contact_force,
-        r.pounding.contact_energy,
-        r.pounding.peak_deck_contact_force,
-        r.pounding.max_penetration,
-        r.energy_error,
-        r.residuals.position,
-        r.residuals.angle,
-        r.residuals.velocity,
-        r.residuals.angular_velocity,
-        s.steps as f64,
-        s.rejected as f64,
-        s.failed_attempts as f64,
-        s.newton_iterations as f64,
-        s.factorizations as f64,
-        r.wall_time_s,
-        r.cpu_time_s,
-        r.transverse.map_or(f64::NAN, |y| y.sa),
-        r.transverse.map_or(f64::NAN, |y| y.sd),
-        r.transverse.map_or(f64::NAN, |y| y.sa_without),
-        r.far.map_or(f64::NAN, |f| f.sa),
-        r.far.map_or(f64::NAN, |f| f.sa_without),
-        r.far.map_or(f64::NAN, |f| f.max_relative_displacement),
-    ];
-    debug_assert_eq!(v.len(), FIELDS.len());
-    v
+    let all = r.scalars();
+    FIELDS.iter().map(|f| all.iter().find(|(name, ..)| name == f).map_or(f64::NAN, |&(_, v, _)| v)).collect()
 }
 
 /// Runs one job; `None` if `cancel` stopped it.
@@ -747,5 +706,22 @@ impl Writer {
             write_sweep(&self.output, &self.file)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::UNITS;
+
+    /// Every job field is a run's scalar of the same name and unit, so
+    /// that `values_of` never leaves one NaN for want of a name.
+    #[test]
+    fn every_field_is_a_run_scalar_with_its_unit() {
+        let scalars = RunResult::default().scalars();
+        for (field, unit) in FIELDS.iter().zip(UNITS) {
+            let found = scalars.iter().find(|(name, ..)| name == field);
+            assert_eq!(found.map(|s| s.2), Some(unit), "{field}");
+        }
     }
 }
