@@ -33,7 +33,8 @@ def cli_json(cli, *args):
     return json.loads(run_cli(cli, *args, "--json")[1])
 
 
-SHORT_SMALL = f"""
+#: the small joint of configs/small.toml (3 center beams)
+SMALL_JOINT = """
 [joint]
 center_beams = 3
 [[joint.support_beams]]
@@ -47,7 +48,9 @@ angle_deg = 13.0
 kind = "joist"
 y = 5.0
 angle_deg = 17.0
-[record]
+"""
+
+SHORT_SMALL = SMALL_JOINT + f"""[record]
 file = "{RECORD}"
 scale = 0.3
 [simulation]
@@ -71,21 +74,7 @@ def quick_sweep(cli, tmp_path_factory):
     return out
 
 
-STUDY = f"""
-[joint]
-center_beams = 3
-[[joint.support_beams]]
-kind = "guide"
-y = -7.2
-[[joint.support_beams]]
-kind = "joist"
-y = -1.0
-angle_deg = 13.0
-[[joint.support_beams]]
-kind = "joist"
-y = 5.0
-angle_deg = 17.0
-[record]
+STUDY = SMALL_JOINT + f"""[record]
 file = "{RECORD}"
 scale = 0.15
 [simulation]
@@ -135,21 +124,7 @@ def service_h5(cli, tmp_path_factory):
 
 def suite_config():
     gm = ROOT / "ground_motions"
-    return f"""
-[joint]
-center_beams = 3
-[[joint.support_beams]]
-kind = "guide"
-y = -7.2
-[[joint.support_beams]]
-kind = "joist"
-y = -1.0
-angle_deg = 13.0
-[[joint.support_beams]]
-kind = "joist"
-y = 5.0
-angle_deg = 17.0
-[simulation]
+    return SMALL_JOINT + f"""[simulation]
 duration = 3.0
 [sweep]
 periods = [0.5, 1.0]
