@@ -7,8 +7,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use quakejoint_model::config::base_dir;
 use quakejoint_model::generator::{build, Drive};
-use quakejoint_model::linear::linear_response;
-use quakejoint_model::run::{load_records, simulate_records, RunOptions};
+use quakejoint_model::run::{load_records, simulate_or_alone, RunOptions};
 use quakejoint_model::service::service;
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{load_record, period_range, spectrum, LoadedRecord, RecordStats, SpectrumOptions};
@@ -388,28 +387,20 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         }
     }
     let histories = a.output.is_some();
+    let bar = if a.no_joint { None } else { TerminalProgress::new(quakejoint_model::run::run_duration(&config, rx)) };
+    let options = RunOptions { omega, histories, progress: bar.as_ref().map(|b| b.callback()), ..Default::default() };
     // the bridge alone over the same window as a run with the joint
-    let window = quakejoint_model::run::run_window(&config, rx);
-    let result = if a.no_joint {
-        linear_response(&window, omega.unwrap_or_else(|| config.bridge.omega()), config.bridge.damping, histories)
-    } else {
-        let bar = TerminalProgress::new(quakejoint_model::run::run_duration(&config, rx));
-        let options =
-            RunOptions { omega, histories, progress: bar.as_ref().map(|b| b.callback()), ..Default::default() };
-        let result = simulate_records(&config, rx, ry, &options);
-        if let Some(b) = &bar {
-            b.bar.finish_and_clear();
-        }
-        result?
-    };
+    let outcome = simulate_or_alone(&config, rx, ry, a.no_joint, &options);
+    if let Some(b) = &bar {
+        b.bar.finish_and_clear();
+    }
+    let (result, without) = outcome?;
     if let Some(path) = &a.output {
-        let period = 2.0 * std::f64::consts::PI / result.omega;
-        let without = quakejoint_motion::history(&window.acceleration, rx.dt, period, config.bridge.damping).a_abs;
         let mut records = vec![RecordSource::of("x", rx, &lx.sha256)];
         records.extend(ly.as_ref().map(|l| RecordSource::of("y", &l.record, &l.sha256)));
         let warnings = lx.warnings.iter().chain(ly.iter().flat_map(|l| &l.warnings)).cloned().collect();
         let provenance = provenance_of(&a.config, &text, &config, records, warnings);
-        quakejoint_sweep::run_h5::write_run(path, &provenance, &result, Some(&without))
+        quakejoint_sweep::run_h5::write_run(path, &provenance, &result, without.as_deref())
             .context("writing the time histories")?;
     }
     output::run_result(&a.config, &lx, &result, a.print.json);

@@ -385,6 +385,31 @@ pub fn check_run_length(config: &Config, record_x: &Record) -> Result<(), ModelE
     Ok(())
 }
 
+/// One run as `quakejoint simulate` makes it: the coupled model under the
+/// records, or, with `alone`, the exact linear solution of the bridge alone
+/// over the same window ([`run_window`]). With histories, also the bridge
+/// alone's absolute acceleration at the output times, to compare with.
+pub fn simulate_or_alone(
+    config: &Config,
+    record_x: &Record,
+    record_y: Option<&Record>,
+    alone: bool,
+    options: &RunOptions,
+) -> Result<(RunResult, Option<Vec<f64>>), ModelError> {
+    let window = run_window(config, record_x);
+    let result = if alone {
+        let omega = options.omega.unwrap_or_else(|| config.bridge.omega());
+        crate::linear::linear_response(&window, omega, config.bridge.damping, options.histories)
+    } else {
+        simulate_records(config, record_x, record_y, options)?
+    };
+    let without = result.histories.as_ref().map(|_| {
+        let period = 2.0 * std::f64::consts::PI / result.omega;
+        quakejoint_motion::history(&window.acceleration, record_x.dt, period, config.bridge.damping).a_abs
+    });
+    Ok((result, without))
+}
+
 /// Runs the coupled model under given records.
 pub fn simulate_records(
     config: &Config,

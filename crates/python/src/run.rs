@@ -12,8 +12,7 @@ use std::time::Duration;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use quakejoint_model::linear::linear_response;
-use quakejoint_model::run::{load_records, run_window, simulate_records, Histories, RunOptions, RunResult};
+use quakejoint_model::run::{load_records, simulate_or_alone, Histories, RunOptions, RunResult};
 use quakejoint_model::service::{service as run_service, ServiceResult};
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{LoadedRecord, G};
@@ -231,23 +230,13 @@ fn simulate(
         }
         None => load_records(&cfg, &base).map_err(named)?,
     };
-    let window = run_window(&cfg, &lx.record);
-    let omega = cfg.bridge.omega();
-    let result = if joint {
-        let cancel = Arc::new(AtomicBool::new(false));
-        let options = RunOptions { histories: history, cancel: Some(cancel.clone()), ..Default::default() };
-        let (cfg, rx, ry) = (&cfg, &lx.record, ly.as_ref().map(|l| &l.record));
-        run_detached(py, &cancel, || simulate_records(cfg, rx, ry, &options))?
-    } else {
-        linear_response(&window, omega, cfg.bridge.damping, history)
-    };
-    let history = match &result.histories {
-        Some(h) => {
-            let period = 2.0 * std::f64::consts::PI / result.omega;
-            let without = quakejoint_motion::history(&window.acceleration, lx.record.dt, period, cfg.bridge.damping);
-            Some(history_dict(py, h, without.a_abs, joint)?.unbind())
-        }
-        None => None,
+    let cancel = Arc::new(AtomicBool::new(false));
+    let options = RunOptions { histories: history, cancel: Some(cancel.clone()), ..Default::default() };
+    let (cfg_ref, rx, ry) = (&cfg, &lx.record, ly.as_ref().map(|l| &l.record));
+    let (result, without) = run_detached(py, &cancel, || simulate_or_alone(cfg_ref, rx, ry, !joint, &options))?;
+    let history = match (&result.histories, without) {
+        (Some(h), Some(without)) => Some(history_dict(py, h, without, joint)?.unbind()),
+        _ => None,
     };
     let impacts = PyList::empty(py);
     for i in result.histories.iter().flat_map(|h| &h.impacts) {
