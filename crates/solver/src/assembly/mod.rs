@@ -106,6 +106,12 @@ impl SliderInfo {
     pub fn law_along(&self, a: f64, b: f64) -> (f64, f64) {
         self.kernel.law_along(a, b)
     }
+
+    /// Whether the law is linear inside the zone `|v| < v_eps` and, along a
+    /// line crossed by no velocity, constant outside it (the linear law).
+    pub fn is_linear_law(&self) -> bool {
+        self.kernel.law == crate::model::force::FrictionLaw::Linear
+    }
 }
 
 /// Which primitive a user constraint consists of.
