@@ -196,6 +196,9 @@ pub struct Stats {
     pub jacobian_evaluations: u64,
     /// Numeric factorisations of the iteration matrix pair (real and complex).
     pub factorizations: u64,
+    /// Factorisations taken back instead of repeated: the step size
+    /// returned to the one before with the same Jacobian.
+    pub factorizations_reused: u64,
     /// Factorisations that needed the faer fallback.
     pub faer_fallbacks: u64,
     /// Linear solves (real and complex counted separately).

@@ -159,6 +159,9 @@ pub struct Radau5 {
     fact_h: f64,
     gscale_r: f64,
     gscale_c: f64,
+    /// The factorisation before the current one, of the same Jacobian
+    /// (`spare.h` NaN once the Jacobian changes).
+    spare: Option<Box<Spare>>,
     // scratch
     bq: Vec<f64>,
     bv: Vec<f64>,
@@ -260,6 +263,7 @@ impl Radau5 {
             need_jac: true,
             jac_fresh: false,
             fact_h: f64::NAN,
+            spare: None,
             gscale_r: 0.0,
             gscale_c: 0.0,
             bq: vec![0.0; n],
@@ -333,6 +337,9 @@ impl Radau5 {
     pub fn stats(&self) -> Stats {
         let mut s = self.stats;
         s.faer_fallbacks = self.real.fallbacks + self.cplx.fallbacks;
+        if let Some(sp) = &self.spare {
+            s.faer_fallbacks += sp.real.fallbacks + sp.cplx.fallbacks;
+        }
         s
     }
 
@@ -568,12 +575,36 @@ impl Radau5 {
         self.jac_fresh = true;
         // a new Jacobian is always factorised
         self.fact_h = f64::NAN;
+        if let Some(sp) = self.spare.as_deref_mut() {
+            sp.h = f64::NAN;
+        }
     }
 
     /// Forms and factorises the real and complex iteration matrices for step `h`.
     fn factorize(&mut self, h: f64) -> Result<(), LinalgError> {
         let asm = Arc::clone(&self.asm);
         let sym = asm.block_structure();
+        // steps fitted between record samples alternate between a few sizes
+        // (one and two steps per sample): the previous factorisation is
+        // kept and taken back when the step size returns to it
+        if self.spare.as_ref().is_some_and(|sp| (h - sp.h).abs() <= FACT_RTOL * h) {
+            self.swap_spare();
+            self.stats.factorizations_reused += 1;
+            return Ok(());
+        }
+        if self.fact_h.is_finite() {
+            let mode = self.opt.linear_solver;
+            self.spare.get_or_insert_with(|| {
+                Box::new(Spare {
+                    real: KktSolver::new(sym, mode),
+                    cplx: KktSolver::new(sym, mode),
+                    h: f64::NAN,
+                    gscale_r: 0.0,
+                    gscale_c: 0.0,
+                })
+            });
+            self.swap_spare();
+        }
         let desc = self.describe_owned();
         let g = GAMMA / h;
         let jac = &self.jac;
@@ -589,13 +620,34 @@ impl Radau5 {
         Ok(())
     }
 
+    /// Exchanges the current factorisation with the spare one.
+    fn swap_spare(&mut self) {
+        if let Some(sp) = self.spare.as_deref_mut() {
+            std::mem::swap(&mut self.real, &mut sp.real);
+            std::mem::swap(&mut self.cplx, &mut sp.cplx);
+            std::mem::swap(&mut self.fact_h, &mut sp.h);
+            std::mem::swap(&mut self.gscale_r, &mut sp.gscale_r);
+            std::mem::swap(&mut self.gscale_c, &mut sp.gscale_c);
+        }
+    }
+
     fn describe_owned(&self) -> impl Fn(usize) -> String {
         let names = self.asm.layout.position_names.clone();
         move |p| names[p].clone()
     }
 }
 
-/// Largest constraint residuals by kind, each in its unit.
+/// A factorised pair of iteration matrices kept aside ([`Radau5`]'s
+/// `spare`).
+struct Spare {
+    real: KktSolver<f64>,
+    cplx: KktSolver<Complex64>,
+    /// Step size it was formed for [s] (NaN: not valid).
+    h: f64,
+    gscale_r: f64,
+    gscale_c: f64,
+}
+
 /// Largest constraint residuals by kind, each in its unit.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ConstraintResiduals {
