@@ -31,7 +31,9 @@ def figure(src):
     ref = next((i for i, r in enumerate(rows) if r["nc"] == 27), len(rows) // 2)
     ax.loglog(n, [per_step[ref] * x / n[ref] for x in n], ":", color="grey", label="linear (slope 1)")
     for r, x, y in zip(rows, n, per_step):
-        ax.annotate(f"Nc = {r['nc']}", (x, y), textcoords="offset points", xytext=(4, 6), fontsize=8)
+        # (left of the point and above it: the last one stays inside the axes)
+        ax.annotate(f"Nc = {r['nc']}", (x, y), textcoords="offset points", xytext=(-8, 8), ha="right", fontsize=8)
+    ax.margins(x=0.08, y=0.12)
     ax.set_xlabel("coordinates")
     ax.set_ylabel("wall time [us]")
     ax.set_title("Earthquake run cost against model size (one core)")
