@@ -180,7 +180,6 @@ pub struct Workspace {
     g: Vec<f64>,
     w: Vec<f64>,
     vx: Vec<f64>,
-    rows: Vec<Rows>,
     km: Mat6,
     dm: Mat6,
     /// Whether each contact is closed (the integrator's mode of the step).
@@ -355,7 +354,6 @@ impl Assembly {
             kin: vec![BodyKin::default(); self.bodies.len()],
             f: vec![0.0; self.layout.n + 1],
             g: vec![0.0; self.layout.m],
-            rows: vec![Rows::default(); self.points.len() + self.angles.len() + self.lines.len() + self.drivers.len()],
             w: vec![0.0; self.layout.m],
             vx: vec![0.0; self.layout.n + 1],
             km: [[0.0; 6]; 6],
@@ -499,30 +497,22 @@ impl Assembly {
     /// Constraint rows at the loaded kinematics: `g`, `G q' + g_t` and, with
     /// multipliers, `-G^T lambda` added into the forces.
     fn constraint_rows(&self, ws: &mut Workspace, t: f64, v: &[f64], lam: Option<&[f64]>) {
-        let Workspace { kin, f, g, w, rows, vx, .. } = ws;
+        let Workspace { kin, f, g, w, vx, .. } = ws;
         vx[..v.len()].copy_from_slice(v);
         vx[v.len()] = 0.0;
-        let mut i = 0;
         for (k, map) in &self.points {
-            rows[i] = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
-            apply_rows(f, g, w, vx, map, &rows[i], lam);
-            i += 1;
+            apply_rows(f, g, w, vx, map, &k.rows(&kin[k.a as usize], &kin[k.b as usize]), lam);
         }
         for (k, map) in &self.angles {
-            rows[i] = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
-            apply_rows_in(f, g, w, vx, map, &rows[i], lam, &ANGLE_SLOTS);
-            i += 1;
+            let rows = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
+            apply_rows_in(f, g, w, vx, map, &rows, lam, &ANGLE_SLOTS);
         }
         for (k, map) in &self.lines {
-            rows[i] = k.rows(&kin[k.a as usize], &kin[k.b as usize]);
-            apply_rows(f, g, w, vx, map, &rows[i], lam);
-            i += 1;
+            apply_rows(f, g, w, vx, map, &k.rows(&kin[k.a as usize], &kin[k.b as usize]), lam);
         }
         for (k, map) in &self.drivers {
-            rows[i] = k.rows(&kin[k.a as usize], t);
-            apply_rows(f, g, w, vx, map, &rows[i], lam);
+            apply_rows(f, g, w, vx, map, &k.rows(&kin[k.a as usize], t), lam);
             w[map.eq as usize] += k.time_derivatives(t).0;
-            i += 1;
         }
     }
 
