@@ -26,7 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import plot_study  # noqa: E402
 import plot_suite  # noqa: E402
 from plotlib import (  # noqa: E402
-    accel_units, flag_names, incomplete, job_masks, log_ticks, mark_jobs, save, sweep_parser, text,
+    accel_units, flag_names, incomplete, job_masks, mark_jobs, period_axes, save, sweep_parser, text,
 )
 
 
@@ -86,12 +86,7 @@ def figure(src, in_g=False, per_record=False):
         axr.axhline(0, color="0.6", lw=0.8)
         axr.set_ylabel("reduction of Sa, 1 - with / without [%]")
         axr.set_title("reduction by the joint", fontsize=9)
-        for a in (ax, axr):
-            a.set_xscale("log")
-            a.set_xlabel("bridge period T [s]")
-            a.grid(True, which="both", alpha=0.3)
-            a.legend(fontsize=7)
-            log_ticks(a, periods)
+        period_axes((ax, axr), periods)
     fig.tight_layout()
     return fig
 

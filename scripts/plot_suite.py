@@ -23,7 +23,7 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from plotlib import accel_units, incomplete, log_ticks, save, sweep_parser, text  # noqa: E402
+from plotlib import accel_units, incomplete, period_axes, save, sweep_parser, text  # noqa: E402
 
 def load(src):
     with h5py.File(src, "r") as f:
@@ -99,12 +99,7 @@ def figure(src, in_g=False):
         ax.set_ylabel(f"Sa [{unit}]")
         axr.set_ylabel("reduction of Sa, 1 - with / without [%]")
         axr.set_title("reduction by the joint over the suite", fontsize=9)
-        for a in (ax, axr):
-            a.set_xscale("log")
-            a.set_xlabel("bridge period T [s]")
-            a.grid(True, which="both", alpha=0.3)
-            a.legend(fontsize=7)
-            log_ticks(a, periods)
+        period_axes((ax, axr), periods)
     fig.tight_layout()
     return fig
 

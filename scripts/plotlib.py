@@ -115,6 +115,17 @@ def log_ticks(ax, values, axis="x"):
     a.set_minor_formatter(matplotlib.ticker.NullFormatter())
 
 
+def period_axes(axes, periods):
+    """Logarithmic bridge-period axes with readable ticks, grid and legend
+    (the spectrum and suite panels)."""
+    for a in axes:
+        a.set_xscale("log")
+        a.set_xlabel("bridge period T [s]")
+        a.grid(True, which="both", alpha=0.3)
+        a.legend(fontsize=7)
+        log_ticks(a, periods)
+
+
 def compact(value):
     """A short label: 0.5, 2, 150, 20k, 2.5M (SI prefixes from 10^4 up)."""
     for factor, prefix in ((1e9, "G"), (1e6, "M"), (1e3, "k")):
