@@ -198,7 +198,7 @@ fn accuracy() {
             "wall_time_tight_s": g.wall_time_s,
         }));
     }
-    println!("largest |Sa difference| {worst:.1e} (issue 15: at most 1e-5 at the default tolerances)");
+    println!("largest |Sa difference| {worst:.1e} (target at the default tolerances: 1e-5)");
     write_json("accuracy.json", &rows.into());
 }
 

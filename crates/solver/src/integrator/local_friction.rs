@@ -143,7 +143,7 @@ impl Local<'_> {
             }
             let Some(step) = solve3(jm, r) else { break };
             if self.same_linear_piece(&d, &step) {
-                // the first step is exact: skip the trial evaluation
+                // the step solves the local equations: no trial evaluation
                 return [d[0] + step[0], d[1] + step[1], d[2] + step[2]];
             }
             // damped: the residual must fall (a full step can jump across the zone)
