@@ -12,10 +12,12 @@
 //!   guide. At Nc = 81 (pitch 44 mm) the center beams are 30 mm wide (the
 //!   width only enters the clear sub-gaps).
 //! - `accuracy`: Sa at default tolerances against runs at 100 times tighter
-//!   tolerances (rtol, atol, atol_rotation / 100) for 10 log-spaced periods
-//!   from 0.1 s to 5 s, on the rayon pool (`RAYON_NUM_THREADS`).
+//!   tolerances (rtol, atol, atol_rotation / 100, and the bearings held
+//!   like every other body: `bearing_atol_factor` 1) for 10 log-spaced
+//!   periods from 0.1 s to 5 s, on the rayon pool (`RAYON_NUM_THREADS`).
 //!   `QUAKEJOINT_BENCH_TOL=1e-5` sets the tolerances compared (rtol, atol
-//!   and atol_rotation alike) instead of the defaults (1e-6).
+//!   and atol_rotation alike) instead of the defaults (1e-6), and
+//!   `QUAKEJOINT_BENCH_BEARING_FACTOR=3` the bearings' factor (default 2).
 //!
 //! - `contact`: the cost of the contacts between beams: the `full` run with
 //!   them (56 contacts, none closing under Corralitos 090) against the same
@@ -156,10 +158,14 @@ fn accuracy() {
         base.simulation.atol = tol;
         base.simulation.atol_rotation = tol;
     }
+    if let Ok(text) = std::env::var("QUAKEJOINT_BENCH_BEARING_FACTOR") {
+        base.simulation.bearing_atol_factor = text.parse().expect("QUAKEJOINT_BENCH_BEARING_FACTOR must be a number");
+    }
     let mut tight = base.clone();
     tight.simulation.rtol /= 100.0;
     tight.simulation.atol /= 100.0;
     tight.simulation.atol_rotation /= 100.0;
+    tight.simulation.bearing_atol_factor = 1.0;
     let periods: Vec<f64> = (0..10).map(|i| 0.1 * 50f64.powf(i as f64 / 9.0)).collect();
     let jobs: Vec<(usize, bool)> = (0..10).flat_map(|i| [(i, false), (i, true)]).collect();
     let results: Vec<RunResult> = jobs
@@ -169,7 +175,10 @@ fn accuracy() {
             run(if is_tight { &tight } else { &base }, Some(omega))
         })
         .collect();
-    println!("## accuracy: tolerances {:e} against 100 times tighter ones", base.simulation.rtol);
+    println!(
+        "## accuracy: tolerances {:e} (bearings x {}) against 100 times tighter ones (bearings x 1)",
+        base.simulation.rtol, base.simulation.bearing_atol_factor
+    );
     println!(
         "| T [s] | Sa default [m/s^2] | Sa tight [m/s^2] | Sa difference | friction energy difference | peak joint force difference | wall default [s] | wall tight [s] |"
     );

@@ -274,7 +274,8 @@ pub fn build_with(
             for (k, s) in geo.supports.iter().enumerate() {
                 let y = geo.bearing_y[i][k];
                 let body =
-                    Body::new(format!("bearing {}/{k}", i + 1), j.bearing.mass, j.bearing.inertia, [x, y, s.theta]);
+                    Body::new(format!("bearing {}/{k}", i + 1), j.bearing.mass, j.bearing.inertia, [x, y, s.theta])
+                        .with_tolerance_scale(config.simulation.bearing_atol_factor);
                 let bearing = sys.add_body(match bearing_joint {
                     BearingJoint::Translational => body.only(&[Coord::X, Coord::Y]),
                     BearingJoint::Prismatic => body,

@@ -124,6 +124,9 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     ("simulation.rtol", "1", closed(1e-12, 0.1)),
     ("simulation.atol", "m, m/s", closed(1e-15, 1.0)),
     ("simulation.atol_rotation", "rad, rad/s", closed(1e-15, 1.0)),
+    // 1: the bearings held like every other body; already at 10 a pounding
+    // run's contact energy drifts by 2e-3 (docs/performance.md)
+    ("simulation.bearing_atol_factor", "1", closed(1.0, 100.0)),
     ("simulation.h_max", "s", closed(1e-9, 86_400.0)),
     ("simulation.max_wall_time", "s", above(0.0, 1e7)),
     ("simulation.max_steps", "1", closed(1.0, 1e12)),

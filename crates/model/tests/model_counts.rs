@@ -61,3 +61,25 @@ fn default_config_is_the_reference_model() {
     assert_eq!(config.joint, common::shipped("paper.toml").joint);
     assert_eq!(config.bridge.omega(), 6.3);
 }
+
+/// The bearings are held to `simulation.bearing_atol_factor` times the
+/// absolute tolerances (2 by default), every other body to the tolerances
+/// as given.
+#[test]
+fn bearings_and_only_bearings_carry_the_configured_tolerance_factor() {
+    for (extra, factor) in [("", 2.0), ("[simulation]\nbearing_atol_factor = 5.0\n", 5.0)] {
+        let config =
+            if extra.is_empty() { common::shipped("small.toml") } else { common::shipped_with("small.toml", extra) };
+        let model = build(&config, None, Drive::None).unwrap();
+        let bearings: Vec<_> = model.bearings.iter().flatten().copied().collect();
+        assert_eq!(bearings.len(), 9);
+        for b in &bearings {
+            assert_eq!(model.system.body(*b).tolerance_scale, factor);
+        }
+        let others =
+            model.system.bodies().iter().enumerate().filter(|(i, _)| !bearings.iter().any(|b| b.index() == *i));
+        for (_, body) in others {
+            assert_eq!(body.tolerance_scale, 1.0, "{}", body.name);
+        }
+    }
+}

@@ -208,6 +208,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
     let mut asm = Assembly {
         bodies: body_static,
         coord_mass: layout.coord_body.iter().map(|&(b, s)| bodies[b as usize].slot_mass(s as usize)).collect(),
+        coord_tolerance_scale: layout.coord_body.iter().map(|&(b, _)| bodies[b as usize].tolerance_scale).collect(),
         mass_pos: (0..layout.n).map(|c| layout.entry(layout.unknown_of_coord[c], layout.unknown_of_coord[c])).collect(),
         bushings: Vec::new(),
         frictions: Vec::new(),

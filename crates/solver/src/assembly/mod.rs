@@ -245,6 +245,8 @@ pub struct Assembly {
     pub(crate) layout: Layout,
     pub(crate) bodies: Vec<BodyStatic>,
     pub(crate) coord_mass: Vec<f64>,
+    /// [`crate::Body::tolerance_scale`] of each coordinate's body.
+    pub(crate) coord_tolerance_scale: Vec<f64>,
     pub(crate) mass_pos: Vec<u32>,
     pub(crate) bushings: Vec<(BushingK, PairMap)>,
     pub(crate) frictions: Vec<(FrictionK, PairMap)>,

@@ -65,12 +65,25 @@ pub struct Body {
     /// Which of (x, y, phi) are free; a locked coordinate keeps its initial
     /// value and zero velocity (the bridge deck, for example, moves only in x).
     pub free: [bool; 3],
+    /// Factor on the integrator's absolute tolerances for this body's
+    /// coordinates and velocities [-] (1: the tolerances as given; 10: an
+    /// error ten times larger passes the error test). RADAU5's per-component
+    /// `ATOL` (Hairer and Wanner, IV.8), set per body: a light body whose
+    /// own motion matters little, and which would otherwise set the step
+    /// size by its number, can be held less tightly.
+    pub tolerance_scale: f64,
 }
 
 impl Body {
     /// A body free in x, y and phi, at rest at `pose`.
     pub fn new(name: impl Into<String>, mass: f64, inertia: f64, pose: [f64; 3]) -> Self {
-        Self { name: name.into(), mass, inertia, pose, velocity: [0.0; 3], free: [true; 3] }
+        Self { name: name.into(), mass, inertia, pose, velocity: [0.0; 3], free: [true; 3], tolerance_scale: 1.0 }
+    }
+
+    /// Sets the factor on the absolute tolerances ([`Body::tolerance_scale`]).
+    pub fn with_tolerance_scale(mut self, scale: f64) -> Self {
+        self.tolerance_scale = scale;
+        self
     }
 
     /// Sets the initial velocity.

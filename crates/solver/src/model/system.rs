@@ -33,6 +33,7 @@ impl System {
             pose: [0.0; 3],
             velocity: [0.0; 3],
             free: [false; 3],
+            tolerance_scale: 1.0,
         };
         Self { bodies: vec![ground], forces: Vec::new(), constraints: Vec::new(), excitation: Excitation::default() }
     }
@@ -279,6 +280,7 @@ fn validate_body(index: usize, b: &Body) -> Result<(), BuildError> {
     }
     finite_all(&what, "pose", &b.pose)?;
     finite_all(&what, "velocity", &b.velocity)?;
+    positive(&what, "tolerance_scale", b.tolerance_scale)?;
     for (slot, free) in b.free.iter().enumerate() {
         if !free && b.velocity[slot] != 0.0 {
             return Err(BuildError::InvalidParameter {

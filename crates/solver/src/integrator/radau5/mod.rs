@@ -228,8 +228,9 @@ impl Radau5 {
         let mut atol_v = vec![0.0; n];
         for c in 0..n {
             let rotational = asm.layout.coord_body[c].1 == 2;
-            atol_q[c] = conv * if rotational { opt.atol_rotation } else { opt.atol_translation };
-            atol_v[c] = conv * if rotational { opt.atol_angular_velocity } else { opt.atol_velocity };
+            let scale = conv * asm.coord_tolerance_scale[c];
+            atol_q[c] = scale * if rotational { opt.atol_rotation } else { opt.atol_translation };
+            atol_v[c] = scale * if rotational { opt.atol_angular_velocity } else { opt.atol_velocity };
         }
         let fnewt = (10.0 * UROUND / rtol)
             .max(opt.newton_tolerance.unwrap_or_else(|| 0.03f64.min(rtol.powf(1.0 / (2.0 / 3.0) - 1.0))));
