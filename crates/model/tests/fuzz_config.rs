@@ -125,6 +125,7 @@ const KEYS: &[(&str, &[&str])] = &[
             "rtol",
             "atol",
             "atol_rotation",
+            "bearing_atol_factor",
             "h_max",
             "max_wall_time",
             "max_steps",

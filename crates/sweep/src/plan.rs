@@ -603,7 +603,11 @@ impl Plan {
         }
         let mut used = base_config.clone();
         used.sweep = Some(sweep.clone());
-        let canonical = toml::to_string(&without_run_settings(&table)).unwrap_or_default()
+        // the config as resolved, defaults included, so that a change of a
+        // default between versions also tells a journal's jobs apart
+        let mut resolved = toml::Table::try_from(&base_config).unwrap_or_default();
+        resolved.remove("sweep");
+        let canonical = toml::to_string(&without_run_settings(&resolved)).unwrap_or_default()
             + &toml::to_string(&without_run_settings(&sweep)).unwrap_or_default();
         Ok(Self {
             cases,

@@ -448,3 +448,23 @@ fn damping_entries(asm: &Assembly) -> Vec<(u32, u32, u32)> {
     }
     set.into_iter().map(|(p, r, c)| (r, c, p)).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::model::body::{Body, Coord};
+    use crate::model::system::System;
+    use crate::{Assembly, AssemblyOptions};
+
+    /// Each coordinate takes the tolerance scale of its own body, whatever
+    /// the bodies' free coordinates (the integrator's error weights read it
+    /// by coordinate).
+    #[test]
+    fn each_coordinate_carries_its_bodys_tolerance_scale() {
+        let mut sys = System::new();
+        sys.add_body(Body::new("a", 1.0, 1.0, [0.0; 3]).with_tolerance_scale(3.0));
+        sys.add_body(Body::new("b", 1.0, 1.0, [1.0, 0.0, 0.0]).only(&[Coord::X]));
+        sys.add_body(Body::new("c", 1.0, 1.0, [2.0, 0.0, 0.0]).only(&[Coord::Y, Coord::Phi]).with_tolerance_scale(5.0));
+        let asm = Assembly::new(&sys, &AssemblyOptions::default()).unwrap();
+        assert_eq!(asm.coord_tolerance_scale, [3.0, 3.0, 3.0, 1.0, 5.0, 5.0]);
+    }
+}
