@@ -64,7 +64,10 @@ impl Header {
             ));
         }
         if self.config_sha256 != current.config_sha256 {
-            out.push("its config differs (in its parameters, not only in comments or layout)".to_string());
+            out.push(
+                "its config differs in its parameters, the defaults of this version included, not only in comments or layout"
+                    .to_string(),
+            );
         }
         for (name, hash) in &current.records {
             match self.records.iter().find(|(n, _)| n == name) {
