@@ -604,8 +604,9 @@ impl Plan {
         let mut used = base_config.clone();
         used.sweep = Some(sweep.clone());
         // the config as resolved, defaults included, so that a change of a
-        // default between versions also tells a journal's jobs apart
-        let mut resolved = toml::Table::try_from(&base_config).unwrap_or_default();
+        // default between versions also tells a journal's jobs apart (as
+        // written, should it not serialise)
+        let mut resolved = toml::Table::try_from(&base_config).unwrap_or_else(|_| table.clone());
         resolved.remove("sweep");
         let canonical = toml::to_string(&without_run_settings(&resolved)).unwrap_or_default()
             + &toml::to_string(&without_run_settings(&sweep)).unwrap_or_default();
