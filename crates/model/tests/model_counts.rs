@@ -68,9 +68,7 @@ fn default_config_is_the_reference_model() {
 #[test]
 fn bearings_and_only_bearings_carry_the_configured_tolerance_factor() {
     for (extra, factor) in [("", 2.0), ("[simulation]\nbearing_atol_factor = 5.0\n", 5.0)] {
-        let config =
-            if extra.is_empty() { common::shipped("small.toml") } else { common::shipped_with("small.toml", extra) };
-        let model = build(&config, None, Drive::None).unwrap();
+        let model = build(&common::shipped_with("small.toml", extra), None, Drive::None).unwrap();
         let bearings: Vec<_> = model.bearings.iter().flatten().copied().collect();
         assert_eq!(bearings.len(), 9);
         for b in &bearings {
