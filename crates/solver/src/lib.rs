@@ -38,6 +38,7 @@ pub mod assembly;
 pub mod error;
 pub mod fd;
 pub mod integrator;
+pub mod isa;
 pub mod linalg;
 pub mod model;
 pub mod reference;

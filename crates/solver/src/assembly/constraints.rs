@@ -61,6 +61,7 @@ impl PointK {
         (ka.rot.apply(self.pa), kb.rot.apply(self.pb))
     }
 
+    #[inline(always)]
     pub fn rows(&self, ka: &BodyKin, kb: &BodyKin) -> Rows {
         let (ra, rb) = self.parts(ka, kb);
         let g = (ka.r + ra) - (kb.r + rb);
@@ -99,6 +100,7 @@ struct LineEval {
 }
 
 impl LineK {
+    #[inline(always)]
     fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> LineEval {
         let rho_a = ka.rot.apply(self.pa);
         let lam_b = kb.rot.apply(self.lb);
@@ -107,6 +109,7 @@ impl LineK {
         LineEval { rho_a, lam_b, n, w }
     }
 
+    #[inline(always)]
     pub fn rows(&self, ka: &BodyKin, kb: &BodyKin) -> Rows {
         let e = self.eval(ka, kb);
         let n = e.n;

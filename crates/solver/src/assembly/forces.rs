@@ -53,6 +53,7 @@ struct BushingEval {
 }
 
 impl BushingK {
+    #[inline(always)]
     fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> BushingEval {
         let rot_a = ka.rot;
         let rho_a = rot_a.apply(self.pa);
@@ -67,6 +68,7 @@ impl BushingK {
         BushingEval { rot_a, rho_a, rho_b, rho_b_l: rot_a.apply_t(rho_b), e_l, d_l, f_l, dd_l, c_l }
     }
 
+    #[inline(always)]
     pub fn force(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
         let e = self.eval(ka, kb);
         // total force on b, world frame
@@ -151,13 +153,12 @@ pub(crate) struct FrictionK {
 struct FrictionEval {
     rho: V2,
     e: V2,
-    v: V2,
     f: V2,
 }
 
 impl FrictionK {
     /// phi(v) of the regularised law (the force is `-force phi`).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn phi(&self, v: V2) -> V2 {
         let speed = v.norm();
         match self.law {
@@ -213,7 +214,7 @@ impl FrictionK {
     }
 
     /// Contact point, relative velocity and force, without the law's slope.
-    #[inline]
+    #[inline(always)]
     fn kinematics(&self, ka: &BodyKin, kb: &BodyKin) -> (V2, V2, V2) {
         let rho = ka.rot.apply(self.pa);
         let e = ka.r + rho - kb.r;
@@ -224,12 +225,13 @@ impl FrictionK {
     fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> (FrictionEval, [[f64; 2]; 2]) {
         let (rho, e, v) = self.kinematics(ka, kb);
         let (phi, dphi) = self.law(v);
-        (FrictionEval { rho, e, v, f: -(self.force * phi) }, dphi)
+        (FrictionEval { rho, e, f: -(self.force * phi) }, dphi)
     }
 
+    #[inline(always)]
     pub fn force(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
         let (rho, e, v) = self.kinematics(ka, kb);
-        let e = FrictionEval { rho, e, v, f: -(self.force * self.phi(v)) };
+        let e = FrictionEval { rho, e, f: -(self.force * self.phi(v)) };
         let mut q = [0.0; 6];
         put(&mut q, 0, point_force(e.f, e.rho));
         put(&mut q, 3, point_force(-e.f, e.e));
@@ -271,14 +273,18 @@ impl FrictionK {
     }
 
     /// Dissipated power `-F . v_rel` [W] (never negative).
+    /// (`phi` alone: the law's slope is not needed, and `phi` equals the
+    /// first value of [`Self::law`] bit for bit.)
     pub fn dissipation(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
-        let (e, _) = self.eval(ka, kb);
-        -e.f.dot(e.v)
+        let (_, _, v) = self.kinematics(ka, kb);
+        let f = -(self.force * self.phi(v));
+        -f.dot(v)
     }
 
     /// Magnitude of the friction force [N].
     pub fn force_magnitude(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
-        self.eval(ka, kb).0.f.norm()
+        let (_, _, v) = self.kinematics(ka, kb);
+        (-(self.force * self.phi(v))).norm()
     }
 }
 

@@ -178,7 +178,7 @@ const COS_COEFFS: [f64; 10] = [
 /// 1e-19, a few ulp of rounding; several times cheaper than the C library's
 /// `sincos`, the largest single cost of loading the kinematics), and the
 /// library is used beyond.
-#[inline]
+#[inline(always)]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     if x.abs() > std::f64::consts::FRAC_PI_4 {
         return x.sin_cos();

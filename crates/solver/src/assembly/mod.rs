@@ -435,13 +435,14 @@ impl Assembly {
         self.eq_constraint[eq] as usize
     }
 
+    #[inline(always)]
     fn load_kin(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) {
         for b in 1..self.bodies.len() {
             self.load_body(ws, b, q, v);
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn load_body(&self, ws: &mut Workspace, b: usize, q: &[f64], v: &[f64]) {
         let st = &self.bodies[b];
         let mut p = st.pose0;
@@ -482,6 +483,15 @@ impl Assembly {
     /// constraint `G(q) q' + g_t(t)` into the workspace ([`Workspace::forces`],
     /// [`Workspace::constraints`], [`Workspace::velocity_constraints`]).
     pub fn residual(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) {
+        crate::isa::run(
+            #[inline(always)]
+            || self.residual_impl(ws, t, q, v, lam),
+        )
+    }
+
+    /// [`Self::residual`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn residual_impl(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) {
         self.load_kin(ws, q, v);
         ws.f.iter_mut().for_each(|x| *x = 0.0);
         self.applied_forces(ws, t, v);
@@ -492,12 +502,22 @@ impl Assembly {
     /// ([`Workspace::constraints`], [`Workspace::velocity_constraints`]);
     /// [`Workspace::forces`] is left as it was.
     pub fn constraint_residuals(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
+        crate::isa::run(
+            #[inline(always)]
+            || self.constraint_residuals_impl(ws, t, q, v),
+        )
+    }
+
+    /// [`Self::constraint_residuals`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn constraint_residuals_impl(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
         self.load_kin(ws, q, v);
         self.constraint_rows(ws, t, v, None);
     }
 
     /// Constraint rows at the loaded kinematics: `g`, `G q' + g_t` and, with
     /// multipliers, `-G^T lambda` added into the forces.
+    #[inline(always)]
     fn constraint_rows(&self, ws: &mut Workspace, t: f64, v: &[f64], lam: Option<&[f64]>) {
         let Workspace { kin, f, g, w, vx, .. } = ws;
         vx[..v.len()].copy_from_slice(v);
@@ -528,6 +548,7 @@ impl Assembly {
     }
 
     /// Generalised applied forces `Q(t, q, q')` added into `ws.f` (kinematics loaded).
+    #[inline(always)]
     fn applied_forces(&self, ws: &mut Workspace, t: f64, v: &[f64]) {
         let Workspace { kin, f, closed, v0, .. } = ws;
         for (i, (k, map)) in self.contacts.iter().enumerate() {
@@ -780,6 +801,15 @@ impl Assembly {
 
     /// Power flows at a state.
     pub fn powers(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) -> Powers {
+        crate::isa::run(
+            #[inline(always)]
+            || self.powers_impl(ws, t, q, v, lam),
+        )
+    }
+
+    /// [`Self::powers`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn powers_impl(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) -> Powers {
         self.load_kin(ws, q, v);
         let kin = &ws.kin;
         let mut p = Powers::default();
@@ -860,6 +890,15 @@ impl Assembly {
 
     /// Largest bushing and friction force magnitudes at a state.
     pub fn force_extremes(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) -> ForceExtremes {
+        crate::isa::run(
+            #[inline(always)]
+            || self.force_extremes_impl(ws, q, v),
+        )
+    }
+
+    /// [`Self::force_extremes`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn force_extremes_impl(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) -> ForceExtremes {
         self.load_kin(ws, q, v);
         let kin = &ws.kin;
         let mut x = ForceExtremes::default();
@@ -988,6 +1027,15 @@ impl Assembly {
 
     /// `(c M + D) x` for a coordinate vector `x` (used by the error estimate).
     pub(crate) fn mass_damping_product(&self, c: f64, jac: &JacobianValues, x: &[f64], out: &mut [f64]) {
+        crate::isa::run(
+            #[inline(always)]
+            || self.mass_damping_product_impl(c, jac, x, out),
+        )
+    }
+
+    /// [`Self::mass_damping_product`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn mass_damping_product_impl(&self, c: f64, jac: &JacobianValues, x: &[f64], out: &mut [f64]) {
         for (i, o) in out.iter_mut().enumerate() {
             *o = c * self.coord_mass[i] * x[i];
         }

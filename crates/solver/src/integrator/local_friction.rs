@@ -76,13 +76,14 @@ struct Local<'a> {
 impl Local<'_> {
     /// `t . phi(v + d t)` at stage `i` and its slope along `t` times the
     /// force scale.
-    #[inline]
+    #[inline(always)]
     fn law(&self, i: usize, d: f64) -> (f64, f64) {
         let (phi, slope) = self.info.law_along(self.along[i] + d, self.across[i]);
         (phi, self.info.force * slope)
     }
 
     /// Residual and slopes at `d`.
+    #[inline(always)]
     fn eval(&self, d: &[f64; 3]) -> ([f64; 3], [f64; 3]) {
         let mut r = [0.0; 3];
         let mut slope = [0.0; 3];
@@ -104,7 +105,7 @@ impl Local<'_> {
     /// keeping its sign, the step's linearisation error is at most
     /// `2 F b^2 |step| / min(|a_0|, |a_1|)^3`, zero when nothing crosses the
     /// line.
-    #[inline]
+    #[inline(always)]
     fn same_linear_piece(&self, d: &[f64; 3], step: &[f64; 3]) -> bool {
         if !self.info.is_linear_law() {
             return false;
@@ -128,6 +129,7 @@ impl Local<'_> {
     }
 
     /// Damped semismooth Newton from `d = 0` with the slopes there.
+    #[inline(always)]
     fn solve(&self, slope0: [f64; 3]) -> [f64; 3] {
         let tol = LOCAL_TOL * (self.info.force + norm3(&self.r0));
         let mut d = [0.0; 3];
@@ -206,6 +208,22 @@ impl LocalFriction {
     /// and returns whether anything changed (the stage residuals must then
     /// be evaluated again).
     pub(super) fn solve(
+        &self,
+        h: f64,
+        mass: &[f64],
+        jac: &JacobianValues,
+        fv: &[Vec<f64>; 3],
+        zv: &mut [Vec<f64>; 3],
+    ) -> bool {
+        crate::isa::run(
+            #[inline(always)]
+            || self.solve_impl(h, mass, jac, fv, zv),
+        )
+    }
+
+    /// [`Self::solve`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn solve_impl(
         &self,
         h: f64,
         mass: &[f64],

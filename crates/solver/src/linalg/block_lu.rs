@@ -298,6 +298,15 @@ impl<T: Scalar> BlockLu<T> {
     /// whether it is singular) and then replaced by its inverse, so that
     /// `X_kj = D_kk^-1 A_kj` and the solves are small matrix products.
     pub fn factor(&mut self, sym: &BlockSymbolic, describe: &dyn Fn(usize) -> String) -> Result<(), LinalgError> {
+        crate::isa::run(
+            #[inline(always)]
+            || self.factor_impl(sym, describe),
+        )
+    }
+
+    /// [`Self::factor`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn factor_impl(&mut self, sym: &BlockSymbolic, describe: &dyn Fn(usize) -> String) -> Result<(), LinalgError> {
         let values = &mut self.values;
         let mut lu = [T::ZERO; MAX_BLOCK * MAX_BLOCK];
         let mut piv = [0u8; MAX_BLOCK];
@@ -356,6 +365,15 @@ impl<T: Scalar> BlockLu<T> {
 
     /// Solves `A x = b` in place (`b` in block-position order of unknowns).
     pub fn solve(&self, sym: &BlockSymbolic, b: &mut [T]) {
+        crate::isa::run(
+            #[inline(always)]
+            || self.solve_impl(sym, b),
+        )
+    }
+
+    /// [`Self::solve`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn solve_impl(&self, sym: &BlockSymbolic, b: &mut [T]) {
         let values = &self.values;
         let nb = sym.sizes.len();
         for k in 0..nb {
@@ -423,6 +441,7 @@ fn gemv_sub<T: Scalar>(y: &mut [T], a: &[T], x: &[T]) {
 
 /// Dense LU with partial pivoting of a row-major `n x n` block, in place.
 /// Returns `(largest pivot candidate, block scale)` when singular.
+#[inline(always)]
 fn dense_lu<T: Scalar>(a: &mut [T], n: usize, piv: &mut [u8]) -> Result<(), (f64, f64)> {
     let scale = a.iter().fold(0.0f64, |m, x| m.max(x.magnitude()));
     let tol = 1e-13 * scale;
@@ -462,6 +481,7 @@ fn dense_lu<T: Scalar>(a: &mut [T], n: usize, piv: &mut [u8]) -> Result<(), (f64
 }
 
 /// The inverse of `P^T L U` (row-major `n x n` LU with pivots) into `inv`.
+#[inline(always)]
 fn dense_inverse<T: Scalar>(lu: &[T], n: usize, piv: &[u8], inv: &mut [T]) {
     // solve LU X = P I column by column: start from the permuted identity
     inv.iter_mut().for_each(|x| *x = T::ZERO);
@@ -500,7 +520,7 @@ fn dense_inverse<T: Scalar>(lu: &[T], n: usize, piv: &[u8], inv: &mut [T]) {
 }
 
 /// `c = a b` for row-major `a (n x k)`, `b (k x m)`, `c (n x m)`.
-#[inline]
+#[inline(always)]
 fn gemm_set<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usize) {
     c.iter_mut().for_each(|x| *x = T::ZERO);
     for r in 0..n {
@@ -519,7 +539,7 @@ fn gemm_set<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usi
 /// pairs, bearings on their neighbours) go to kernels with the sizes fixed at
 /// compile time, which the compiler unrolls and vectorises; the others to a
 /// loop that skips the structural zeros of constraint blocks.
-#[inline]
+#[inline(always)]
 fn gemm_sub<T: Scalar>(c: &mut [T], a: &[T], b: &[T], n: usize, k: usize, m: usize) {
     match (n, k, m) {
         (6, 3, 6) => gemm_sub_fixed::<T, 6, 3, 6>(c, a, b),

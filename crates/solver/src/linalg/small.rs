@@ -48,7 +48,7 @@ pub fn gemv_sub_fixed<T: Scalar, const R: usize, const C: usize>(y: &mut [T], a:
 /// (None if singular or not finite). nalgebra's LU is 1.35 times faster on
 /// its own (`benches/small.rs`) but made the reference run 3 % slower inside
 /// the local friction solve (3.99 s against 3.87 s): kept hand-written.
-#[inline]
+#[inline(always)]
 pub fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
     for k in 0..3 {
         let p = (k..3).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
