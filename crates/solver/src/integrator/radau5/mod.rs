@@ -180,9 +180,10 @@ pub struct Radau5 {
     colouring: Option<fd::Colouring>,
     /// end of the step being attempted (exactly the breakpoint when it lands on one)
     t_new: f64,
-    scal_q: Vec<f64>,
-    scal_v: Vec<f64>,
-    scal_l: Vec<f64>,
+    /// Reciprocal error scales of the Newton norm ([`Self::set_scales`]).
+    rscal_q: Vec<f64>,
+    rscal_v: Vec<f64>,
+    rscal_l: Vec<f64>,
     atol_q: Vec<f64>,
     atol_v: Vec<f64>,
     rtol: f64,
@@ -283,9 +284,9 @@ impl Radau5 {
 
             colouring: None,
             t_new: 0.0,
-            scal_q: vec![1.0; n],
-            scal_v: vec![1.0; n],
-            scal_l: vec![1.0; m],
+            rscal_q: vec![1.0; n],
+            rscal_v: vec![1.0; n],
+            rscal_l: vec![1.0; m],
             atol_q,
             atol_v,
             rtol,

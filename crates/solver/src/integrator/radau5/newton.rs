@@ -7,20 +7,24 @@ use super::*;
 impl Radau5 {
     /// Error scales of a step of size `h` from the current state: positions
     /// and velocities (error test and Newton norm) and multipliers (Newton
-    /// norm only): `(rtol (|lambda_e| + max |lambda|) + m_ref scal_v) / h`,
+    /// norm only): `(rtol (|lambda_e| + max |lambda|) + m_ref s_v) / h` (`s_v` the
+    /// velocity scale of the equation's coordinate),
     /// relative to the largest multiplier so that a component passing through
     /// zero is not held to an absolute tolerance; the velocity-equivalent
     /// floor only matters while every multiplier is near zero.
     pub(super) fn set_scales(&mut self, h: f64) {
+        // (stored as reciprocals: the Newton norm multiplies, once per
+        // iteration and unknown, instead of dividing)
         for c in 0..self.n {
-            self.scal_q[c] = self.atol_q[c] + self.rtol * (self.q[c] - self.q_ref[c]).abs();
-            self.scal_v[c] = self.atol_v[c] + self.rtol * self.v[c].abs();
+            self.rscal_q[c] = 1.0 / (self.atol_q[c] + self.rtol * (self.q[c] - self.q_ref[c]).abs());
+            self.rscal_v[c] = 1.0 / (self.atol_v[c] + self.rtol * self.v[c].abs());
         }
         let lam_max = self.lam.iter().fold(0.0f64, |a, x| a.max(x.abs()));
         let lay = &self.asm.layout;
         for e in 0..self.m {
-            let floor = self.asm.eq_mref[e] * self.scal_v[lay.eq_coord[e] as usize];
-            self.scal_l[e] = (self.rtol * (self.lam[e].abs() + lam_max) + floor) / h;
+            let c = lay.eq_coord[e] as usize;
+            let floor = self.asm.eq_mref[e] * (self.atol_v[c] + self.rtol * self.v[c].abs());
+            self.rscal_l[e] = h / (self.rtol * (self.lam[e].abs() + lam_max) + floor);
         }
     }
 
@@ -154,10 +158,10 @@ impl Radau5 {
                 self.dq[0][c] = d1;
                 self.dq[1][c] = d23.re;
                 self.dq[2][c] = d23.im;
-                let (sq, sv) = (self.scal_q[c], self.scal_v[c]);
+                let (rq, rv) = (self.rscal_q[c], self.rscal_v[c]);
                 let dv1 = g_r * d1;
-                sum += (d1 / sq).powi(2) + (d23.re / sq).powi(2) + (d23.im / sq).powi(2);
-                sum += (dv1 / sv).powi(2) + (dv23.re / sv).powi(2) + (dv23.im / sv).powi(2);
+                sum += (d1 * rq).powi(2) + (d23.re * rq).powi(2) + (d23.im * rq).powi(2);
+                sum += (dv1 * rv).powi(2) + (dv23.re * rv).powi(2) + (dv23.im * rv).powi(2);
                 self.wv[0][c] += dv1;
                 self.wv[1][c] += dv23.re;
                 self.wv[2][c] += dv23.im;
@@ -172,8 +176,8 @@ impl Radau5 {
                 self.wl[0][e] += d1;
                 self.wl[1][e] += d23.re;
                 self.wl[2][e] += d23.im;
-                let sl = self.scal_l[e];
-                sum += (d1 / sl).powi(2) + (d23.re / sl).powi(2) + (d23.im / sl).powi(2);
+                let rl = self.rscal_l[e];
+                sum += (d1 * rl).powi(2) + (d23.re * rl).powi(2) + (d23.im * rl).powi(2);
             }
             let dyno = (sum / (6 * n + 3 * m) as f64).sqrt();
             if newt > 1 && newt < nit {
