@@ -12,7 +12,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Complex, Matrix3, SMatrix, SMatrixView, SVector, Vector3};
 use quakejoint_solver::linalg::scalar::Complex64;
-use quakejoint_solver::linalg::small::{gemv_sub_fixed, solve3};
+use quakejoint_solver::linalg::small::{gemv_sub_fixed, solve3, solve3_adjugate};
 
 const BEARINGS: usize = 270;
 
@@ -43,6 +43,15 @@ fn solve(c: &mut Criterion) {
             let mut s = 0.0;
             for (a, r) in &sys {
                 s += solve3(black_box(*a), black_box(*r)).unwrap()[0];
+            }
+            s
+        })
+    });
+    g.bench_function("linalg::small::solve3_adjugate (hand-written)", |b| {
+        b.iter(|| {
+            let mut s = 0.0;
+            for (a, r) in &sys {
+                s += solve3_adjugate(black_box(*a), black_box(*r)).unwrap()[0];
             }
             s
         })

@@ -36,7 +36,7 @@
 use super::radau5::A;
 use crate::assembly::kin::V2;
 use crate::assembly::{Assembly, JacobianValues, SliderInfo, Workspace};
-use crate::linalg::small::solve3;
+use crate::linalg::small::solve3_adjugate;
 
 /// `A^-1` of the Butcher matrix of Radau IIA (s = 3).
 pub(super) const AINV: [[f64; 3]; 3] = [
@@ -143,7 +143,7 @@ impl Local<'_> {
             for i in 0..3 {
                 jm[i][i] += slope[i];
             }
-            let Some(step) = solve3(jm, r) else { break };
+            let Some(step) = solve3_adjugate(jm, r) else { break };
             if self.same_linear_piece(&d, &step) {
                 // the step solves the local equations: no trial evaluation
                 return [d[0] + step[0], d[1] + step[1], d[2] + step[2]];
@@ -340,7 +340,7 @@ mod tests {
                 local.r0 = r0;
                 let mut jm = lmat;
                 (0..3).for_each(|i| jm[i][i] += slope0[i]);
-                let first = solve3(jm, r0).unwrap();
+                let first = crate::linalg::small::solve3_adjugate(jm, r0).unwrap();
                 // the first three stay on one piece of the linear law
                 let expect = law == FrictionLaw::Linear && k < 3;
                 assert_eq!(local.same_linear_piece(&[0.0; 3], &first), expect, "{law:?} {along:?}");
@@ -350,6 +350,36 @@ mod tests {
                 assert!(norm3(&r) <= 1e-9 * scale, "{law:?} {along:?}: residual {r:?} at d = {d:?}");
             }
         }
+    }
+
+    /// The adjugate solve agrees with the pivoted elimination on matrices
+    /// shaped like the local friction ones, falls back to it on nearly
+    /// dependent rows, and refuses singular or non-finite systems.
+    #[test]
+    fn solve3_adjugate_matches_the_pivoted_solve() {
+        use crate::linalg::small::solve3;
+        for (m_h, kh, c, slope) in
+            [(4e3, 5e4, 1e3, 0.0), (4e3, 5e4, 1e3, 2e6), (1.0, 1e9, 0.0, 0.0), (1e6, 0.0, 0.0, 1.0)]
+        {
+            let mut a = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    a[i][j] = m_h * AINV[i][j] + kh * A[i][j];
+                }
+                a[i][i] += c + slope * [1.0, 0.5, 0.0][i];
+            }
+            let b = [1.0, -2.0, 0.5];
+            let (x, y) = (solve3_adjugate(a, b).unwrap(), solve3(a, b).unwrap());
+            for i in 0..3 {
+                assert!((x[i] - y[i]).abs() <= 1e-13 * y.iter().fold(0.0f64, |m, v| m.max(v.abs())), "{x:?} {y:?}");
+            }
+        }
+        // nearly dependent rows: the pivoted solve's answer exactly
+        let a = [[1.0, 2.0, 3.0], [2.0, 4.0, 6.0 + 1e-9], [0.0, 1.0, 1.0]];
+        assert_eq!(solve3_adjugate(a, [1.0, 2.0, 3.0]), solve3(a, [1.0, 2.0, 3.0]));
+        assert!(solve3_adjugate([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]], [1.0, 2.0, 3.0]).is_none());
+        assert!(solve3_adjugate([[f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], [1.0; 3]).is_none());
+        assert!(solve3_adjugate([[1e200, 0.0, 0.0], [0.0, 1e200, 0.0], [0.0, 0.0, 1e200]], [1.0; 3]).is_some());
     }
 
     #[test]
