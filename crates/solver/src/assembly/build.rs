@@ -232,7 +232,8 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         ground: [system.excitation().ground_x.clone(), system.excitation().ground_y.clone()],
         translational: [Vec::new(), Vec::new()],
         structural_nnz: 0,
-        d_entries: Vec::new(),
+        d_row_ptr: Vec::new(),
+        d_cols: Vec::new(),
         initial: (Vec::new(), Vec::new()),
         layout: layout.clone(),
     };
@@ -387,7 +388,11 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
     }
     asm.initial = (q0, v0);
     asm.structural_nnz = structural_nnz(&asm);
-    asm.d_entries = damping_entries(&asm);
+    // (sorted by position; the stable sort keeps that order within a row)
+    let mut by_row = damping_entries(&asm);
+    by_row.sort_by_key(|&(r, _, _)| r);
+    asm.d_row_ptr = (0..=layout.n as u32).map(|r| by_row.partition_point(|&(row, _, _)| row < r) as u32).collect();
+    asm.d_cols = by_row.iter().map(|&(_, c, p)| (c, p)).collect();
     Ok(asm)
 }
 

@@ -276,8 +276,11 @@ pub struct Assembly {
     /// Translational coordinates with their mass, per direction (base excitation, gravity).
     pub(crate) translational: [Vec<(u32, f64)>; 2],
     pub(crate) structural_nnz: usize,
-    /// Distinct positions of the damping matrix: (row coordinate, column coordinate, position).
-    pub(crate) d_entries: Vec<(u32, u32, u32)>,
+    /// Distinct positions of the damping matrix by row: the entries of row `r` are
+    /// `d_cols[d_row_ptr[r]..d_row_ptr[r + 1]]`, as (column coordinate,
+    /// position), in the order of their positions.
+    pub(crate) d_row_ptr: Vec<u32>,
+    pub(crate) d_cols: Vec<(u32, u32)>,
     pub(crate) initial: (Vec<f64>, Vec<f64>),
 }
 
@@ -1036,11 +1039,15 @@ impl Assembly {
     /// [`Self::mass_damping_product`], compiled into each version of [`crate::isa::run`].
     #[inline(always)]
     fn mass_damping_product_impl(&self, c: f64, jac: &JacobianValues, x: &[f64], out: &mut [f64]) {
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = c * self.coord_mass[i] * x[i];
-        }
-        for &(r, col, p) in &self.d_entries {
-            out[r as usize] += jac.d[p as usize] * x[col as usize];
+        // (by row, the sum in a register: the same additions in the same
+        // order as entry by entry, without each waiting on the last one's
+        // store to its row)
+        for (r, o) in out.iter_mut().enumerate() {
+            let mut s = c * self.coord_mass[r] * x[r];
+            for &(col, p) in &self.d_cols[self.d_row_ptr[r] as usize..self.d_row_ptr[r + 1] as usize] {
+                s += jac.d[p as usize] * x[col as usize];
+            }
+            *o = s;
         }
     }
 }
