@@ -102,20 +102,42 @@ struct LineEval {
 impl LineK {
     #[inline(always)]
     fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> LineEval {
-        let rho_a = ka.rot.apply(self.pa);
-        let lam_b = kb.rot.apply(self.lb);
+        if self.pa == V2::default() && self.lb == V2::default() {
+            self.eval_at::<true>(ka, kb)
+        } else {
+            self.eval_at::<false>(ka, kb)
+        }
+    }
+
+    /// The evaluation; with `CENTRED` (`pa` and `lb` zero: a bearing's
+    /// centre on its beam's axis) the terms of the offsets are left out
+    /// rather than computed as zeros.
+    #[inline(always)]
+    fn eval_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> LineEval {
+        let rho_a = if CENTRED { V2::default() } else { ka.rot.apply(self.pa) };
+        let lam_b = if CENTRED { V2::default() } else { kb.rot.apply(self.lb) };
         let n = kb.rot.apply(self.ub.perp());
-        let w = (ka.r + rho_a) - (kb.r + lam_b);
+        let w = if CENTRED { ka.r - kb.r } else { (ka.r + rho_a) - (kb.r + lam_b) };
         LineEval { rho_a, lam_b, n, w }
     }
 
     #[inline(always)]
     pub fn rows(&self, ka: &BodyKin, kb: &BodyKin) -> Rows {
-        let e = self.eval(ka, kb);
+        if self.pa == V2::default() && self.lb == V2::default() {
+            self.rows_at::<true>(ka, kb)
+        } else {
+            self.rows_at::<false>(ka, kb)
+        }
+    }
+
+    #[inline(always)]
+    fn rows_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> Rows {
+        let e = self.eval_at::<CENTRED>(ka, kb);
         let n = e.n;
-        let gphib = n.perp().dot(e.w) - n.dot(e.lam_b.perp());
+        let gphib = if CENTRED { n.perp().dot(e.w) } else { n.perp().dot(e.w) - n.dot(e.lam_b.perp()) };
+        let grad_phia = if CENTRED { 0.0 } else { n.dot(e.rho_a.perp()) };
         let mut r = Rows { g: [n.dot(e.w), 0.0], ..Rows::default() };
-        r.grad[0] = [n.x, n.y, n.dot(e.rho_a.perp()), -n.x, -n.y, gphib];
+        r.grad[0] = [n.x, n.y, grad_phia, -n.x, -n.y, gphib];
         r
     }
 
@@ -162,5 +184,25 @@ impl DriverK {
     pub fn time_derivatives(&self, t: f64) -> (f64, f64) {
         let e = self.motion.eval(t);
         (-e[1], -e[2])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assembly::forces::tests::kin_at;
+
+    /// A bearing's centre on its beam's axis: the centred form of the line
+    /// (offsets of zero left out rather than computed) gives the general
+    /// form's rows bit for bit, and the same Hessian and `gamma`.
+    #[test]
+    fn centred_line_gives_the_general_rows() {
+        let line = LineK { a: 1, b: 2, pa: V2::default(), lb: V2::default(), ub: V2::new(0.6, 0.8) };
+        let bearing = kin_at(0.1, 0.6, 0.26, 0.35, -0.2, 0.0);
+        let base = kin_at(-0.5, 0.4, -0.13, -0.2, 0.3, -0.4);
+        let (c, g) = (line.rows_at::<true>(&bearing, &base), line.rows_at::<false>(&bearing, &base));
+        assert_eq!((c.g, c.grad), (g.g, g.grad));
+        let (c, g) = (line.eval_at::<true>(&bearing, &base), line.eval_at::<false>(&bearing, &base));
+        assert_eq!((c.rho_a, c.lam_b, c.n, c.w), (g.rho_a, g.lam_b, g.n, g.w));
     }
 }

@@ -55,26 +55,48 @@ struct BushingEval {
 impl BushingK {
     #[inline(always)]
     fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> BushingEval {
+        if self.pb == V2::default() {
+            self.eval_at::<true>(ka, kb)
+        } else {
+            self.eval_at::<false>(ka, kb)
+        }
+    }
+
+    /// The evaluation; with `CENTRED` (`pb` is zero, as a bearing's) the
+    /// terms of `b`'s offset are left out rather than computed as zeros.
+    #[inline(always)]
+    fn eval_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> BushingEval {
         let rot_a = ka.rot;
         let rho_a = rot_a.apply(self.pa);
-        let rho_b = kb.rot.apply(self.pb);
-        let delta = (kb.r + rho_b) - (ka.r + rho_a);
+        let rho_b = if CENTRED { V2::default() } else { kb.rot.apply(self.pb) };
+        let delta = if CENTRED { kb.r - (ka.r + rho_a) } else { (kb.r + rho_b) - (ka.r + rho_a) };
         let e_l = rot_a.apply_t(delta);
         let d_l = e_l - self.rest;
         let f_l = V2::new(self.k[0] * d_l.x, self.k[1] * d_l.y);
-        let w = (kb.v + kb.w * rho_b.perp()) - (ka.v + ka.w * rho_a.perp());
+        let vb = if CENTRED { kb.v } else { kb.v + kb.w * rho_b.perp() };
+        let w = vb - (ka.v + ka.w * rho_a.perp());
         let dd_l = rot_a.apply_t(w);
         let c_l = V2::new(self.c[0] * dd_l.x, self.c[1] * dd_l.y);
-        BushingEval { rot_a, rho_a, rho_b, rho_b_l: rot_a.apply_t(rho_b), e_l, d_l, f_l, dd_l, c_l }
+        let rho_b_l = if CENTRED { V2::default() } else { rot_a.apply_t(rho_b) };
+        BushingEval { rot_a, rho_a, rho_b, rho_b_l, e_l, d_l, f_l, dd_l, c_l }
     }
 
     #[inline(always)]
     pub fn force(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
-        let e = self.eval(ka, kb);
+        if self.pb == V2::default() {
+            self.force_at::<true>(ka, kb)
+        } else {
+            self.force_at::<false>(ka, kb)
+        }
+    }
+
+    #[inline(always)]
+    fn force_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
+        let e = self.eval_at::<CENTRED>(ka, kb);
         // total force on b, world frame
         let f = -e.rot_a.apply(e.f_l + e.c_l);
         let mut q = [0.0; 6];
-        put(&mut q, 3, point_force(f, e.rho_b));
+        put(&mut q, 3, if CENTRED { [f.x, f.y, 0.0] } else { point_force(f, e.rho_b) });
         put(&mut q, 0, point_force(-f, e.rho_a));
         // frame torque of the elastic part: e_l x f_l
         q[2] += e.e_l.cross(e.f_l);
@@ -216,9 +238,21 @@ impl FrictionK {
     /// Contact point, relative velocity and force, without the law's slope.
     #[inline(always)]
     fn kinematics(&self, ka: &BodyKin, kb: &BodyKin) -> (V2, V2, V2) {
-        let rho = ka.rot.apply(self.pa);
-        let e = ka.r + rho - kb.r;
-        let v = (ka.v + ka.w * rho.perp()) - (kb.v + kb.w * e.perp());
+        if self.pa == V2::default() {
+            self.kinematics_at::<true>(ka, kb)
+        } else {
+            self.kinematics_at::<false>(ka, kb)
+        }
+    }
+
+    /// [`Self::kinematics`]; with `CENTRED` (`pa` is zero, as a bearing's)
+    /// the terms of the offset are left out rather than computed as zeros.
+    #[inline(always)]
+    fn kinematics_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> (V2, V2, V2) {
+        let rho = if CENTRED { V2::default() } else { ka.rot.apply(self.pa) };
+        let e = if CENTRED { ka.r - kb.r } else { ka.r + rho - kb.r };
+        let va = if CENTRED { ka.v } else { ka.v + ka.w * rho.perp() };
+        let v = va - (kb.v + kb.w * e.perp());
         (rho, e, v)
     }
 
@@ -230,10 +264,19 @@ impl FrictionK {
 
     #[inline(always)]
     pub fn force(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
-        let (rho, e, v) = self.kinematics(ka, kb);
+        if self.pa == V2::default() {
+            self.force_at::<true>(ka, kb)
+        } else {
+            self.force_at::<false>(ka, kb)
+        }
+    }
+
+    #[inline(always)]
+    fn force_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
+        let (rho, e, v) = self.kinematics_at::<CENTRED>(ka, kb);
         let e = FrictionEval { rho, e, f: -(self.force * self.phi(v)) };
         let mut q = [0.0; 6];
-        put(&mut q, 0, point_force(e.f, e.rho));
+        put(&mut q, 0, if CENTRED { [e.f.x, e.f.y, 0.0] } else { point_force(e.f, e.rho) });
         put(&mut q, 3, point_force(-e.f, e.e));
         q
     }
@@ -500,7 +543,7 @@ impl CustomK {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// The scalar law along a direction (the local friction solve) agrees
@@ -522,6 +565,48 @@ mod tests {
                 assert!(
                     (s - expect_slope).abs() <= 1e-9 * expect_slope.abs().max(1.0),
                     "{law:?} {a} {b}: slope {s} vs {expect_slope}"
+                );
+            }
+        }
+    }
+
+    /// A body's kinematics from a pose and velocity.
+    pub(crate) fn kin_at(x: f64, y: f64, phi: f64, vx: f64, vy: f64, w: f64) -> BodyKin {
+        BodyKin { r: V2::new(x, y), phi, rot: Rot::new(phi), v: V2::new(vx, vy), w }
+    }
+
+    /// The centred forms (an offset of zero left out rather than computed)
+    /// give what the general forms give, bit for bit (the general forms are
+    /// checked against finite differences in `tests/jacobian_fd.rs`): a
+    /// bushing to a bearing's centre and a bearing's friction, both laws,
+    /// sliding and sticking, the bearing not turning.
+    #[test]
+    fn centred_forms_give_the_general_forms_results() {
+        let frame = kin_at(0.3, -0.2, 0.21, 0.4, -0.1, 0.7);
+        let base = kin_at(-0.5, 0.4, -0.13, -0.2, 0.3, -0.4);
+        for (vx, vy) in [(0.35, -0.2), (2e-4, -1e-4), (0.0, 0.0)] {
+            let bearing = kin_at(0.1, 0.6, 0.26, vx, vy, 0.0);
+            let bushing = BushingK {
+                a: 1,
+                b: 2,
+                pa: V2::new(0.2, -0.4),
+                pb: V2::default(),
+                k: [2e3, 5e2],
+                c: [3.0, 7.0],
+                rest: V2::new(0.01, -0.02),
+            };
+            assert_eq!(bushing.force_at::<true>(&frame, &bearing), bushing.force_at::<false>(&frame, &bearing));
+            let (c, g) = (bushing.eval_at::<true>(&frame, &bearing), bushing.eval_at::<false>(&frame, &bearing));
+            assert_eq!(
+                (c.e_l, c.f_l, c.dd_l, c.c_l, c.rho_b, c.rho_b_l),
+                (g.e_l, g.f_l, g.dd_l, g.c_l, g.rho_b, g.rho_b_l)
+            );
+            for law in [FrictionLaw::Linear, FrictionLaw::Smooth] {
+                let friction = FrictionK { a: 2, b: 3, pa: V2::default(), force: 10.0, v_eps: 1e-3, law };
+                assert_eq!(friction.force_at::<true>(&bearing, &base), friction.force_at::<false>(&bearing, &base));
+                assert_eq!(
+                    friction.kinematics_at::<true>(&bearing, &base),
+                    friction.kinematics_at::<false>(&bearing, &base)
                 );
             }
         }
