@@ -69,6 +69,22 @@ pub struct BlockSymbolic {
     update_off: Vec<u32>,
     /// Floating-point multiply-adds of one real factorisation.
     flops: u64,
+    /// Per position, the solve kernel of fixed sizes that fits it
+    /// ([`Shape`]).
+    shapes: Vec<Shape>,
+}
+
+/// The shapes the solve has kernels of fixed size for: a block of 3
+/// unknowns with exactly two later neighbours of 3, 5 or 6 unknowns each
+/// (every bearing of the expansion joint: eliminated first, it couples to
+/// its center beam and its support beam). Everything else goes through the
+/// general loop; fixed sizes save its per-block size lookups, slice bounds
+/// and dispatch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Shape {
+    General,
+    /// The sizes of the two later neighbours.
+    Three(u8, u8),
 }
 
 impl BlockSymbolic {
@@ -173,8 +189,21 @@ impl BlockSymbolic {
             update_ptr: vec![0],
             update_off: Vec::new(),
             flops: 0,
+            shapes: Vec::new(),
         };
         sym.diag = (0..nb).map(|k| sym.block_offset(k, k).expect("diagonal")).collect();
+        sym.shapes = later_p
+            .iter()
+            .enumerate()
+            .map(|(k, l)| {
+                let fixed = |j: &u32| matches!(sym.sizes[*j as usize], 3 | 5 | 6);
+                if sym.sizes[k] == 3 && l.len() == 2 && l.iter().all(fixed) {
+                    Shape::Three(sym.sizes[l[0] as usize] as u8, sym.sizes[l[1] as usize] as u8)
+                } else {
+                    Shape::General
+                }
+            })
+            .collect();
         for (k, l) in later_p.iter().enumerate() {
             let nk = sym.sizes[k] as u64;
             sym.flops += nk * nk * nk;
@@ -377,6 +406,13 @@ impl<T: Scalar> BlockLu<T> {
         let values = &self.values;
         let nb = sym.sizes.len();
         for k in 0..nb {
+            match sym.shapes[k] {
+                Shape::Three(n1, n2) => {
+                    three_forward!(n1, n2, values, sym, b, k);
+                    continue;
+                }
+                Shape::General => {}
+            }
             let nk = sym.sizes[k] as usize;
             let pk = sym.starts[k] as usize;
             let dk = sym.diag[k] as usize;
@@ -396,6 +432,13 @@ impl<T: Scalar> BlockLu<T> {
             }
         }
         for k in (0..nb).rev() {
+            match sym.shapes[k] {
+                Shape::Three(n1, n2) => {
+                    three_backward!(n1, n2, values, sym, b, k);
+                    continue;
+                }
+                Shape::General => {}
+            }
             let nk = sym.sizes[k] as usize;
             let pk = sym.starts[k] as usize;
             let mut acc = [T::ZERO; MAX_BLOCK];
@@ -410,6 +453,83 @@ impl<T: Scalar> BlockLu<T> {
                 b[pk + r] += acc[r];
             }
         }
+    }
+}
+
+/// Calls `$f::<T, N1, N2>` for the sizes of a [`Shape::Three`].
+macro_rules! with_sizes {
+    ($f:ident, $n1:expr, $n2:expr, $($arg:expr),*) => {
+        match ($n1, $n2) {
+            (3, 3) => $f::<T, 3, 3>($($arg),*),
+            (3, 5) => $f::<T, 3, 5>($($arg),*),
+            (3, 6) => $f::<T, 3, 6>($($arg),*),
+            (5, 3) => $f::<T, 5, 3>($($arg),*),
+            (5, 5) => $f::<T, 5, 5>($($arg),*),
+            (5, 6) => $f::<T, 5, 6>($($arg),*),
+            (6, 3) => $f::<T, 6, 3>($($arg),*),
+            (6, 5) => $f::<T, 6, 5>($($arg),*),
+            _ => $f::<T, 6, 6>($($arg),*),
+        }
+    };
+}
+
+macro_rules! three_forward {
+    ($n1:expr, $n2:expr, $values:expr, $sym:expr, $b:expr, $k:expr) => {
+        with_sizes!(forward_three, $n1, $n2, $values, $sym, $b, $k)
+    };
+}
+
+macro_rules! three_backward {
+    ($n1:expr, $n2:expr, $values:expr, $sym:expr, $b:expr, $k:expr) => {
+        with_sizes!(backward_three, $n1, $n2, $values, $sym, $b, $k)
+    };
+}
+
+use {three_backward, three_forward, with_sizes};
+
+/// The forward step of the solve at a position of [`Shape::Three`] with
+/// later neighbours of `N1` and `N2` unknowns: the same operations as the
+/// general loop, in the same order.
+#[inline(always)]
+fn forward_three<T: Scalar, const N1: usize, const N2: usize>(
+    values: &[T],
+    sym: &BlockSymbolic,
+    b: &mut [T],
+    k: usize,
+) {
+    let pk = sym.starts[k] as usize;
+    let dk = sym.diag[k] as usize;
+    let t = sym.later_ptr[k] as usize;
+    let mut y = [T::ZERO; 3];
+    gemv_sub_fixed::<T, 3, 3>(&mut y, &values[dk..dk + 9], &b[pk..pk + 3]);
+    for r in 0..3 {
+        y[r] = -y[r];
+        b[pk + r] = y[r];
+    }
+    let (p1, o1) = (sym.starts[sym.later_pos[t] as usize] as usize, sym.off_jk[t] as usize);
+    gemv_sub_fixed::<T, N1, 3>(&mut b[p1..p1 + N1], &values[o1..o1 + N1 * 3], &y);
+    let (p2, o2) = (sym.starts[sym.later_pos[t + 1] as usize] as usize, sym.off_jk[t + 1] as usize);
+    gemv_sub_fixed::<T, N2, 3>(&mut b[p2..p2 + N2], &values[o2..o2 + N2 * 3], &y);
+}
+
+/// The backward step at a position of [`Shape::Three`] (as the general
+/// loop's, in the same order).
+#[inline(always)]
+fn backward_three<T: Scalar, const N1: usize, const N2: usize>(
+    values: &[T],
+    sym: &BlockSymbolic,
+    b: &mut [T],
+    k: usize,
+) {
+    let pk = sym.starts[k] as usize;
+    let t = sym.later_ptr[k] as usize;
+    let mut acc = [T::ZERO; 3];
+    let (p1, o1) = (sym.starts[sym.later_pos[t] as usize] as usize, sym.off_kj[t] as usize);
+    gemv_sub_fixed::<T, 3, N1>(&mut acc, &values[o1..o1 + 3 * N1], &b[p1..p1 + N1]);
+    let (p2, o2) = (sym.starts[sym.later_pos[t + 1] as usize] as usize, sym.off_kj[t + 1] as usize);
+    gemv_sub_fixed::<T, 3, N2>(&mut acc, &values[o2..o2 + 3 * N2], &b[p2..p2 + N2]);
+    for r in 0..3 {
+        b[pk + r] += acc[r];
     }
 }
 
@@ -620,9 +740,21 @@ mod tests {
 
     fn check_solve<T: Scalar>(make: impl Fn(f64, f64) -> T) {
         // A chain of 5 blocks with a star centre; sizes 3..5.
-        let sizes = [5u32, 3, 5, 3, 6, 4, 1];
-        let edges = [(0, 1), (1, 2), (2, 3), (3, 4), (4, 0), (5, 1), (5, 3), (6, 4), (6, 2)];
-        for ordering in [BlockOrdering::MinimumDegree, BlockOrdering::Natural] {
+        let chain = (
+            vec![5u32, 3, 5, 3, 6, 4, 1],
+            vec![(0, 1), (1, 2), (2, 3), (3, 4), (4, 0), (5, 1), (5, 3), (6, 4), (6, 2)],
+        );
+        // Bearings: blocks of 3 each coupled to one of two beams (3) and one
+        // of three supports (6, 5, 3), eliminated first ([`Shape::Three`]).
+        let mut bearings = (vec![3u32, 3, 6, 5, 3], vec![(0, 2), (1, 3), (0, 4)]);
+        for i in 0..12u32 {
+            bearings.0.push(3);
+            bearings.1.extend([(5 + i, i % 2), (5 + i, 2 + i % 3)]);
+        }
+        for ((sizes, edges), ordering) in [chain, bearings]
+            .into_iter()
+            .flat_map(|s| [(s.clone(), BlockOrdering::MinimumDegree), (s, BlockOrdering::Natural)])
+        {
             let sym = BlockSymbolic::analyse(&sizes, &edges, ordering);
             let mut lu = BlockLu::<T>::new(&sym);
             let mut seed = 7u64;
@@ -658,11 +790,29 @@ mod tests {
                     s
                 })
                 .collect();
+            if sizes.len() == 17 && ordering == BlockOrdering::MinimumDegree {
+                let fixed = sym.shapes.iter().filter(|s| matches!(s, Shape::Three(..))).count();
+                assert_eq!(fixed, 12, "every bearing takes a fixed-size kernel");
+            }
+            // the kernels of fixed size do what the general loop does, bit for bit
+            let general = BlockSymbolic { shapes: vec![Shape::General; sym.blocks()], ..sym.clone() };
+            let mut b_general = b.clone();
+            lu.solve(&general, &mut b_general);
             lu.solve(&sym, &mut b);
+            assert_eq!(b, b_general, "{ordering:?}: fixed-size kernels against the general loop");
             for i in 0..n {
                 assert!((b[i] - x_true[i]).magnitude() < 1e-12, "{ordering:?} {i}: {:?} vs {:?}", b[i], x_true[i]);
             }
         }
+    }
+
+    /// Bearing-like blocks (3 unknowns, eliminated first, two neighbours)
+    /// take the kernels of fixed size; the others the general loop.
+    #[test]
+    fn bearing_blocks_take_the_fixed_size_kernels() {
+        let sym =
+            BlockSymbolic::analyse(&[3, 6, 3, 3, 2], &[(0, 1), (0, 2), (3, 1), (3, 2), (4, 1)], BlockOrdering::Natural);
+        assert_eq!(sym.shapes[..2], [Shape::Three(6, 3), Shape::General]);
     }
 
     #[test]
