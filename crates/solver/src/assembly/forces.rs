@@ -148,12 +148,14 @@ impl BushingK {
         0.5 * (self.k[0] * e.d_l.x * e.d_l.x + self.k[1] * e.d_l.y * e.d_l.y)
     }
 
+    #[inline(always)]
     pub fn dissipation(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
         let e = self.eval(ka, kb);
         e.c_l.dot(e.dd_l)
     }
 
     /// Magnitude of the bushing force [N].
+    #[inline(always)]
     pub fn force_magnitude(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
         let e = self.eval(ka, kb);
         (e.f_l + e.c_l).norm()
@@ -318,6 +320,7 @@ impl FrictionK {
     /// Dissipated power `-F . v_rel` [W] (never negative).
     /// (`phi` alone: the law's slope is not needed, and `phi` equals the
     /// first value of [`Self::law`] bit for bit.)
+    #[inline(always)]
     pub fn dissipation(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
         let (_, _, v) = self.kinematics(ka, kb);
         let f = -(self.force * self.phi(v));
@@ -325,6 +328,7 @@ impl FrictionK {
     }
 
     /// Magnitude of the friction force [N].
+    #[inline(always)]
     pub fn force_magnitude(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
         let (_, _, v) = self.kinematics(ka, kb);
         (-(self.force * self.phi(v))).norm()
