@@ -1004,10 +1004,10 @@ impl Assembly {
     pub(crate) fn form<T: Scalar>(&self, c2: T, c1: T, kcoef: f64, gscale: f64, jac: &JacobianValues, out: &mut [T]) {
         let nnz = out.len();
         for ((o, &k), &d) in out.iter_mut().zip(&jac.k[..nnz]).zip(&jac.d[..nnz]) {
-            *o = T::from_real(kcoef * k) + c1 * T::from_real(d);
+            *o = T::from_real(kcoef * k) + c1.mul_real(d);
         }
         for (&p, &m) in self.mass_pos.iter().zip(&self.coord_mass) {
-            out[p as usize] += c2 * T::from_real(m);
+            out[p as usize] += c2.mul_real(m);
         }
         for (e, &g) in self.g_entries.iter().zip(&jac.g) {
             let v = T::from_real(gscale * self.eq_mref[e.eq as usize] * g);

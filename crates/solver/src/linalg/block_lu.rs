@@ -75,16 +75,19 @@ pub struct BlockSymbolic {
 }
 
 /// The shapes the solve has kernels of fixed size for: a block of 3
-/// unknowns with exactly two later neighbours of 3, 5 or 6 unknowns each
-/// (every bearing of the expansion joint: eliminated first, it couples to
-/// its center beam and its support beam). Everything else goes through the
-/// general loop; fixed sizes save its per-block size lookups, slice bounds
-/// and dispatch.
+/// unknowns with two later neighbours of 3, 5 or 6 unknowns each (every
+/// bearing of the expansion joint: eliminated first, it couples to its
+/// center beam and its support beam), or with any other number of them.
+/// Everything else goes through the general loop; fixed sizes save its
+/// per-block size lookups, slice bounds and dispatch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Shape {
     General,
     /// The sizes of the two later neighbours.
     Three(u8, u8),
+    /// A block of 3 with any other number of later neighbours, each of 3, 5
+    /// or 6 unknowns (the center beams, once their bearings are eliminated).
+    ThreeAny,
 }
 
 impl BlockSymbolic {
@@ -199,6 +202,8 @@ impl BlockSymbolic {
                 let fixed = |j: &u32| matches!(sym.sizes[*j as usize], 3 | 5 | 6);
                 if sym.sizes[k] == 3 && l.len() == 2 && l.iter().all(fixed) {
                     Shape::Three(sym.sizes[l[0] as usize] as u8, sym.sizes[l[1] as usize] as u8)
+                } else if sym.sizes[k] == 3 && l.iter().all(fixed) {
+                    Shape::ThreeAny
                 } else {
                     Shape::General
                 }
@@ -411,6 +416,10 @@ impl<T: Scalar> BlockLu<T> {
                     three_forward!(n1, n2, values, sym, b, k);
                     continue;
                 }
+                Shape::ThreeAny => {
+                    forward_three_any(values, sym, b, k);
+                    continue;
+                }
                 Shape::General => {}
             }
             let nk = sym.sizes[k] as usize;
@@ -435,6 +444,10 @@ impl<T: Scalar> BlockLu<T> {
             match sym.shapes[k] {
                 Shape::Three(n1, n2) => {
                     three_backward!(n1, n2, values, sym, b, k);
+                    continue;
+                }
+                Shape::ThreeAny => {
+                    backward_three_any(values, sym, b, k);
                     continue;
                 }
                 Shape::General => {}
@@ -528,6 +541,48 @@ fn backward_three<T: Scalar, const N1: usize, const N2: usize>(
     gemv_sub_fixed::<T, 3, N1>(&mut acc, &values[o1..o1 + 3 * N1], &b[p1..p1 + N1]);
     let (p2, o2) = (sym.starts[sym.later_pos[t + 1] as usize] as usize, sym.off_kj[t + 1] as usize);
     gemv_sub_fixed::<T, 3, N2>(&mut acc, &values[o2..o2 + 3 * N2], &b[p2..p2 + N2]);
+    for r in 0..3 {
+        b[pk + r] += acc[r];
+    }
+}
+
+/// The forward step at a position of [`Shape::ThreeAny`] (as the general
+/// loop's, in the same order).
+#[inline(always)]
+fn forward_three_any<T: Scalar>(values: &[T], sym: &BlockSymbolic, b: &mut [T], k: usize) {
+    let pk = sym.starts[k] as usize;
+    let dk = sym.diag[k] as usize;
+    let mut y = [T::ZERO; 3];
+    gemv_sub_fixed::<T, 3, 3>(&mut y, &values[dk..dk + 9], &b[pk..pk + 3]);
+    for r in 0..3 {
+        y[r] = -y[r];
+        b[pk + r] = y[r];
+    }
+    for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
+        let i = sym.later_pos[t] as usize;
+        let (pi, o) = (sym.starts[i] as usize, sym.off_jk[t] as usize);
+        match sym.sizes[i] {
+            3 => gemv_sub_fixed::<T, 3, 3>(&mut b[pi..pi + 3], &values[o..o + 9], &y),
+            5 => gemv_sub_fixed::<T, 5, 3>(&mut b[pi..pi + 5], &values[o..o + 15], &y),
+            _ => gemv_sub_fixed::<T, 6, 3>(&mut b[pi..pi + 6], &values[o..o + 18], &y),
+        }
+    }
+}
+
+/// The backward step at a position of [`Shape::ThreeAny`].
+#[inline(always)]
+fn backward_three_any<T: Scalar>(values: &[T], sym: &BlockSymbolic, b: &mut [T], k: usize) {
+    let pk = sym.starts[k] as usize;
+    let mut acc = [T::ZERO; 3];
+    for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
+        let j = sym.later_pos[t] as usize;
+        let (pj, o) = (sym.starts[j] as usize, sym.off_kj[t] as usize);
+        match sym.sizes[j] {
+            3 => gemv_sub_fixed::<T, 3, 3>(&mut acc, &values[o..o + 9], &b[pj..pj + 3]),
+            5 => gemv_sub_fixed::<T, 3, 5>(&mut acc, &values[o..o + 15], &b[pj..pj + 5]),
+            _ => gemv_sub_fixed::<T, 3, 6>(&mut acc, &values[o..o + 18], &b[pj..pj + 6]),
+        }
+    }
     for r in 0..3 {
         b[pk + r] += acc[r];
     }
@@ -793,6 +848,7 @@ mod tests {
             if sizes.len() == 17 && ordering == BlockOrdering::MinimumDegree {
                 let fixed = sym.shapes.iter().filter(|s| matches!(s, Shape::Three(..))).count();
                 assert_eq!(fixed, 12, "every bearing takes a fixed-size kernel");
+                assert!(sym.shapes.contains(&Shape::ThreeAny), "the beams take the loop of fixed sizes");
             }
             // the kernels of fixed size do what the general loop does, bit for bit
             let general = BlockSymbolic { shapes: vec![Shape::General; sym.blocks()], ..sym.clone() };

@@ -35,6 +35,9 @@ pub trait Scalar:
     fn magnitude(self) -> f64;
     /// Real value as this scalar.
     fn from_real(x: f64) -> Self;
+    /// `self * x` for a real `x` (for a complex scalar two real products,
+    /// not a complex one).
+    fn mul_real(self, x: f64) -> Self;
     /// Whether the value is finite.
     fn finite(self) -> bool;
 }
@@ -50,6 +53,10 @@ impl Scalar for f64 {
     #[inline]
     fn from_real(x: f64) -> Self {
         x
+    }
+    #[inline]
+    fn mul_real(self, x: f64) -> Self {
+        self * x
     }
     #[inline]
     fn finite(self) -> bool {
@@ -68,6 +75,10 @@ impl Scalar for Complex64 {
     #[inline]
     fn from_real(x: f64) -> Self {
         Complex64::new(x, 0.0)
+    }
+    #[inline]
+    fn mul_real(self, x: f64) -> Self {
+        Complex64::new(self.re * x, self.im * x)
     }
     #[inline]
     fn finite(self) -> bool {
