@@ -1,13 +1,15 @@
 //! Which instructions the hot kernels are compiled for, chosen at run time.
 //!
 //! The portable build targets the x86-64 baseline (SSE2, two-wide vectors).
-//! Built with AVX2 (four-wide) the reference run is about 5 % faster with
-//! bit-identical results (`docs/solver.md`), but such a binary stops with an
-//! illegal instruction on a processor without AVX2. So the few kernels where
-//! the time goes (the residual, the block solves and factorisation, the
-//! local friction solve, the error estimate's product) are compiled twice,
+//! A binary built for AVX2 (four-wide) stops with an illegal instruction on
+//! a processor without it. So the parts where the time goes (the residual,
+//! the block factorisation and solves, the local friction solve, the
+//! simplified Newton iteration, the error estimate, the accepted step's
+//! energy quadrature and projection, the peak forces) are compiled twice,
 //! once for the baseline and once with AVX2 enabled, and [`run`] picks one
-//! per call from what the processor reports.
+//! per call from what the processor reports. On the reference run the AVX2
+//! version is 4.5 % faster (2.62 against 2.74 s, `QUAKEJOINT_SIMD` below;
+//! `docs/performance.md`).
 //!
 //! Only AVX2 is enabled, not FMA: Rust never contracts `a * b + c` into a
 //! fused multiply-add by itself, and vectorised loops keep the order of

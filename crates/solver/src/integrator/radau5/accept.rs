@@ -7,6 +7,15 @@ use super::*;
 impl Radau5 {
     /// Accepts the step: new state, dense output, projection, energy.
     pub(super) fn accept(&mut self, h: f64) -> Result<(), SolverError> {
+        crate::isa::run(
+            #[inline(always)]
+            || self.accept_impl(h),
+        )
+    }
+
+    /// [`Self::accept`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn accept_impl(&mut self, h: f64) -> Result<(), SolverError> {
         let (n, m) = (self.n, self.m);
         // energy quadrature over the stages (weights b = last row of A)
         let mut pw = [crate::assembly::Powers::default(); 3];

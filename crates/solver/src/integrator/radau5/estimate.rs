@@ -6,6 +6,15 @@ use super::*;
 impl Radau5 {
     /// Embedded error estimate of RADAU5 (filtered through the real system).
     pub(super) fn error_estimate(&mut self, h: f64) -> Result<f64, LinalgError> {
+        crate::isa::run(
+            #[inline(always)]
+            || self.error_estimate_impl(h),
+        )
+    }
+
+    /// [`Self::error_estimate`], compiled into each version of [`crate::isa::run`].
+    #[inline(always)]
+    fn error_estimate_impl(&mut self, h: f64) -> Result<f64, LinalgError> {
         let n = self.n;
         let hee = [DD[0] / h, DD[1] / h, DD[2] / h];
         // F1 = M_big (hee . Z); cont = F1 + F(t_n, y_n)

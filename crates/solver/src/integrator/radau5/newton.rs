@@ -101,6 +101,16 @@ impl Radau5 {
 
     /// Simplified Newton iteration on the transformed stage equations.
     pub(super) fn newton(&mut self, h: f64) -> Result<Newton, LinalgError> {
+        crate::isa::run(
+            #[inline(always)]
+            || self.newton_impl(h),
+        )
+    }
+
+    /// [`Self::newton`], compiled into each version of [`crate::isa::run`]
+    /// (its loops over the unknowns).
+    #[inline(always)]
+    fn newton_impl(&mut self, h: f64) -> Result<Newton, LinalgError> {
         let (n, m) = (self.n, self.m);
         let nit = self.opt.max_newton;
         let g_r = GAMMA / h;
