@@ -8,18 +8,21 @@
 //! energy quadrature and projection, the peak forces) are compiled twice,
 //! once for the baseline and once with AVX2 enabled, and [`run`] picks one
 //! per call from what the processor reports. On the reference run the AVX2
-//! version is 4.5 % faster (2.62 against 2.74 s, `QUAKEJOINT_SIMD` below;
-//! `docs/performance.md`).
+//! version is about 4.5 % faster (`QUAKEJOINT_SIMD` below;
+//! `docs/performance.md`, "The cost of a step").
 //!
 //! Only AVX2 is enabled, not FMA: Rust never contracts `a * b + c` into a
 //! fused multiply-add by itself, and vectorised loops keep the order of
 //! their sums, so both versions compute the same numbers bit for bit and a
 //! sweep sharded over nodes with and without AVX2 still gives bit-identical
-//! results (checked by `crates/cli/tests/simd_paths.rs`).
+//! results (checked by `crates/cli/tests/simd_paths.rs` on the test build,
+//! and on the release build by the reference run's `simulate --json`,
+//! `docs/performance.md`).
 //!
 //! `QUAKEJOINT_SIMD=portable` in the environment forces the baseline
 //! version (read once per process), for that comparison and for timing the
-//! difference in one binary.
+//! difference in one binary; unset, or any other value, lets the processor
+//! decide.
 
 use std::sync::OnceLock;
 

@@ -198,11 +198,13 @@ mod tests {
     #[test]
     fn centred_line_gives_the_general_rows() {
         let line = LineK { a: 1, b: 2, pa: V2::default(), lb: V2::default(), ub: V2::new(0.6, 0.8) };
-        let bearing = kin_at(0.1, 0.6, 0.26, 0.35, -0.2, 0.0);
         let base = kin_at(-0.5, 0.4, -0.13, -0.2, 0.3, -0.4);
-        let (c, g) = (line.rows_at::<true>(&bearing, &base), line.rows_at::<false>(&bearing, &base));
-        assert_eq!((c.g, c.grad), (g.g, g.grad));
-        let (c, g) = (line.eval_at::<true>(&bearing, &base), line.eval_at::<false>(&bearing, &base));
-        assert_eq!((c.rho_a, c.lam_b, c.n, c.w), (g.rho_a, g.lam_b, g.n, g.w));
+        for w in [0.0, 0.8] {
+            let bearing = kin_at(0.1, 0.6, 0.26, 0.35, -0.2, w);
+            let (c, g) = (line.rows_at::<true>(&bearing, &base), line.rows_at::<false>(&bearing, &base));
+            assert_eq!((c.g, c.grad), (g.g, g.grad));
+            let (c, g) = (line.eval_at::<true>(&bearing, &base), line.eval_at::<false>(&bearing, &base));
+            assert_eq!((c.rho_a, c.lam_b, c.n, c.w), (g.rho_a, g.lam_b, g.n, g.w));
+        }
     }
 }

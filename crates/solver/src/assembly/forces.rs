@@ -583,13 +583,16 @@ pub(crate) mod tests {
     /// give what the general forms give, bit for bit (the general forms are
     /// checked against finite differences in `tests/jacobian_fd.rs`): a
     /// bushing to a bearing's centre and a bearing's friction, both laws,
-    /// sliding and sticking, the bearing not turning.
+    /// sliding and sticking, the bearing translating only or turning (the
+    /// spec's prismatic form, whose bearing has an angle coordinate).
     #[test]
     fn centred_forms_give_the_general_forms_results() {
         let frame = kin_at(0.3, -0.2, 0.21, 0.4, -0.1, 0.7);
         let base = kin_at(-0.5, 0.4, -0.13, -0.2, 0.3, -0.4);
-        for (vx, vy) in [(0.35, -0.2), (2e-4, -1e-4), (0.0, 0.0)] {
-            let bearing = kin_at(0.1, 0.6, 0.26, vx, vy, 0.0);
+        for (vx, vy, w) in
+            [(0.35, -0.2, 0.0), (2e-4, -1e-4, 0.0), (0.0, 0.0, 0.0), (0.35, -0.2, -0.9), (2e-4, 0.0, 0.3)]
+        {
+            let bearing = kin_at(0.1, 0.6, 0.26, vx, vy, w);
             let bushing = BushingK {
                 a: 1,
                 b: 2,
