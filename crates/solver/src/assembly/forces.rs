@@ -154,11 +154,12 @@ impl BushingK {
         e.c_l.dot(e.dd_l)
     }
 
-    /// Magnitude of the bushing force [N].
+    /// Square of the bushing force's magnitude [N^2] (the largest of
+    /// several magnitudes is the root of the largest square, bit for bit).
     #[inline(always)]
-    pub fn force_magnitude(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
+    pub fn force_magnitude_squared(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
         let e = self.eval(ka, kb);
-        (e.f_l + e.c_l).norm()
+        (e.f_l + e.c_l).norm_squared()
     }
 }
 
@@ -327,11 +328,11 @@ impl FrictionK {
         -f.dot(v)
     }
 
-    /// Magnitude of the friction force [N].
+    /// Square of the friction force's magnitude [N^2].
     #[inline(always)]
-    pub fn force_magnitude(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
+    pub fn force_magnitude_squared(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
         let (_, _, v) = self.kinematics(ka, kb);
-        (-(self.force * self.phi(v))).norm()
+        (-(self.force * self.phi(v))).norm_squared()
     }
 }
 

@@ -34,7 +34,12 @@ impl V2 {
     /// far from overflow, and `hypot` costs several times more).
     #[inline]
     pub fn norm(self) -> f64 {
-        (self.x * self.x + self.y * self.y).sqrt()
+        self.norm_squared().sqrt()
+    }
+    /// `x^2 + y^2`.
+    #[inline]
+    pub fn norm_squared(self) -> f64 {
+        self.x * self.x + self.y * self.y
     }
     #[inline]
     pub fn scale(self, s: f64) -> V2 {

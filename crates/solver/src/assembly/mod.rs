@@ -237,6 +237,18 @@ impl Workspace {
     pub fn velocity_constraints(&self) -> &[f64] {
         &self.w
     }
+    /// Exchanges the forces and velocity constraints of the last
+    /// [`Assembly::residual`] call with `forces` (as long as
+    /// [`Assembly::workspace_forces_len`]) and `velocity_constraints`
+    /// (length `m`): the caller keeps them without a copy, and the
+    /// workspace's are stale until the next evaluation. Panics if a length
+    /// differs (a caller's error, not an input's).
+    pub fn swap_results(&mut self, forces: &mut Vec<f64>, velocity_constraints: &mut Vec<f64>) {
+        assert_eq!(forces.len(), self.f.len(), "forces to swap with the workspace's");
+        assert_eq!(velocity_constraints.len(), self.w.len(), "velocity constraints to swap with the workspace's");
+        std::mem::swap(&mut self.f, forces);
+        std::mem::swap(&mut self.w, velocity_constraints);
+    }
 }
 
 /// The compiled system.
@@ -357,7 +369,7 @@ impl Assembly {
     pub fn workspace(&self) -> Workspace {
         Workspace {
             kin: vec![BodyKin::default(); self.bodies.len()],
-            f: vec![0.0; self.layout.n + 1],
+            f: vec![0.0; self.workspace_forces_len()],
             g: vec![0.0; self.layout.m],
             w: vec![0.0; self.layout.m],
             vx: vec![0.0; self.layout.n + 1],
@@ -366,6 +378,12 @@ impl Assembly {
             closed: vec![false; self.contacts.len()],
             v0: vec![0.0; self.contacts.len()],
         }
+    }
+
+    /// Length of [`Workspace::forces`]: `n` and a sink for the forces on
+    /// locked coordinates.
+    pub fn workspace_forces_len(&self) -> usize {
+        self.layout.n + 1
     }
 
     /// Empty Jacobian arrays.
@@ -440,13 +458,21 @@ impl Assembly {
 
     #[inline(always)]
     fn load_kin(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) {
+        // (into a slice: see `constraint_rows`)
+        let kin = &mut ws.kin[..];
         for b in 1..self.bodies.len() {
-            self.load_body(ws, b, q, v);
+            kin[b] = self.body_kin(b, q, v);
         }
     }
 
     #[inline(always)]
     fn load_body(&self, ws: &mut Workspace, b: usize, q: &[f64], v: &[f64]) {
+        ws.kin[b] = self.body_kin(b, q, v);
+    }
+
+    /// The kinematics of body `b` at `(q, v)`.
+    #[inline(always)]
+    fn body_kin(&self, b: usize, q: &[f64], v: &[f64]) -> BodyKin {
         let st = &self.bodies[b];
         let mut p = st.pose0;
         let mut w = [0.0; 3];
@@ -458,7 +484,7 @@ impl Assembly {
             }
         }
         let rot = if st.coord[2] == NONE { st.rot0 } else { Rot::new(p[2]) };
-        ws.kin[b] = BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot, v: V2::new(w[0], w[1]), w: w[2] };
+        BodyKin { r: V2::new(p[0], p[1]), phi: p[2], rot, v: V2::new(w[0], w[1]), w: w[2] }
     }
 
     fn prim_rows(&self, ws: &Workspace, t: f64, prim: PrimRef) -> (Rows, &PrimMap) {
@@ -497,7 +523,7 @@ impl Assembly {
     fn residual_impl(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) {
         self.load_kin(ws, q, v);
         ws.f.iter_mut().for_each(|x| *x = 0.0);
-        self.applied_forces(ws, t, v);
+        self.applied_forces(ws, t);
         self.constraint_rows(ws, t, v, Some(lam));
     }
 
@@ -523,6 +549,9 @@ impl Assembly {
     #[inline(always)]
     fn constraint_rows(&self, ws: &mut Workspace, t: f64, v: &[f64], lam: Option<&[f64]>) {
         let Workspace { kin, f, g, w, vx, .. } = ws;
+        // (slices held in registers: through the vectors, every store would
+        // make the compiler reload their addresses)
+        let (kin, f, g, w, vx) = (&kin[..], &mut f[..], &mut g[..], &mut w[..], &mut vx[..]);
         vx[..v.len()].copy_from_slice(v);
         vx[v.len()] = 0.0;
         for (k, map) in &self.points {
@@ -552,8 +581,10 @@ impl Assembly {
 
     /// Generalised applied forces `Q(t, q, q')` added into `ws.f` (kinematics loaded).
     #[inline(always)]
-    fn applied_forces(&self, ws: &mut Workspace, t: f64, v: &[f64]) {
+    fn applied_forces(&self, ws: &mut Workspace, t: f64) {
         let Workspace { kin, f, closed, v0, .. } = ws;
+        // (slices: see `constraint_rows`)
+        let (kin, f, closed, v0) = (&kin[..], &mut f[..], &closed[..], &v0[..]);
         for (i, (k, map)) in self.contacts.iter().enumerate() {
             if closed[i] {
                 scatter6(f, &map.f, &k.force(&kin[k.a as usize], &kin[k.b as usize], v0[i]));
@@ -577,7 +608,6 @@ impl Assembly {
         for (k, map) in &self.customs {
             scatter6(f, &map.f, &k.force(&kin[k.a as usize], &kin[k.b as usize], t));
         }
-        let _ = v;
         for dir in 0..2 {
             let ag = self.ground[dir].as_ref().map_or(0.0, |a| a.value(t));
             let gacc = if dir == 0 { self.gravity.x } else { self.gravity.y };
@@ -814,7 +844,7 @@ impl Assembly {
     #[inline(always)]
     fn powers_impl(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) -> Powers {
         self.load_kin(ws, q, v);
-        let kin = &ws.kin;
+        let kin = &ws.kin[..];
         let mut p = Powers::default();
         for (k, _) in &self.bushings {
             p.damping += k.dissipation(&kin[k.a as usize], &kin[k.b as usize]);
@@ -850,9 +880,13 @@ impl Assembly {
             if let Some(a) = &self.ground[dir] {
                 let ag = a.value(t);
                 if ag != 0.0 {
-                    for &(c, mass) in &self.translational[dir] {
-                        p.base -= mass * ag * v[c as usize];
+                    // (the momentum in four partial sums: one sum's chain of
+                    // additions would take longer than the products)
+                    let mut momentum = [0.0; 4];
+                    for (i, &(c, mass)) in self.translational[dir].iter().enumerate() {
+                        momentum[i % 4] += mass * v[c as usize];
                     }
+                    p.base -= ag * ((momentum[0] + momentum[1]) + (momentum[2] + momentum[3]));
                 }
             }
         }
@@ -903,15 +937,17 @@ impl Assembly {
     #[inline(always)]
     fn force_extremes_impl(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) -> ForceExtremes {
         self.load_kin(ws, q, v);
-        let kin = &ws.kin;
-        let mut x = ForceExtremes::default();
+        let kin = &ws.kin[..];
+        // (the largest square, then one root: the same number as the
+        // largest root, since the root is monotonic and correctly rounded)
+        let (mut bushing, mut friction) = (0.0f64, 0.0f64);
         for (k, _) in &self.bushings {
-            x.bushing = x.bushing.max(k.force_magnitude(&kin[k.a as usize], &kin[k.b as usize]));
+            bushing = bushing.max(k.force_magnitude_squared(&kin[k.a as usize], &kin[k.b as usize]));
         }
         for (k, _) in &self.frictions {
-            x.friction = x.friction.max(k.force_magnitude(&kin[k.a as usize], &kin[k.b as usize]));
+            friction = friction.max(k.force_magnitude_squared(&kin[k.a as usize], &kin[k.b as usize]));
         }
-        x
+        ForceExtremes { bushing: bushing.sqrt(), friction: friction.sqrt() }
     }
 
     /// Reaction of a constraint on one body, `-G^T lambda` restricted to the

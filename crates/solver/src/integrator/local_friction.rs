@@ -232,9 +232,16 @@ impl LocalFriction {
         zv: &mut [Vec<f64>; 3],
     ) -> bool {
         let mut changed = false;
+        // (slices held in registers: through the vectors, every store into
+        // `zv` would make the compiler reload their addresses)
+        let stage = [&self.stage[0][..], &self.stage[1][..], &self.stage[2][..]];
+        let fv = [&fv[0][..], &fv[1][..], &fv[2][..]];
+        let [zv0, zv1, zv2] = zv;
+        let zv = [&mut zv0[..], &mut zv1[..], &mut zv2[..]];
+        let (kvals, dvals) = (&jac.k[..], &jac.d[..]);
         for (k, info) in self.sliders.iter().enumerate() {
             let (cx, cy) = (info.coords[0] as usize, info.coords[1] as usize);
-            let st = [self.stage[0][k], self.stage[1][k], self.stage[2][k]];
+            let st = [stage[0][k], stage[1][k], stage[2][k]];
             let m = mass[cx];
             // the slider's stiffness and damping along the line, less the
             // friction element's own zone slope (its stiffness part is skew)
@@ -243,8 +250,8 @@ impl LocalFriction {
                 [[xx, xy], [yx, yy]]
             };
             let t3 = st[2].1;
-            let kt = along(t3, block(&jac.k));
-            let ct = along(t3, block(&jac.d)) - info.force / info.v_eps;
+            let kt = along(t3, block(kvals));
+            let ct = along(t3, block(dvals)) - info.force / info.v_eps;
             let along_line = st.map(|(v, t)| v.dot(t));
             let across_line = st.map(|(v, t)| v.cross(t));
             let mut local = Local {

@@ -406,19 +406,20 @@ impl<T: Scalar> BlockLu<T> {
     /// [`Self::solve`], compiled into each version of [`crate::isa::run`].
     #[inline(always)]
     fn solve_impl(&self, sym: &BlockSymbolic, b: &mut [T]) {
-        let values = &self.values;
-        let nb = sym.sizes.len();
+        let values = &self.values[..];
+        let s = SolveView::of(sym);
+        let nb = s.sizes.len();
         for k in 0..nb {
-            match sym.shapes[k] {
+            match s.shapes[k] {
                 Shape::Three => {
-                    forward_three(values, sym, b, k);
+                    forward_three(values, &s, b, k);
                     continue;
                 }
                 Shape::General => {}
             }
-            let nk = sym.sizes[k] as usize;
-            let pk = sym.starts[k] as usize;
-            let dk = sym.diag[k] as usize;
+            let nk = s.sizes[k] as usize;
+            let pk = s.starts[k] as usize;
+            let dk = s.diag[k] as usize;
             // y = D_kk^-1 b_k (as -(0 - D b), exact)
             let mut y = [T::ZERO; MAX_BLOCK];
             gemv_sub(&mut y[..nk], &values[dk..dk + nk * nk], &b[pk..pk + nk]);
@@ -426,30 +427,30 @@ impl<T: Scalar> BlockLu<T> {
                 *yk = -*yk;
                 *bk = *yk;
             }
-            for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
-                let i = sym.later_pos[t] as usize;
-                let ni = sym.sizes[i] as usize;
-                let pi = sym.starts[i] as usize;
-                let o = sym.off_jk[t] as usize;
+            for t in s.later_ptr[k] as usize..s.later_ptr[k + 1] as usize {
+                let i = s.later_pos[t] as usize;
+                let ni = s.sizes[i] as usize;
+                let pi = s.starts[i] as usize;
+                let o = s.off_jk[t] as usize;
                 gemv_sub(&mut b[pi..pi + ni], &values[o..o + ni * nk], &y[..nk]);
             }
         }
         for k in (0..nb).rev() {
-            match sym.shapes[k] {
+            match s.shapes[k] {
                 Shape::Three => {
-                    backward_three(values, sym, b, k);
+                    backward_three(values, &s, b, k);
                     continue;
                 }
                 Shape::General => {}
             }
-            let nk = sym.sizes[k] as usize;
-            let pk = sym.starts[k] as usize;
+            let nk = s.sizes[k] as usize;
+            let pk = s.starts[k] as usize;
             let mut acc = [T::ZERO; MAX_BLOCK];
-            for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {
-                let j = sym.later_pos[t] as usize;
-                let nj = sym.sizes[j] as usize;
-                let pj = sym.starts[j] as usize;
-                let o = sym.off_kj[t] as usize;
+            for t in s.later_ptr[k] as usize..s.later_ptr[k + 1] as usize {
+                let j = s.later_pos[t] as usize;
+                let nj = s.sizes[j] as usize;
+                let pj = s.starts[j] as usize;
+                let o = s.off_kj[t] as usize;
                 gemv_sub(&mut acc[..nk], &values[o..o + nk * nj], &b[pj..pj + nj]);
             }
             for r in 0..nk {
@@ -459,10 +460,40 @@ impl<T: Scalar> BlockLu<T> {
     }
 }
 
+/// The arrays of a [`BlockSymbolic`] that a solve reads, as slices taken
+/// once (through the vectors, every store into the right-hand side would
+/// make the compiler reload their addresses).
+struct SolveView<'a> {
+    sizes: &'a [u32],
+    starts: &'a [u32],
+    diag: &'a [u32],
+    shapes: &'a [Shape],
+    later_ptr: &'a [u32],
+    later_pos: &'a [u32],
+    off_kj: &'a [u32],
+    off_jk: &'a [u32],
+}
+
+impl<'a> SolveView<'a> {
+    #[inline(always)]
+    fn of(sym: &'a BlockSymbolic) -> Self {
+        Self {
+            sizes: &sym.sizes,
+            starts: &sym.starts,
+            diag: &sym.diag,
+            shapes: &sym.shapes,
+            later_ptr: &sym.later_ptr,
+            later_pos: &sym.later_pos,
+            off_kj: &sym.off_kj,
+            off_jk: &sym.off_jk,
+        }
+    }
+}
+
 /// The forward step at a position of [`Shape::Three`] (as the general
 /// loop's, in the same order).
 #[inline(always)]
-fn forward_three<T: Scalar>(values: &[T], sym: &BlockSymbolic, b: &mut [T], k: usize) {
+fn forward_three<T: Scalar>(values: &[T], sym: &SolveView<'_>, b: &mut [T], k: usize) {
     let pk = sym.starts[k] as usize;
     let dk = sym.diag[k] as usize;
     let mut y = [T::ZERO; 3];
@@ -485,7 +516,7 @@ fn forward_three<T: Scalar>(values: &[T], sym: &BlockSymbolic, b: &mut [T], k: u
 
 /// The backward step at a position of [`Shape::Three`].
 #[inline(always)]
-fn backward_three<T: Scalar>(values: &[T], sym: &BlockSymbolic, b: &mut [T], k: usize) {
+fn backward_three<T: Scalar>(values: &[T], sym: &SolveView<'_>, b: &mut [T], k: usize) {
     let pk = sym.starts[k] as usize;
     let mut acc = [T::ZERO; 3];
     for t in sym.later_ptr[k] as usize..sym.later_ptr[k + 1] as usize {

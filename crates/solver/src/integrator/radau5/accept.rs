@@ -2,6 +2,7 @@
 //! projection onto the constraints.
 
 use super::coefficients::*;
+use super::newton::add_into;
 use super::*;
 
 impl Radau5 {
@@ -20,13 +21,9 @@ impl Radau5 {
         // energy quadrature over the stages (weights b = last row of A)
         let mut pw = [crate::assembly::Powers::default(); 3];
         for (i, p) in pw.iter_mut().enumerate() {
-            for c in 0..n {
-                self.bq[c] = self.q[c] + self.zq[i][c];
-                self.bv[c] = self.v[c] + self.zv[i][c];
-            }
-            for e in 0..m {
-                self.bl[e] = self.lam[e] + self.zl[i][e];
-            }
+            add_into(&mut self.bq, &self.q, &self.zq[i]);
+            add_into(&mut self.bv, &self.v, &self.zv[i]);
+            add_into(&mut self.bl, &self.lam, &self.zl[i]);
             let ti = self.stage_time(i, h);
             *p = self.asm.powers(&mut self.ws, ti, &self.bq, &self.bv, &self.bl);
         }
@@ -60,12 +57,8 @@ impl Radau5 {
                 cont[2][j] = c2 - acont3;
             }
         }
-        for c in 0..n {
-            self.q[c] += self.zq[2][c];
-            self.v[c] += self.zv[2][c];
-        }
-        for e in 0..m {
-            self.lam[e] += self.zl[2][e];
+        for (x, z) in [(&mut self.q, &self.zq[2]), (&mut self.v, &self.zv[2]), (&mut self.lam, &self.zl[2])] {
+            x.iter_mut().zip(z).for_each(|(x, z)| *x += z);
         }
         self.t_prev = self.t;
         self.t = self.t_new;

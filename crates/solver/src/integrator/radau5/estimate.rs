@@ -18,11 +18,16 @@ impl Radau5 {
         let n = self.n;
         let hee = [DD[0] / h, DD[1] / h, DD[2] / h];
         // F1 = M_big (hee . Z); cont = F1 + F(t_n, y_n)
+        // (on slices taken once: through `self`, every store would make the
+        // compiler reload every vector's address)
+        let ([zq0, zq1, zq2], [zv0, zv1, zv2]) = (&self.zq, &self.zv);
+        let (e1q, e1v, ecq, ecv) = (&mut self.e1q[..n], &mut self.e1v[..n], &mut self.ecq[..n], &mut self.ecv[..n]);
+        let (mass, v, y0f) = (&self.mass[..n], &self.v[..n], &self.y0f[..n]);
         for c in 0..n {
-            self.e1q[c] = hee[0] * self.zq[0][c] + hee[1] * self.zq[1][c] + hee[2] * self.zq[2][c];
-            self.e1v[c] = self.mass[c] * (hee[0] * self.zv[0][c] + hee[1] * self.zv[1][c] + hee[2] * self.zv[2][c]);
-            self.ecq[c] = self.e1q[c] + self.v[c];
-            self.ecv[c] = self.e1v[c] + self.y0f[c];
+            e1q[c] = hee[0] * zq0[c] + hee[1] * zq1[c] + hee[2] * zq2[c];
+            e1v[c] = mass[c] * (hee[0] * zv0[c] + hee[1] * zv1[c] + hee[2] * zv2[c]);
+            ecq[c] = e1q[c] + v[c];
+            ecv[c] = e1v[c] + y0f[c];
         }
         self.ecg.copy_from_slice(&self.y0g);
         let mut err = self.filtered_error(h)?;
@@ -54,24 +59,26 @@ impl Radau5 {
         let n = self.n;
         let g_r = GAMMA / h;
         self.asm.mass_damping_product(g_r, &self.jac, &self.ecq, &mut self.emd);
-        for c in 0..n {
-            self.bv[c] = self.ecv[c] + self.emd[c];
-        }
+        super::newton::add_into(&mut self.bv[..n], &self.ecv[..n], &self.emd[..n]);
         // velocity constraint rows: G e_q = (G R_q - R_w) / c
         self.asm.gradient_product(&self.jac, &self.ecq, &mut self.bl);
-        for e in 0..self.m {
-            self.bl[e] = (self.bl[e] - self.ecg[e]) / g_r;
+        for (b, &g) in self.bl.iter_mut().zip(&self.ecg) {
+            *b = (*b - g) / g_r;
         }
         self.solve_real_into_bq()?;
         let mut sum = 0.0;
+        let rtol = self.rtol;
+        let (bq, bv, ecq) = (&self.bq[..n], &mut self.bv[..n], &self.ecq[..n]);
+        let (q, v, zq2, zv2) = (&self.q[..n], &self.v[..n], &self.zq[2][..n], &self.zv[2][..n]);
+        let (atol_q, atol_v, q_ref) = (&self.atol_q[..n], &self.atol_v[..n], &self.q_ref[..n]);
         for c in 0..n {
-            let eq = self.bq[c];
-            let ev = g_r * eq - self.ecq[c];
-            self.bv[c] = ev;
-            let q1 = self.q[c] + self.zq[2][c];
-            let v1 = self.v[c] + self.zv[2][c];
-            let sq = self.atol_q[c] + self.rtol * (self.q[c] - self.q_ref[c]).abs().max((q1 - self.q_ref[c]).abs());
-            let sv = self.atol_v[c] + self.rtol * self.v[c].abs().max(v1.abs());
+            let eq = bq[c];
+            let ev = g_r * eq - ecq[c];
+            bv[c] = ev;
+            let q1 = q[c] + zq2[c];
+            let v1 = v[c] + zv2[c];
+            let sq = atol_q[c] + rtol * (q[c] - q_ref[c]).abs().max((q1 - q_ref[c]).abs());
+            let sv = atol_v[c] + rtol * v[c].abs().max(v1.abs());
             sum += (eq / sq).powi(2) + (ev / sv).powi(2);
         }
         Ok((sum / (2 * n) as f64).sqrt().max(1e-10))

@@ -168,7 +168,6 @@ pub struct Radau5 {
     bl: Vec<f64>,
     rhs_r: Vec<f64>,
     rhs_c: Vec<Complex64>,
-    dq: Stages,
     /// scratch for the error estimate: F1 (q, v parts), cont (q, v, g), (cM + D) cont_q
     e1q: Vec<f64>,
     e1v: Vec<f64>,
@@ -246,14 +245,16 @@ impl Radau5 {
             q: q0,
             v: v0,
             lam: vec![0.0; m],
-            y0f: vec![0.0; n],
+            // (as long as the workspace's forces, which are swapped in)
+            y0f: vec![0.0; asm.workspace_forces_len()],
             y0g: vec![0.0; m],
             zq: stages(n),
             zv: stages(n),
             zl: stages(m),
             wv: stages(n),
             wl: stages(m),
-            fv: stages(n),
+            // (as long as the workspace's forces, which are swapped in)
+            fv: stages(asm.workspace_forces_len()),
             fg: stages(m),
             cont_q: stages(n),
             cont_v: stages(n),
@@ -273,7 +274,6 @@ impl Radau5 {
             bl: vec![0.0; m],
             rhs_r: vec![0.0; n + m],
             rhs_c: vec![Complex64::new(0.0, 0.0); n + m],
-            dq: stages(n),
             e1q: vec![0.0; n],
             e1v: vec![0.0; n],
             ecq: vec![0.0; n],
@@ -510,8 +510,7 @@ impl Radau5 {
     fn update_y0(&mut self) {
         self.asm.residual(&mut self.ws, self.t, &self.q, &self.v, &self.lam);
         self.energy.potential = self.asm.loaded_potential_energy(&self.ws, &self.q);
-        self.y0f.copy_from_slice(self.ws.forces());
-        self.y0g.copy_from_slice(self.ws.velocity_constraints());
+        self.ws.swap_results(&mut self.y0f, &mut self.y0g);
         self.stats.residual_evaluations += 1;
     }
 

@@ -14,17 +14,21 @@ impl Radau5 {
     /// floor only matters while every multiplier is near zero.
     pub(super) fn set_scales(&mut self, h: f64) {
         // (stored as reciprocals: the Newton norm multiplies, once per
-        // iteration and unknown, instead of dividing)
-        for c in 0..self.n {
-            self.rscal_q[c] = 1.0 / (self.atol_q[c] + self.rtol * (self.q[c] - self.q_ref[c]).abs());
-            self.rscal_v[c] = 1.0 / (self.atol_v[c] + self.rtol * self.v[c].abs());
+        // iteration and unknown, instead of dividing; on slices: through the
+        // vectors, every store would make the compiler reload their addresses)
+        let (n, rtol) = (self.n, self.rtol);
+        let (rscal_q, rscal_v) = (&mut self.rscal_q[..n], &mut self.rscal_v[..n]);
+        let (q, v, q_ref, atol_q, atol_v) =
+            (&self.q[..n], &self.v[..n], &self.q_ref[..n], &self.atol_q[..n], &self.atol_v[..n]);
+        for c in 0..n {
+            rscal_q[c] = 1.0 / (atol_q[c] + rtol * (q[c] - q_ref[c]).abs());
+            rscal_v[c] = 1.0 / (atol_v[c] + rtol * v[c].abs());
         }
         let lam_max = self.lam.iter().fold(0.0f64, |a, x| a.max(x.abs()));
-        let lay = &self.asm.layout;
-        for e in 0..self.m {
-            let c = lay.eq_coord[e] as usize;
-            let floor = self.asm.eq_mref[e] * (self.atol_v[c] + self.rtol * self.v[c].abs());
-            self.rscal_l[e] = h / (self.rtol * (self.lam[e].abs() + lam_max) + floor);
+        let per_eq = self.asm.layout.eq_coord.iter().zip(&self.asm.eq_mref).zip(&self.lam);
+        for (r, ((&c, &mref), &lam)) in self.rscal_l.iter_mut().zip(per_eq) {
+            let floor = mref * (atol_v[c as usize] + rtol * v[c as usize].abs());
+            *r = h / (rtol * (lam.abs() + lam_max) + floor);
         }
     }
 
@@ -39,9 +43,14 @@ impl Radau5 {
         } else {
             let c3q = h / self.h_cont;
             let cq = [C[0] * c3q, C[1] * c3q, c3q];
-            let extrapolate = |cont: &Stages, z: &mut Stages| {
-                for j in 0..cont[0].len() {
-                    let (a1, a2, a3) = (cont[0][j], cont[1][j], cont[2][j]);
+            let extrapolate = |[c0, c1, c2]: &Stages, [z0, z1, z2]: &mut Stages| {
+                // (on slices: through the vectors, every store would make the
+                // compiler reload their addresses)
+                let len = c0.len();
+                let (c0, c1, c2) = (&c0[..len], &c1[..len], &c2[..len]);
+                let z = [&mut z0[..len], &mut z1[..len], &mut z2[..len]];
+                for j in 0..len {
+                    let (a1, a2, a3) = (c0[j], c1[j], c2[j]);
                     for i in 0..3 {
                         z[i][j] = cq[i] * (a1 + (cq[i] - C2M1) * (a2 + (cq[i] - C1M1) * a3));
                     }
@@ -90,10 +99,10 @@ impl Radau5 {
             if record_sliders {
                 self.local.record_stage(&self.asm, &self.ws, i);
             }
-            self.fv[i].copy_from_slice(self.ws.forces());
-            self.fg[i].copy_from_slice(self.ws.velocity_constraints());
+            // (swapped, not copied: the next evaluation overwrites them)
+            self.ws.swap_results(&mut self.fv[i], &mut self.fg[i]);
             // (no early exit, so that the test vectorises)
-            finite &= self.fv[i].iter().chain(&self.fg[i]).fold(true, |ok, x| ok & x.is_finite());
+            finite &= self.fv[i][..self.n].iter().chain(&self.fg[i]).fold(true, |ok, x| ok & x.is_finite());
         }
         self.stats.residual_evaluations += 3;
         finite
@@ -132,25 +141,30 @@ impl Radau5 {
             // transformed right-hand sides: force rows, then the velocity
             // constraint rows, `G dq = -R_w / c`
             let lay = &self.asm.layout;
-            for c in 0..n {
-                let f = [self.fv[0][c], self.fv[1][c], self.fv[2][c]];
-                let r = tmul(&TI, f);
-                let w = [self.wv[0][c], self.wv[1][c], self.wv[2][c]];
-                let mc = self.mass[c];
-                let u = lay.unknown_of_coord[c] as usize;
-                self.rhs_r[u] = r[0] - g_r * mc * w[0];
-                self.rhs_c[u] = Complex64::new(
-                    r[1] - mc * (c_c.re * w[1] - c_c.im * w[2]),
-                    r[2] - mc * (c_c.im * w[1] + c_c.re * w[2]),
-                );
+            // (the loops work on slices taken once: through `self`, every
+            // store would make the compiler reload every vector's address)
+            let [fv0, fv1, fv2] = &self.fv;
+            let [wv0, wv1, wv2] = &self.wv;
+            let (rhs_r, rhs_c) = (&mut self.rhs_r[..], &mut self.rhs_c[..]);
+            let coords = fv0[..n].iter().zip(&fv1[..n]).zip(&fv2[..n]).zip(&wv0[..n]).zip(&wv1[..n]).zip(&wv2[..n]);
+            for ((((((&f0, &f1), &f2), &w0), &w1), &w2), (&mc, &u)) in
+                coords.zip(self.mass[..n].iter().zip(&lay.unknown_of_coord[..n]))
+            {
+                let r = tmul(&TI, [f0, f1, f2]);
+                let u = u as usize;
+                rhs_r[u] = r[0] - g_r * mc * w0;
+                rhs_c[u] =
+                    Complex64::new(r[1] - mc * (c_c.re * w1 - c_c.im * w2), r[2] - mc * (c_c.im * w1 + c_c.re * w2));
             }
             let inv_c = c_c.inv();
-            for e in 0..m {
-                let r = tmul(&TI, [self.fg[0][e], self.fg[1][e], self.fg[2][e]]);
-                let u = lay.unknown_of_eq[e] as usize;
-                let s = self.asm.eq_mref[e];
-                self.rhs_r[u] = -self.gscale_r * s * r[0] / g_r;
-                self.rhs_c[u] = -Complex64::new(r[1], r[2]) * inv_c * (self.gscale_c * s);
+            let [fg0, fg1, fg2] = &self.fg;
+            let (gscale_r, gscale_c) = (self.gscale_r, self.gscale_c);
+            let eqs = fg0[..m].iter().zip(&fg1[..m]).zip(&fg2[..m]);
+            for (((&g0, &g1), &g2), (&u, &s)) in eqs.zip(lay.unknown_of_eq[..m].iter().zip(&self.asm.eq_mref[..m])) {
+                let r = tmul(&TI, [g0, g1, g2]);
+                let u = u as usize;
+                rhs_r[u] = -gscale_r * s * r[0] / g_r;
+                rhs_c[u] = -Complex64::new(r[1], r[2]) * inv_c * (gscale_c * s);
             }
             let sym = self.asm.block_structure();
             self.real.solve(sym, &mut self.faer, &mut self.rhs_r)?;
@@ -160,33 +174,34 @@ impl Radau5 {
             self.stats.newton_iterations += 1;
             // increments of W and the Newton norm
             let mut sum = 0.0;
-            for c in 0..n {
-                let u = lay.unknown_of_coord[c] as usize;
-                let d1 = self.rhs_r[u];
-                let d23 = self.rhs_c[u];
+            let (rhs_r, rhs_c) = (&self.rhs_r[..], &self.rhs_c[..]);
+            let [wv0, wv1, wv2] = &mut self.wv;
+            let coords = wv0[..n].iter_mut().zip(&mut wv1[..n]).zip(&mut wv2[..n]);
+            let scales = self.rscal_q[..n].iter().zip(&self.rscal_v[..n]);
+            for (((w0, w1), w2), ((&rq, &rv), &u)) in coords.zip(scales.zip(&lay.unknown_of_coord[..n])) {
+                let u = u as usize;
+                let d1 = rhs_r[u];
+                let d23 = rhs_c[u];
                 let dv23 = c_c * d23;
-                self.dq[0][c] = d1;
-                self.dq[1][c] = d23.re;
-                self.dq[2][c] = d23.im;
-                let (rq, rv) = (self.rscal_q[c], self.rscal_v[c]);
                 let dv1 = g_r * d1;
                 sum += (d1 * rq).powi(2) + (d23.re * rq).powi(2) + (d23.im * rq).powi(2);
                 sum += (dv1 * rv).powi(2) + (dv23.re * rv).powi(2) + (dv23.im * rv).powi(2);
-                self.wv[0][c] += dv1;
-                self.wv[1][c] += dv23.re;
-                self.wv[2][c] += dv23.im;
+                *w0 += dv1;
+                *w1 += dv23.re;
+                *w2 += dv23.im;
             }
             // multipliers (index-2 variables, whose errors are O(1/h) larger;
             // Hairer and Wanner IV.8 and VII.4) with the scales of `set_scales`
-            for e in 0..m {
-                let u = lay.unknown_of_eq[e] as usize;
-                let s = self.asm.eq_mref[e];
-                let d1 = self.gscale_r * s * self.rhs_r[u];
-                let d23 = self.rhs_c[u] * (self.gscale_c * s);
-                self.wl[0][e] += d1;
-                self.wl[1][e] += d23.re;
-                self.wl[2][e] += d23.im;
-                let rl = self.rscal_l[e];
+            let [wl0, wl1, wl2] = &mut self.wl;
+            let eqs = wl0[..m].iter_mut().zip(&mut wl1[..m]).zip(&mut wl2[..m]);
+            let per_eq = lay.unknown_of_eq[..m].iter().zip(&self.asm.eq_mref[..m]).zip(&self.rscal_l[..m]);
+            for (((w0, w1), w2), ((&u, &s), &rl)) in eqs.zip(per_eq) {
+                let u = u as usize;
+                let d1 = self.gscale_r * s * rhs_r[u];
+                let d23 = rhs_c[u] * (self.gscale_c * s);
+                *w0 += d1;
+                *w1 += d23.re;
+                *w2 += d23.im;
                 sum += (d1 * rl).powi(2) + (d23.re * rl).powi(2) + (d23.im * rl).powi(2);
             }
             let dyno = (sum / (6 * n + 3 * m) as f64).sqrt();
