@@ -8,8 +8,8 @@
 //! energy quadrature and projection, the peak forces) are compiled twice,
 //! once for the baseline and once with AVX2 enabled, and [`run`] picks one
 //! per call from what the processor reports. On the reference run the AVX2
-//! version is about 4.5 % faster (`QUAKEJOINT_SIMD` below;
-//! `docs/performance.md`, "The cost of a step").
+//! version is about 7 % faster (`QUAKEJOINT_SIMD` below;
+//! `docs/performance.md`, "Hot loops on slices").
 //!
 //! Only AVX2 is enabled, not FMA: Rust never contracts `a * b + c` into a
 //! fused multiply-add by itself, and vectorised loops keep the order of
