@@ -224,7 +224,8 @@ impl Workspace {
         self.v0.copy_from_slice(&other.v0);
     }
 
-    /// Generalised forces `F = Q - G^T lambda` of the last [`Assembly::residual`] call.
+    /// Generalised forces `F = Q - G^T lambda` of the last [`Assembly::residual`]
+    /// call (stale after [`Workspace::swap_results`]).
     pub fn forces(&self) -> &[f64] {
         &self.f[..self.f.len() - 1]
     }
@@ -233,7 +234,8 @@ impl Workspace {
     pub fn constraints(&self) -> &[f64] {
         &self.g
     }
-    /// Velocity constraint `G q' + g_t` of the last [`Assembly::residual`] call.
+    /// Velocity constraint `G q' + g_t` of the last [`Assembly::residual`] call
+    /// (stale after [`Workspace::swap_results`]).
     pub fn velocity_constraints(&self) -> &[f64] {
         &self.w
     }
@@ -380,8 +382,9 @@ impl Assembly {
         }
     }
 
-    /// Length of [`Workspace::forces`]: `n` and a sink for the forces on
-    /// locked coordinates.
+    /// Length of the workspace's force vector, which [`Workspace::swap_results`]
+    /// exchanges: the `n` forces of [`Workspace::forces`] and a sink for the
+    /// forces on locked coordinates.
     pub fn workspace_forces_len(&self) -> usize {
         self.layout.n + 1
     }

@@ -21,6 +21,7 @@ impl Radau5 {
         // (on slices taken once: through `self`, every store would make the
         // compiler reload every vector's address)
         let ([zq0, zq1, zq2], [zv0, zv1, zv2]) = (&self.zq, &self.zv);
+        let (zq0, zq1, zq2, zv0, zv1, zv2) = (&zq0[..n], &zq1[..n], &zq2[..n], &zv0[..n], &zv1[..n], &zv2[..n]);
         let (e1q, e1v, ecq, ecv) = (&mut self.e1q[..n], &mut self.e1v[..n], &mut self.ecq[..n], &mut self.ecv[..n]);
         let (mass, v, y0f) = (&self.mass[..n], &self.v[..n], &self.y0f[..n]);
         for c in 0..n {

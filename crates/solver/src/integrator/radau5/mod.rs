@@ -131,7 +131,10 @@ pub struct Radau5 {
     v: Vec<f64>,
     lam: Vec<f64>,
     q_ref: Vec<f64>,
-    /// F(t_n, y_n) and g(q_n, t_n): the start-of-step residual of the error estimate.
+    /// F(t_n, y_n) and the velocity constraints `G v + g_t` at `(q_n, v_n, t_n)`: the
+    /// start-of-step residual of the error estimate (swapped in from the
+    /// workspace, so `y0f` has the workspace's length `n + 1`; its last
+    /// entry, the sink of locked coordinates, is not used).
     y0f: Vec<f64>,
     y0g: Vec<f64>,
     // stages
@@ -140,6 +143,9 @@ pub struct Radau5 {
     zl: Stages,
     wv: Stages,
     wl: Stages,
+    /// Stage forces and velocity constraints of the last stage residuals
+    /// (swapped in from the workspace: each `fv[i]` has its length `n + 1`,
+    /// the last entry unused).
     fv: Stages,
     fg: Stages,
     // dense output (c1..c3; c0 is the state)

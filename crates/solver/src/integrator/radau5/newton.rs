@@ -197,8 +197,8 @@ impl Radau5 {
             let per_eq = lay.unknown_of_eq[..m].iter().zip(&self.asm.eq_mref[..m]).zip(&self.rscal_l[..m]);
             for (((w0, w1), w2), ((&u, &s), &rl)) in eqs.zip(per_eq) {
                 let u = u as usize;
-                let d1 = self.gscale_r * s * rhs_r[u];
-                let d23 = rhs_c[u] * (self.gscale_c * s);
+                let d1 = gscale_r * s * rhs_r[u];
+                let d23 = rhs_c[u] * (gscale_c * s);
                 *w0 += d1;
                 *w1 += d23.re;
                 *w2 += d23.im;
