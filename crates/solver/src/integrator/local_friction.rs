@@ -347,7 +347,7 @@ mod tests {
                 local.r0 = r0;
                 let mut jm = lmat;
                 (0..3).for_each(|i| jm[i][i] += slope0[i]);
-                let first = crate::linalg::small::solve3_adjugate(jm, r0).unwrap();
+                let first = solve3_adjugate(jm, r0).unwrap();
                 // the first three stay on one piece of the linear law
                 let expect = law == FrictionLaw::Linear && k < 3;
                 assert_eq!(local.same_linear_piece(&[0.0; 3], &first), expect, "{law:?} {along:?}");

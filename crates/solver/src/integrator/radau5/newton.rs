@@ -143,18 +143,18 @@ impl Radau5 {
             let lay = &self.asm.layout;
             // (the loops work on slices taken once: through `self`, every
             // store would make the compiler reload every vector's address)
-            let [fv0, fv1, fv2] = &self.fv;
-            let [wv0, wv1, wv2] = &self.wv;
+            let ([fv0, fv1, fv2], [wv0, wv1, wv2]) = (&self.fv, &self.wv);
+            let (fv0, fv1, fv2, wv0, wv1, wv2) = (&fv0[..n], &fv1[..n], &fv2[..n], &wv0[..n], &wv1[..n], &wv2[..n]);
+            let (mass, unknown) = (&self.mass[..n], &lay.unknown_of_coord[..n]);
             let (rhs_r, rhs_c) = (&mut self.rhs_r[..], &mut self.rhs_c[..]);
-            let coords = fv0[..n].iter().zip(&fv1[..n]).zip(&fv2[..n]).zip(&wv0[..n]).zip(&wv1[..n]).zip(&wv2[..n]);
-            for ((((((&f0, &f1), &f2), &w0), &w1), &w2), (&mc, &u)) in
-                coords.zip(self.mass[..n].iter().zip(&lay.unknown_of_coord[..n]))
-            {
-                let r = tmul(&TI, [f0, f1, f2]);
-                let u = u as usize;
-                rhs_r[u] = r[0] - g_r * mc * w0;
-                rhs_c[u] =
-                    Complex64::new(r[1] - mc * (c_c.re * w1 - c_c.im * w2), r[2] - mc * (c_c.im * w1 + c_c.re * w2));
+            for c in 0..n {
+                let r = tmul(&TI, [fv0[c], fv1[c], fv2[c]]);
+                let (w, mc, u) = ([wv0[c], wv1[c], wv2[c]], mass[c], unknown[c] as usize);
+                rhs_r[u] = r[0] - g_r * mc * w[0];
+                rhs_c[u] = Complex64::new(
+                    r[1] - mc * (c_c.re * w[1] - c_c.im * w[2]),
+                    r[2] - mc * (c_c.im * w[1] + c_c.re * w[2]),
+                );
             }
             let inv_c = c_c.inv();
             let [fg0, fg1, fg2] = &self.fg;
