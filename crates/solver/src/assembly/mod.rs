@@ -1149,3 +1149,33 @@ fn store_grad(g: &mut [f64], entries: &[GEntry], map: &PrimMap, rows: &Rows) {
         g[start + i] = rows.grad[e.row as usize][e.slot as usize];
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `swap_results` hands over exactly what the residual put in the
+    /// workspace (checked against copies taken before), and refuses vectors
+    /// of the wrong length.
+    #[test]
+    fn swap_results_hands_over_the_last_residual() {
+        let asm = Assembly::new(&crate::reference::element_zoo(), &AssemblyOptions::default()).unwrap();
+        let mut ws = asm.workspace();
+        let (q, v) = asm.initial.clone();
+        let lam: Vec<f64> = (0..asm.layout.m).map(|e| 0.1 * e as f64 - 0.3).collect();
+        let v: Vec<f64> = v.iter().enumerate().map(|(c, x)| x + 0.01 * c as f64).collect();
+        asm.residual(&mut ws, 0.2, &q, &v, &lam);
+        let (f, w) = (ws.forces().to_vec(), ws.velocity_constraints().to_vec());
+        assert!(f.iter().chain(&w).any(|x| *x != 0.0), "a residual worth comparing");
+        let mut forces = vec![0.0; asm.workspace_forces_len()];
+        let mut velocity = vec![0.0; asm.layout.m];
+        ws.swap_results(&mut forces, &mut velocity);
+        assert_eq!(forces[..asm.layout.n], f[..]);
+        assert_eq!(velocity, w);
+        let short = std::panic::catch_unwind(move || {
+            let mut ws = ws;
+            ws.swap_results(&mut vec![0.0; asm.layout.n], &mut vec![0.0; asm.layout.m]);
+        });
+        assert!(short.is_err(), "a force vector without the sink slot is refused");
+    }
+}
