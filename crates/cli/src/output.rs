@@ -696,9 +696,13 @@ pub fn sweep_check(c: &quakejoint_sweep::runner::Check, json: bool) {
                 "flagged": c.flagged,
                 "journal": c.journal,
                 "cpu_seconds": c.cpu_seconds,
+                "notices": c.notices,
             })
         );
         return;
+    }
+    for n in &c.notices {
+        eprintln!("warning: {n}");
     }
     let what = if !c.journal {
         "would start".to_string()
@@ -707,9 +711,13 @@ pub fn sweep_check(c: &quakejoint_sweep::runner::Check, json: bool) {
     } else {
         format!("would continue: {} of {} jobs done", c.done, c.jobs)
     };
+    let fine = if c.notices.is_empty() {
+        "config, records and output are fine"
+    } else {
+        "config and records are fine, the output is not (above)"
+    };
     out!(
-        "check {}: config, records and output are fine; the sweep {what} ({} jobs, {} failed and {} flagged so far, \
-         about {} of CPU time to go)",
+        "check {}: {fine}; the sweep {what} ({} jobs, {} failed and {} flagged so far, about {} of CPU time to go)",
         c.output.display(),
         c.jobs,
         c.failed,

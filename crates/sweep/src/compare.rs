@@ -1,20 +1,63 @@
 //! Comparing two sweep files (`quakejoint compare`): are their results the
-//! same, bit for bit? The run-specific fields are left out: the wall times
-//! ([`MACHINE_DEPENDENT`]), the creation time, the shard and the config's
-//! text (its parameters are compared through their hash).
+//! same, bit for bit? Every dataset is compared (the derived ones, the
+//! reduction and the statistics, are checked against the results when the
+//! files are read, [`crate::sweep_read`]). The run-specific fields are
+//! left out: the wall times ([`MACHINE_DEPENDENT`]), the creation time, the
+//! command, the shard and the config's text and each case's (their
+//! parameters are compared through the config's hash).
 
 use crate::results::{FIELDS, MACHINE_DEPENDENT};
-use crate::sweep_h5::SweepFile;
+use crate::run_h5::RecordSource;
+use crate::suite_h5::StoredSuite;
+use crate::sweep_h5::{StoredRecord, SweepFile};
+use crate::sweep_read::same_bits as bits_equal;
 
 /// How many differences of one kind are listed before the rest is counted.
 const SHOWN: usize = 5;
 
-fn bits_equal(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+fn records_equal(a: &[StoredRecord], b: &[StoredRecord]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            (&x.name, &x.source, &x.sha256, &x.file_units) == (&y.name, &y.source, &y.sha256, &y.file_units)
+                && bits_equal(&[x.dt, x.scale, x.pga], &[y.dt, y.scale, y.pga])
+                && bits_equal(&x.acceleration, &y.acceleration)
+        })
 }
 
-/// The differences between two sweep files, in words (empty: identical).
-pub fn differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
+fn inputs_equal(a: &[RecordSource], b: &[RecordSource]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            (&x.role, &x.name, &x.file, &x.sha256, &x.units, x.samples)
+                == (&y.role, &y.name, &y.file, &y.sha256, &y.units, y.samples)
+                && bits_equal(&[x.dt, x.scale], &[y.dt, y.scale])
+        })
+}
+
+fn suites_equal(a: &Option<StoredSuite>, b: &Option<StoredSuite>) -> bool {
+    match (a, b) {
+        (None, None) => true,
+        (Some(x), Some(y)) => {
+            (&x.target, &x.target_config, &x.rule, x.ec8_satisfied)
+                == (&y.target, &y.target_config, &y.rule, y.ec8_satisfied)
+                && bits_equal(&x.range, &y.range)
+                && bits_equal(&x.factors, &y.factors)
+                && bits_equal(&[x.rule_factor, x.pga_ratio], &[y.rule_factor, y.pga_ratio])
+                && bits_equal(&x.min_ratio, &y.min_ratio)
+                && bits_equal(&x.fit_periods, &y.fit_periods)
+                && bits_equal(&x.fit_target, &y.fit_target)
+                && bits_equal(&x.fit_mean, &y.fit_mean)
+                && bits_equal(&x.target_sa, &y.target_sa)
+        }
+        _ => false,
+    }
+}
+
+/// The differences between two sweep files in everything but the jobs'
+/// results: the config (its parameters, by their hash: each case's config
+/// as text also holds the run limits, which may change), the grids, the
+/// records and their provenance, the suite and the spectra without the
+/// joint (empty: the same sweep). A grid that differs is reported alone.
+pub fn sweep_differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
     let mut out = Vec::new();
     if a.config_sha256 != b.config_sha256 {
         out.push("the configs differ (their parameters)".to_string());
@@ -23,8 +66,27 @@ pub fn differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
         out.push("the grids differ (periods, damping ratios or cases)".to_string());
         return out;
     }
-    if a.records != b.records {
-        out.push("the records differ".to_string());
+    if !records_equal(&a.records, &b.records) {
+        out.push("the records (/records) differ".to_string());
+    }
+    if !inputs_equal(&a.provenance.records, &b.provenance.records) {
+        out.push("the records' provenance (/inputs/records) differs".to_string());
+    }
+    if !suites_equal(&a.suite, &b.suite) {
+        out.push("the suites (/suite) differ".to_string());
+    }
+    for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
+        if !bits_equal(&a.results.without[k], &b.results.without[k]) {
+            out.push(format!("the spectrum without the joint ({name}) differs"));
+        }
+    }
+    out
+}
+
+/// The differences between two sweep files, in words (empty: identical).
+pub fn differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
+    let mut out = sweep_differences(a, b);
+    if out.iter().any(|d| d.starts_with("the grids differ")) {
         return out;
     }
     let (ra, rb) = (&a.results, &b.results);
@@ -63,10 +125,5 @@ pub fn differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
         per_field(name, differ(&|j| ra.values[k][j].to_bits() != rb.values[k][j].to_bits()));
     }
     per_field("histories", differ(&|j| ra.histories.get(&(j as u32)) != rb.histories.get(&(j as u32))));
-    for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
-        if !bits_equal(&ra.without[k], &rb.without[k]) {
-            out.push(format!("the spectrum without the joint ({name}) differs"));
-        }
-    }
     out
 }

@@ -3,6 +3,19 @@
 //! never holds a half-written file. Every numeric value carries its unit:
 //! numbers are datasets (scalar or arrays) with a `units` attribute (`1`
 //! for ratios and counts); attributes hold text and integer counts only.
+//!
+//! Nothing in a file can rot unnoticed (`docs/hdf5-layout.md`, "Checksums"):
+//! - every array dataset is chunked with HDF5's Fletcher32 checksum filter,
+//!   which libhdf5 (the command, h5py, h5dump) verifies on every read;
+//! - text datasets are arrays of fixed-length UTF-8 strings, so their bytes
+//!   are inside the checksummed chunks (variable-length strings live in the
+//!   global heap, which has no checksum);
+//! - scalar datasets (which cannot be chunked) are stored compact, inside
+//!   their object header, and files are written in the HDF5 1.10 format,
+//!   whose object headers and indexes carry checksums too.
+//!
+//! The readers here ([`read_strings`]) read these and the variable-length
+//! strings of files written before.
 
 use std::path::{Path, PathBuf};
 
@@ -18,7 +31,7 @@ pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub fn write_atomically(path: &Path, write: impl FnOnce(&hdf5::File) -> hdf5::Result<()>) -> Result<(), OutputError> {
     let tmp = temporary_name(path);
     let result = (|| {
-        let file = hdf5::File::create(&tmp)?;
+        let file = create(&tmp)?;
         write(&file)?;
         file.flush()?;
         file.close()
@@ -40,6 +53,14 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&hdf5::File) -> hdf5::Re
     }
 }
 
+/// Creates `path` in the HDF5 1.10 file format, whose object headers,
+/// superblock and chunk indexes carry checksums; libhdf5 1.10 and every
+/// later version (h5py's) read it.
+fn create(path: &Path) -> hdf5::Result<hdf5::File> {
+    use hdf5::file::LibraryVersion;
+    hdf5::File::with_options().with_fapl(|p| p.libver_bounds(LibraryVersion::V110, LibraryVersion::V110)).create(path)
+}
+
 /// `<path>.tmp` beside the target.
 pub fn temporary_name(path: &Path) -> PathBuf {
     let mut name = path.as_os_str().to_owned();
@@ -47,9 +68,11 @@ pub fn temporary_name(path: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
-/// Reads a string attribute.
+/// Reads a string attribute (refusing text that is not UTF-8, as a
+/// damaged attribute may be).
 pub fn read_attr_str(loc: &hdf5::Location, name: &str) -> hdf5::Result<String> {
-    Ok(loc.attr(name)?.read_scalar::<VarLenUnicode>()?.as_str().to_string())
+    let value = loc.attr(name)?.read_scalar::<VarLenUnicode>()?;
+    utf8(value.as_bytes(), &format!("attribute {name}"))
 }
 
 /// Writes a string attribute.
@@ -58,18 +81,130 @@ pub fn attr_str(loc: &hdf5::Location, name: &str, value: &str) -> hdf5::Result<(
     loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&v)
 }
 
-/// Writes a scalar f64 dataset with a `units` attribute.
+/// Largest chunk [bytes]: the arrays of a sweep are mostly one chunk.
+const CHUNK_BYTES: usize = 1 << 20;
+
+/// The chunk shape of an array of `shape` with elements of `size` bytes:
+/// the whole array up to [`CHUNK_BYTES`], else halved along the leading
+/// axes first (every axis at least 1).
+fn chunk_shape(shape: &[usize], size: usize) -> Vec<usize> {
+    let mut chunk: Vec<usize> = shape.iter().map(|&n| n.max(1)).collect();
+    let bytes = |c: &[usize]| c.iter().product::<usize>().saturating_mul(size);
+    for axis in 0..chunk.len() {
+        while bytes(&chunk) > CHUNK_BYTES && chunk[axis] > 1 {
+            chunk[axis] = chunk[axis].div_ceil(2);
+        }
+    }
+    chunk
+}
+
+/// Writes an array dataset (any number of axes, at least one), chunked with
+/// the Fletcher32 checksum; an empty array gets resizable extents, since a
+/// chunk cannot be larger than a fixed axis of length 0.
+pub fn array<'d, T: hdf5::H5Type + Clone, D: ndarray::Dimension>(
+    group: &hdf5::Group,
+    name: &str,
+    data: impl Into<ndarray::ArrayView<'d, T, D>>,
+) -> hdf5::Result<hdf5::Dataset> {
+    let view = data.into();
+    let shape = view.shape().to_vec();
+    if shape.is_empty() {
+        return Err(hdf5::Error::from(format!("{name}: a scalar is written by `scalar`, not as an array")));
+    }
+    let chunk = chunk_shape(&shape, std::mem::size_of::<T>());
+    if shape.contains(&0) {
+        let extents = hdf5::SimpleExtents::resizable(shape);
+        return group.new_dataset::<T>().shape(extents).chunk(chunk).fletcher32().create(name);
+    }
+    let standard = view.as_standard_layout();
+    group.new_dataset_builder().with_data(&standard).chunk(chunk).fletcher32().create(name)
+}
+
+/// Writes an array dataset of text of the given `shape` (row-major `data`)
+/// as fixed-length UTF-8 strings (as long as the longest, padded with
+/// NULs), chunked with the Fletcher32 checksum: the text itself is under
+/// the checksum. h5py reads them as bytes (`.asstr()` gives `str`).
+pub fn strings(group: &hdf5::Group, name: &str, data: &[String], shape: &[usize]) -> hdf5::Result<hdf5::Dataset> {
+    use hdf5_sys::{h5d::H5Dwrite, h5p::H5P_DEFAULT, h5s::H5S_ALL};
+    if shape.is_empty() || shape.iter().product::<usize>() != data.len() {
+        return Err(hdf5::Error::from(format!("{name}: {} strings do not fill the shape {shape:?}", data.len())));
+    }
+    let width = data.iter().map(String::len).max().unwrap_or(0).max(1);
+    let dtype = hdf5::Datatype::from_descriptor(&hdf5::types::TypeDescriptor::FixedUnicode(width))?;
+    let chunk = chunk_shape(shape, width);
+    let extents = if data.is_empty() {
+        hdf5::SimpleExtents::resizable(shape.to_vec())
+    } else {
+        hdf5::SimpleExtents::new(shape.to_vec())
+    };
+    let ds = group.new_dataset_builder().empty_as(&dtype).shape(extents).chunk(chunk).fletcher32().create(name)?;
+    if data.is_empty() {
+        return Ok(ds);
+    }
+    let mut bytes = vec![0u8; data.len() * width];
+    for (slot, s) in bytes.chunks_exact_mut(width).zip(data) {
+        slot[..s.len()].copy_from_slice(s.as_bytes());
+    }
+    let (ds_id, type_id) = (ds.id(), dtype.id());
+    // SAFETY: both identifiers are open; `bytes` holds exactly one element
+    // of `dtype` (width bytes) for every element of the dataset's extent.
+    let rc =
+        hdf5::sync::sync(|| unsafe { H5Dwrite(ds_id, type_id, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.as_ptr().cast()) });
+    if rc < 0 {
+        return Err(hdf5::Error::from(format!("writing the text of {name} failed")));
+    }
+    Ok(ds)
+}
+
+/// Reads a text dataset: fixed-length strings as [`strings`] writes them,
+/// or the variable-length strings of older files; text that is not UTF-8
+/// (a damaged file) is an error naming the dataset.
+pub fn read_strings(ds: &hdf5::Dataset) -> hdf5::Result<Vec<String>> {
+    use hdf5::types::TypeDescriptor as TD;
+    use hdf5_sys::{h5d::H5Dread, h5p::H5P_DEFAULT, h5s::H5S_ALL};
+    let name = ds.name();
+    let dtype = ds.dtype()?;
+    match dtype.to_descriptor()? {
+        TD::VarLenUnicode => ds.read_raw::<VarLenUnicode>()?.iter().map(|s| utf8(s.as_bytes(), &name)).collect(),
+        TD::FixedUnicode(width) | TD::FixedAscii(width) => {
+            let mut bytes = vec![0u8; ds.size() * width];
+            if bytes.is_empty() {
+                return Ok(vec![String::new(); ds.size()]);
+            }
+            let (ds_id, type_id) = (ds.id(), dtype.id());
+            // SAFETY: `bytes` holds one element of the dataset's own type
+            // (width bytes) per element of its extent.
+            let rc = hdf5::sync::sync(|| unsafe {
+                H5Dread(ds_id, type_id, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.as_mut_ptr().cast())
+            });
+            if rc < 0 {
+                return Err(hdf5::Error::from(format!("{name}: the text cannot be read (its checksum fails?)")));
+            }
+            bytes
+                .chunks_exact(width)
+                .map(|b| utf8(&b[..b.iter().rposition(|&c| c != 0).map_or(0, |i| i + 1)], &name))
+                .collect()
+        }
+        other => Err(hdf5::Error::from(format!("{name}: {other:?} where text was expected"))),
+    }
+}
+
+/// `bytes` as a string, or an error naming `what`.
+fn utf8(bytes: &[u8], what: &str) -> hdf5::Result<String> {
+    String::from_utf8(bytes.to_vec()).map_err(|_| hdf5::Error::from(format!("{what}: the text is not UTF-8 (damaged)")))
+}
+
+/// Writes a scalar f64 dataset with a `units` attribute, stored compact
+/// (inside its checksummed object header: a scalar cannot be chunked).
 pub fn scalar(group: &hdf5::Group, name: &str, value: f64, units: &str) -> hdf5::Result<()> {
-    let ds = group.new_dataset::<f64>().create(name)?;
+    let ds = group.new_dataset::<f64>().layout(hdf5::dataset::Layout::Compact).create(name)?;
     ds.write_scalar(&value)?;
     attr_str(&ds, "units", units)
 }
 
-/// Writes a 1-D string dataset (variable-length UTF-8; h5py reads it as
-/// bytes unless asked `.asstr()`).
+/// Writes a 1-D string dataset (see [`strings`]).
 pub fn strings_1d(group: &hdf5::Group, name: &str, data: &[String]) -> hdf5::Result<hdf5::Dataset> {
-    let v: Vec<VarLenUnicode> = data.iter().map(|s| vlu(s)).collect::<hdf5::Result<_>>()?;
-    group.new_dataset_builder().with_data(&v[..]).create(name)
+    strings(group, name, data, &[data.len()])
 }
 
 /// A string as an HDF5 variable-length UTF-8 value.
@@ -126,7 +261,7 @@ pub fn attach_scales(data: &hdf5::Dataset, scales: &[(&hdf5::Dataset, &str)]) ->
 
 /// Writes a 1-D f64 dataset with a `units` attribute.
 pub fn dataset_1d(group: &hdf5::Group, name: &str, data: &[f64], units: &str) -> hdf5::Result<()> {
-    let ds = group.new_dataset_builder().with_data(data).create(name)?;
+    let ds = array(group, name, data)?;
     attr_str(&ds, "units", units)
 }
 
@@ -136,6 +271,20 @@ pub fn dataset_2d(group: &hdf5::Group, name: &str, rows: &[Vec<f64>], units: &st
     let flat: Vec<f64> = rows.iter().flat_map(|r| r.iter().copied()).collect();
     let arr =
         ndarray::Array2::from_shape_vec((rows.len(), cols), flat).map_err(|e| hdf5::Error::from(e.to_string()))?;
-    let ds = group.new_dataset_builder().with_data(&arr).create(name)?;
+    let ds = array(group, name, &arr)?;
     attr_str(&ds, "units", units)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chunks_are_the_whole_array_up_to_a_megabyte() {
+        assert_eq!(chunk_shape(&[8000], 8), vec![8000]);
+        assert_eq!(chunk_shape(&[0, 3], 8), vec![1, 3]);
+        assert_eq!(chunk_shape(&[1 << 20], 8), vec![1 << 17]);
+        let c = chunk_shape(&[4, 7, 2, 50_000], 8);
+        assert!(c.iter().product::<usize>() * 8 <= CHUNK_BYTES && c[3] == 50_000, "{c:?}");
+    }
 }

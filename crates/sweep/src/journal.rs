@@ -372,6 +372,14 @@ pub fn read(path: &Path) -> Result<(Header, Vec<JobResult>), SweepError> {
     Ok((c.header, c.results))
 }
 
+/// Reads a journal's contents, damage included, without changing it;
+/// `None` for a journal cut while it was being created (which a sweep
+/// starts afresh, [`Journal::continue_or_restart`]).
+pub fn read_started(path: &Path) -> Result<Option<Contents>, SweepError> {
+    let bytes = std::fs::read(path).map_err(|e| jerr(path, e.to_string()))?;
+    parse(&bytes, path)
+}
+
 /// Reads a journal's contents, damage included, without changing it.
 pub fn read_contents(path: &Path) -> Result<Contents, SweepError> {
     let bytes = std::fs::read(path).map_err(|e| jerr(path, e.to_string()))?;

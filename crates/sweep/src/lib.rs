@@ -21,6 +21,7 @@ pub mod runner;
 pub mod statistics;
 pub mod suite_h5;
 pub mod sweep_h5;
+pub mod sweep_read;
 pub mod time;
 
 pub use error::{OutputError, SweepError};

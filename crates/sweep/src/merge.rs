@@ -94,7 +94,17 @@ fn read_all(inputs: &[PathBuf], notices: &mut Vec<String>) -> Result<Vec<(PathBu
         }
         match read_sweep(path) {
             Ok(f) => files.push((path.clone(), f)),
-            Err(e) => problems.push(format!("{}: not a readable sweep file ({})", path.display(), e.message)),
+            Err(e) => problems.push(format!(
+                "{}: not a readable sweep file ({}){}",
+                path.display(),
+                e.message,
+                if journal_path(path).exists() {
+                    "; its journal is beside it: running its shard's `quakejoint sweep` command again rebuilds it \
+                     from the journal"
+                } else {
+                    ""
+                }
+            )),
         }
     }
     if !problems.is_empty() {

@@ -10,7 +10,7 @@ use quakejoint_model::service::ServiceResult;
 use quakejoint_motion::Record;
 
 use crate::error::OutputError;
-use crate::h5::{attr_str, dataset_1d, dataset_2d, scalar, write_atomically, VERSION};
+use crate::h5::{array, attr_str, dataset_1d, dataset_2d, scalar, write_atomically, VERSION};
 
 /// A record as used by a run: enough to find the very file again and to
 /// know how its numbers were read.
@@ -216,9 +216,9 @@ pub fn write_sparsity(
     write_atomically(path, |file| {
         write_provenance(file, "sparsity", provenance)?;
         let g = file.create_group("sparsity")?;
-        g.new_dataset_builder().with_data(&rows[..]).create("row")?;
-        g.new_dataset_builder().with_data(&cols[..]).create("col")?;
-        g.new_dataset_builder().with_data(&asm.coordinate_bodies()[..]).create("coordinate_body")?;
+        array(&g, "row", &rows[..])?;
+        array(&g, "col", &cols[..])?;
+        array(&g, "coordinate_body", &asm.coordinate_bodies()[..])?;
         crate::h5::strings_1d(&g, "body_name", body_names)?;
         g.new_attr::<u64>().create("coordinates")?.write_scalar(&(asm.coordinates() as u64))?;
         g.new_attr::<u64>().create("equations")?.write_scalar(&(asm.equations() as u64))?;

@@ -311,17 +311,18 @@ fn check_not_an_input(output: &Path, inputs: &[PathBuf]) -> Result<(), SweepErro
 }
 
 /// Whether `existing` (the output found on disk) agrees with `expected`
-/// (the journal's results): every job it holds as finished is in the
-/// journal with the same numbers. A file behind the journal (killed before
-/// its last checkpoint) agrees; it is rewritten at the end anyway.
+/// (the plan's file with the journal's results): everything but the jobs
+/// is the same, bit for bit ([`crate::compare::sweep_differences`]), and
+/// every job it holds as finished is in the journal with the same numbers.
+/// A file behind the journal (killed before its last checkpoint) agrees;
+/// it is rewritten at the end anyway.
 fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
     if existing.config_sha256 != expected.config_sha256 {
         return Err("it was written for another config".into());
     }
-    if (&existing.periods, &existing.damping, &existing.cases)
-        != (&expected.periods, &expected.damping, &expected.cases)
-    {
-        return Err("its grid differs from the journal's".into());
+    let diffs = crate::compare::sweep_differences(existing, expected);
+    if !diffs.is_empty() {
+        return Err(format!("it disagrees with its config, records and journal: {}", diffs.join("; ")));
     }
     let (a, b) = (&existing.results, &expected.results);
     for j in 0..a.status.len() {
@@ -341,6 +342,21 @@ fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// The output on disk measured against `expected` (the plan's file with
+/// the journal's results): `Ok(behind)` if it agrees (`behind`: it lacks
+/// some of the journal's jobs or the current run limits), else what is
+/// wrong with it, in words.
+fn output_state(output: &Path, expected: &SweepFile) -> Result<bool, String> {
+    if !output.exists() {
+        return if expected.results.finished() > 0 { Err("it is missing".into()) } else { Ok(false) };
+    }
+    let existing = read_sweep(output).map_err(|e| format!("it cannot be read ({})", e.message))?;
+    agrees(&existing, expected)?;
+    // run limits raised since (they are outside the config's hash) are
+    // written into the cases' configs
+    Ok(existing.results.finished() < expected.results.finished() || existing.case_configs != expected.case_configs)
 }
 
 /// An existing file at the output name without a journal is not a sweep's
@@ -401,26 +417,48 @@ pub struct Check {
     pub journal: bool,
     /// Estimated CPU time of the jobs to run [s] (cost model).
     pub cpu_seconds: f64,
+    /// What is wrong with the output on disk (damaged, missing, behind
+    /// nothing: a run rebuilds it from the journal), or what the journal's
+    /// reading noticed; empty when nothing is.
+    pub notices: Vec<String>,
 }
 
 /// Checks a sweep as [`run_sweep`] would before its first job: the config,
-/// the records, the output and its journal (which must record this sweep).
-/// Nothing is created, changed or locked.
+/// the records, the output and its journal (which must record this sweep),
+/// and the output itself, read and verified against the journal and the
+/// config as a run verifies it. Nothing is created, changed or locked.
 pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError> {
     check_output(plan, opts)?;
     let jpath = journal_path(&opts.output);
     let scope = scope(plan, opts.shard);
     let mut status_of = std::collections::BTreeMap::new();
+    let mut notices = Vec::new();
     let journal = jpath.exists();
     if journal {
-        let contents = crate::journal::read_contents(&jpath)?;
-        let diffs = contents.header.differences(&header(plan, opts.shard));
-        if !diffs.is_empty() {
-            return Err(crate::journal::another_sweep(&jpath, &diffs));
-        }
-        for r in contents.latest() {
-            let flagged = quakejoint_model::validity::Flags(r.validity).is_flagged();
-            status_of.insert(r.job as usize, (r.status, flagged));
+        // a journal cut while it was being created holds nothing: a run
+        // starts it afresh
+        if let Some(contents) = crate::journal::read_started(&jpath)? {
+            let diffs = contents.header.differences(&header(plan, opts.shard));
+            if !diffs.is_empty() {
+                return Err(crate::journal::another_sweep(&jpath, &diffs));
+            }
+            notices.extend(contents.notices(&jpath));
+            let mut file = sweep_file(plan, opts.shard, provenance(plan, &opts.command, &opts.config_path));
+            without_joint(plan, &mut file.results)?;
+            for r in contents.latest() {
+                let flagged = quakejoint_model::validity::Flags(r.validity).is_flagged();
+                status_of.insert(r.job as usize, (r.status, flagged));
+                if (r.job as usize) < file.results.status.len() {
+                    file.results.insert(r);
+                }
+            }
+            if let Err(problem) = output_state(&opts.output, &file) {
+                notices.push(format!(
+                    "{}: {problem}; a run rebuilds it from the journal {}",
+                    opts.output.display(),
+                    jpath.display()
+                ));
+            }
         }
     } else if opts.resume {
         return Err(SweepError::Journal {
@@ -437,7 +475,7 @@ pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError
         .filter(|j| !status_of.contains_key(j) || (opts.retry_failed && status_of[j].0 != status::OK))
         .map(|&j| plan.cost(plan.job(j)))
         .fold(0.0, |a, c| a + c);
-    Ok(Check { output: opts.output.clone(), jobs: scope.len(), done, failed, flagged, journal, cpu_seconds })
+    Ok(Check { output: opts.output.clone(), jobs: scope.len(), done, failed, flagged, journal, cpu_seconds, notices })
 }
 
 /// Runs a sweep: starts it, or continues the one its journal records.
@@ -468,37 +506,17 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     } else {
         (Journal::create(&jpath, &head)?, Vec::new())
     };
-    let had_results = !done.is_empty();
     for r in done {
         file.results.insert(r);
     }
     // the output on disk must agree with its journal, or it is rebuilt
-    let mut dirty = false;
-    if had_results || output.exists() {
-        match read_sweep(output) {
-            Ok(existing) => match agrees(&existing, &file) {
-                Ok(()) => dirty = existing.results.finished() < file.results.finished(),
-                Err(p) => {
-                    notices.push(format!(
-                        "{}: {p}; it is rebuilt from the journal {}",
-                        output.display(),
-                        jpath.display()
-                    ));
-                    dirty = true;
-                }
-            },
-            Err(e) => {
-                let why =
-                    if output.exists() { format!("it cannot be read ({})", e.message) } else { "it is missing".into() };
-                notices.push(format!(
-                    "{}: {why}; it is rebuilt from the journal {}",
-                    output.display(),
-                    jpath.display()
-                ));
-                dirty = true;
-            }
+    let mut dirty = match output_state(output, &file) {
+        Ok(behind) => behind,
+        Err(problem) => {
+            notices.push(format!("{}: {problem}; it is rebuilt from the journal {}", output.display(), jpath.display()));
+            true
         }
-    }
+    };
     let scope = scope(plan, opts.shard);
     let mut retried = 0;
     if opts.retry_failed {

@@ -1,9 +1,9 @@
 //! The suite and statistics groups of a sweep file (`/suite`,
 //! `/spectrum/statistics`; layout in `docs/hdf5-layout.md`).
 
-use ndarray::{ArrayView1, ArrayView2, ArrayView3};
+use ndarray::{ArrayView2, ArrayView3};
 
-use crate::h5::{attach_scales, attr_str, read_attr_str, scalar};
+use crate::h5::{array, attach_scales, attr_str, read_attr_str, scalar};
 use crate::plan::Suite;
 use crate::statistics::Statistics;
 
@@ -77,23 +77,23 @@ pub fn write_suite(
     attr_str(&g, "target_config", &s.target_config)?;
     attr_str(&g, "rule", &s.rule)?;
     g.new_attr::<u8>().create("ec8_satisfied")?.write_scalar(&u8::from(s.ec8_satisfied))?;
-    let ds = g.new_dataset_builder().with_data(ArrayView1::from(&s.factors)).create("factor")?;
+    let ds = array(&g, "factor", &s.factors[..])?;
     attr_str(&ds, "units", "1")?;
     attach_scales(&ds, &[(record, "record")])?;
-    let ds = g.new_dataset_builder().with_data(ArrayView1::from(&s.range)).create("range")?;
+    let ds = array(&g, "range", &s.range[..])?;
     attr_str(&ds, "units", "s")?;
     scalar(&g, "rule_factor", s.rule_factor, "1")?;
     scalar(&g, "min_ratio", s.min_ratio[0], "1")?;
     scalar(&g, "min_ratio_period", s.min_ratio[1], "s")?;
     scalar(&g, "pga_ratio", s.pga_ratio, "1")?;
-    let ds = g.new_dataset_builder().with_data(ArrayView1::from(&s.target_sa)).create("target_sa")?;
+    let ds = array(&g, "target_sa", &s.target_sa[..])?;
     attr_str(&ds, "units", "m/s^2")?;
     attach_scales(&ds, &[(period, "period")])?;
     let fit = g.create_group("fit")?;
     for (name, data, units) in
         [("period", &s.fit_periods, "s"), ("target", &s.fit_target, "m/s^2"), ("mean", &s.fit_mean, "m/s^2")]
     {
-        let ds = fit.new_dataset_builder().with_data(ArrayView1::from(data)).create(name)?;
+        let ds = array(&fit, name, &data[..])?;
         attr_str(&ds, "units", units)?;
     }
     Ok(())
@@ -143,13 +143,13 @@ pub fn write_statistics(
     let shape = |e: ndarray::ShapeError| hdf5::Error::from(e.to_string());
     let three = |g: &hdf5::Group, name: &str, data: &[f64], units: &str| -> hdf5::Result<()> {
         let view = ArrayView3::from_shape((nc, nz, nt), data).map_err(shape)?;
-        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        let ds = array(g, name, view)?;
         attr_str(&ds, "units", units)?;
         attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, "period")])
     };
     let two = |g: &hdf5::Group, name: &str, data: &[f64], units: &str| -> hdf5::Result<()> {
         let view = ArrayView2::from_shape((nz, nt), data).map_err(shape)?;
-        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        let ds = array(g, name, view)?;
         attr_str(&ds, "units", units)?;
         attach_scales(&ds, &[(damping, "damping"), (period, "period")])
     };
@@ -168,7 +168,7 @@ pub fn write_statistics(
     three(&red, "of_mean", &st.reduction_of_mean, "1")?;
     for (name, data) in [("count", &st.count), ("flagged", &st.flagged)] {
         let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape)?;
-        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        let ds = array(&g, name, view)?;
         attr_str(&ds, "units", "1")?;
         attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, "period")])?;
     }

@@ -1,17 +1,17 @@
 //! The HDF5 file of a sweep (layout in `docs/hdf5-layout.md`): written from
-//! a plan and its results, and read back for `quakejoint merge`.
+//! a plan and its results (read back by [`crate::sweep_read`]).
 
 use std::path::Path;
 
-use hdf5::types::VarLenUnicode;
-use ndarray::{ArrayView1, ArrayView3, ArrayView4};
+use ndarray::{ArrayView3, ArrayView4};
 
 use crate::error::OutputError;
-use crate::h5::{attach_scales, attr_str, read_attr_str, scalar, set_scale, strings_1d, vlu, write_atomically};
+use crate::h5::{array, attach_scales, attr_str, scalar, set_scale, strings, strings_1d, write_atomically};
 use crate::results::{JobHistory, Results, FIELDS, UNITS};
-use crate::run_h5::{write_provenance, Provenance, RecordSource};
+use crate::run_h5::{write_provenance, Provenance};
 use crate::statistics::Statistics;
-use crate::suite_h5::{read_suite, write_statistics, write_suite, StoredSuite};
+use crate::suite_h5::{write_statistics, write_suite, StoredSuite};
+pub use crate::sweep_read::read_sweep;
 
 /// Version of the sweep file layout.
 pub const SCHEMA_VERSION: u32 = 8;
@@ -69,10 +69,6 @@ pub struct SweepFile {
     pub results: Results,
 }
 
-fn strings(data: &[String]) -> hdf5::Result<Vec<VarLenUnicode>> {
-    data.iter().map(|s| vlu(s)).collect()
-}
-
 fn shape_err(e: ndarray::ShapeError) -> hdf5::Error {
     hdf5::Error::from(e.to_string())
 }
@@ -85,10 +81,17 @@ struct Axes<'a> {
 
 impl Axes<'_> {
     /// Writes a (case, record, damping, period) array with its axes.
-    fn ds4<T: hdf5::H5Type>(&self, g: &hdf5::Group, name: &str, data: &[T]) -> hdf5::Result<hdf5::Dataset> {
+    fn ds4<T: hdf5::H5Type + Clone>(&self, g: &hdf5::Group, name: &str, data: &[T]) -> hdf5::Result<hdf5::Dataset> {
         let d = self.dims;
         let view = ArrayView4::from_shape((d[0], d[1], d[2], d[3]), data).map_err(shape_err)?;
-        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        let ds = array(g, name, view)?;
+        attach_scales(&ds, &self.scales)?;
+        Ok(ds)
+    }
+
+    /// Writes a (case, record, damping, period) array of text with its axes.
+    fn text4(&self, g: &hdf5::Group, name: &str, data: &[String]) -> hdf5::Result<hdf5::Dataset> {
+        let ds = strings(g, name, data, &self.dims)?;
         attach_scales(&ds, &self.scales)?;
         Ok(ds)
     }
@@ -97,7 +100,7 @@ impl Axes<'_> {
     fn ds3(&self, g: &hdf5::Group, name: &str, data: &[f64]) -> hdf5::Result<hdf5::Dataset> {
         let d = self.dims;
         let view = ArrayView3::from_shape((d[1], d[2], d[3]), data).map_err(shape_err)?;
-        let ds = g.new_dataset_builder().with_data(view).create(name)?;
+        let ds = array(g, name, view)?;
         attach_scales(&ds, &self.scales[1..])?;
         Ok(ds)
     }
@@ -123,15 +126,15 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         let names: Vec<String> = f.records.iter().map(|r| r.name.clone()).collect();
         let case = strings_1d(&spec, "case", &f.cases)?;
         let record = strings_1d(&spec, "record", &names)?;
-        let damping = spec.new_dataset_builder().with_data(&f.damping[..]).create("damping")?;
+        let damping = array(&spec, "damping", &f.damping[..])?;
         attr_str(&damping, "units", "1")?;
-        let period = spec.new_dataset_builder().with_data(&f.periods[..]).create("period")?;
+        let period = array(&spec, "period", &f.periods[..])?;
         attr_str(&period, "units", "s")?;
         for (ds, name) in [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, "period")] {
             set_scale(ds, name)?;
         }
         strings_1d(&spec, "case_config", &f.case_configs)?;
-        let scope = spec.new_dataset_builder().with_data(ArrayView1::from(&f.scope)).create("scope")?;
+        let scope = array(&spec, "scope", &f.scope[..])?;
         attr_str(&scope, "meaning", "flat indices of the jobs this file is responsible for (its shard's, or all)")?;
         let axes = Axes {
             dims: r.dims,
@@ -150,10 +153,10 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         }
         let ds = axes.ds4(&with, "status", &r.status)?;
         attr_str(&ds, "meaning", "0 ok, 1 simulation failed, 2 invalid parameters, 3 time or step limit, -1 not run")?;
-        axes.ds4(&with, "message", &strings(&r.messages)?)?;
+        axes.text4(&with, "message", &r.messages)?;
         let ds = axes.ds4(&with, "validity", &r.validity)?;
         attr_str(&ds, "meaning", &quakejoint_model::validity::Flags::legend())?;
-        axes.ds4(&with, "findings", &strings(&r.findings)?)?;
+        axes.text4(&with, "findings", &r.findings)?;
         let ds = axes.ds4(&spec, "reduction", &r.reduction())?;
         attr_str(&ds, "units", "1")?;
         if r.dims[1] >= 2 {
@@ -167,7 +170,7 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         let recs = file.create_group("records")?;
         for rec in &f.records {
             let g = recs.create_group(&rec.name)?;
-            let ds = g.new_dataset_builder().with_data(ArrayView1::from(&rec.acceleration)).create("acceleration")?;
+            let ds = array(&g, "acceleration", &rec.acceleration[..])?;
             attr_str(&ds, "units", "m/s^2")?;
             attr_str(&g, "source", &rec.source)?;
             attr_str(&g, "sha256", &rec.sha256)?;
@@ -213,152 +216,6 @@ fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: 
         crate::h5::dataset_2d(&g, "contact_force", &h.contact_force, "N")?;
     }
     Ok(())
-}
-
-/// The rows of a 2-D dataset (empty if it is absent).
-fn read_rows(g: &hdf5::Group, name: &str) -> hdf5::Result<Vec<Vec<f64>>> {
-    match g.dataset(name) {
-        Ok(ds) => {
-            let a: ndarray::Array2<f64> = ds.read_2d()?;
-            Ok(a.rows().into_iter().map(|r| r.to_vec()).collect())
-        }
-        Err(_) => Ok(Vec::new()),
-    }
-}
-
-fn read_strings(ds: &hdf5::Dataset) -> hdf5::Result<Vec<String>> {
-    Ok(ds.read_raw::<VarLenUnicode>()?.iter().map(|s| s.as_str().to_string()).collect())
-}
-
-/// Reads what [`write_provenance`] wrote.
-fn read_provenance(file: &hdf5::File) -> hdf5::Result<Provenance> {
-    let mut records = Vec::new();
-    if let Ok(inputs) = file.group("inputs/records") {
-        for role in inputs.member_names()? {
-            let g = inputs.group(&role)?;
-            records.push(RecordSource {
-                name: read_attr_str(&g, "name")?,
-                file: read_attr_str(&g, "file")?,
-                sha256: read_attr_str(&g, "sha256")?,
-                units: read_attr_str(&g, "file_units")?,
-                samples: g.attr("samples")?.read_scalar::<u64>()? as usize,
-                dt: g.dataset("dt")?.read_scalar()?,
-                scale: g.dataset("scale")?.read_scalar()?,
-                role,
-            });
-        }
-    }
-    Ok(Provenance {
-        command: read_attr_str(file, "command")?,
-        config_path: read_attr_str(file, "config_path")?,
-        config_file: read_attr_str(file, "config_file")?,
-        config: read_attr_str(file, "config")?,
-        records,
-        // absent in files of schema 3 written before warnings were kept
-        warnings: read_attr_str(file, "warnings").map(|w| w.lines().map(str::to_string).collect()).unwrap_or_default(),
-    })
-}
-
-/// Reads a sweep file written by [`write_sweep`].
-pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
-    let inner = || -> hdf5::Result<SweepFile> {
-        let file = hdf5::File::open(path)?;
-        if read_attr_str(&file, "kind")? != "sweep" {
-            return Err(hdf5::Error::from("not a sweep file (attribute kind != sweep)"));
-        }
-        let spec = file.group("spectrum")?;
-        let periods: Vec<f64> = spec.dataset("period")?.read_raw()?;
-        let damping: Vec<f64> = spec.dataset("damping")?.read_raw()?;
-        let record_names = read_strings(&spec.dataset("record")?)?;
-        let cases = read_strings(&spec.dataset("case")?)?;
-        let scope: Vec<u32> = spec.dataset("scope")?.read_raw()?;
-        let dims = [cases.len(), record_names.len(), damping.len(), periods.len()];
-        let mut results = Results::new(dims);
-        let with = spec.group("with_joint")?;
-        for (k, name) in FIELDS.iter().enumerate() {
-            results.values[k] = with.dataset(name)?.read_raw()?;
-        }
-        results.status = with.dataset("status")?.read_raw()?;
-        results.messages = read_strings(&with.dataset("message")?)?;
-        results.validity = with.dataset("validity")?.read_raw()?;
-        results.findings = read_strings(&with.dataset("findings")?)?;
-        let without = spec.group("without_joint")?;
-        for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
-            results.without[k] = without.dataset(name)?.read_raw()?;
-        }
-        let (n, m) = (dims.iter().product::<usize>(), dims[1] * dims[2] * dims[3]);
-        let sizes_ok = results.status.len() == n
-            && results.values.iter().all(|v| v.len() == n)
-            && results.messages.len() == n
-            && results.validity.len() == n
-            && results.findings.len() == n
-            && results.without.iter().all(|v| v.len() == m);
-        if !sizes_ok || dims.contains(&0) {
-            return Err(hdf5::Error::from("the result arrays do not match the grid (case, record, damping, period)"));
-        }
-        if let Some(&j) = scope.iter().find(|&&j| j as usize >= n) {
-            return Err(hdf5::Error::from(format!("scope names job {j}, beyond the sweep's jobs")));
-        }
-        let recs = file.group("records")?;
-        let mut records = Vec::new();
-        for name in &record_names {
-            let g = recs.group(name)?;
-            let number = |n: &str| -> hdf5::Result<f64> { g.dataset(n)?.read_scalar() };
-            records.push(StoredRecord {
-                name: name.clone(),
-                source: read_attr_str(&g, "source")?,
-                sha256: read_attr_str(&g, "sha256")?,
-                file_units: read_attr_str(&g, "file_units")?,
-                dt: number("dt")?,
-                scale: number("scale")?,
-                pga: number("pga")?,
-                acceleration: g.dataset("acceleration")?.read_raw()?,
-            });
-        }
-        if let Ok(hist) = file.group("histories") {
-            for name in hist.member_names()? {
-                let g = hist.group(&name)?;
-                let job: u64 = g.attr("job")?.read_scalar()?;
-                if job >= n as u64 {
-                    return Err(hdf5::Error::from(format!("history {name} names job {job}, beyond the sweep's jobs")));
-                }
-                let read = |n: &str| -> hdf5::Result<Vec<f64>> { g.dataset(n)?.read_raw() };
-                results.histories.insert(
-                    job as u32,
-                    JobHistory {
-                        t: read("t")?,
-                        ag: read("ag")?,
-                        u: read("u")?,
-                        a_abs: read("a_abs")?,
-                        a_abs_without_joint: read("a_abs_without_joint")?,
-                        joint_force: read("joint_force")?,
-                        friction_power: read("friction_power")?,
-                        subgaps: read_rows(&g, "subgaps")?,
-                        contact_force: read_rows(&g, "contact_force")?,
-                    },
-                );
-            }
-        }
-        let provenance = read_provenance(&file)?;
-        let case_configs = read_strings(&spec.dataset("case_config")?)?;
-        if case_configs.len() != cases.len() {
-            return Err(hdf5::Error::from("case_config does not match the cases"));
-        }
-        Ok(SweepFile {
-            provenance,
-            case_configs,
-            config_sha256: read_attr_str(&file, "config_sha256")?,
-            shard: read_attr_str(&file, "shard")?,
-            scope,
-            periods,
-            damping,
-            cases,
-            records,
-            suite: read_suite(&file)?,
-            results,
-        })
-    };
-    inner().map_err(|e| OutputError::hdf5(path, e))
 }
 
 impl SweepFile {

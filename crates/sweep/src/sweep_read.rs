@@ -1,0 +1,328 @@
+//! Reading a sweep file back ([`read_sweep`]), for continuing a sweep,
+//! `sweep --check`, `merge` and `compare`, and checking it on the way.
+//!
+//! Every dataset is read, and what can be derived from the rest is
+//! checked against it, bit for bit: the reduction and the statistics
+//! against the results, a history's period, damping, case, record and
+//! validity against the grid and the results, a stored record's PGA
+//! against its samples, the provenance of each record against the stored
+//! record. HDF5 checks each dataset's checksum on the way
+//! ([`crate::h5`]). A file that fails any of this is refused with the
+//! dataset named: a damaged file is never taken for a good one.
+
+use std::path::Path;
+
+use hdf5::{Dataset, Group, H5Type};
+
+use crate::error::OutputError;
+use crate::h5::{read_attr_str, read_strings};
+use crate::results::{JobHistory, Results, FIELDS};
+use crate::run_h5::{Provenance, RecordSource};
+use crate::statistics::Statistics;
+use crate::suite_h5::read_suite;
+use crate::sweep_h5::{StoredRecord, SweepFile};
+
+/// An error about one object of the file, in words: a failed checksum
+/// says the file is damaged.
+fn about(what: &str, e: hdf5::Error) -> hdf5::Error {
+    let text = e.to_string();
+    if text.contains("checksum") || text.contains("filter returned failure") {
+        hdf5::Error::from(format!("{what} is damaged: its checksum fails"))
+    } else if text.starts_with(what) {
+        e
+    } else {
+        hdf5::Error::from(format!("{what}: {text}"))
+    }
+}
+
+/// `group/name`, as HDF5 names it.
+fn path_of(g: &Group, name: &str) -> String {
+    format!("{}/{name}", g.name().trim_end_matches('/'))
+}
+
+fn dataset(g: &Group, name: &str) -> hdf5::Result<Dataset> {
+    g.dataset(name).map_err(|e| about(&path_of(g, name), e))
+}
+
+fn group(g: &Group, name: &str) -> hdf5::Result<Group> {
+    g.group(name).map_err(|e| about(&path_of(g, name), e))
+}
+
+/// The values of a dataset, in row-major order.
+fn values<T: H5Type>(g: &Group, name: &str) -> hdf5::Result<Vec<T>> {
+    dataset(g, name)?.read_raw().map_err(|e| about(&path_of(g, name), e))
+}
+
+/// A scalar dataset.
+fn number(g: &Group, name: &str) -> hdf5::Result<f64> {
+    dataset(g, name)?.read_scalar().map_err(|e| about(&path_of(g, name), e))
+}
+
+/// A text dataset.
+fn text(g: &Group, name: &str) -> hdf5::Result<Vec<String>> {
+    read_strings(&dataset(g, name)?).map_err(|e| about(&path_of(g, name), e))
+}
+
+/// A string attribute.
+fn attr(g: &hdf5::Location, name: &str) -> hdf5::Result<String> {
+    read_attr_str(g, name).map_err(|e| about(&format!("{} attribute {name}", g.name()), e))
+}
+
+/// A numeric attribute.
+fn attr_number<T: H5Type>(g: &hdf5::Location, name: &str) -> hdf5::Result<T> {
+    g.attr(name).and_then(|a| a.read_scalar()).map_err(|e| about(&format!("{} attribute {name}", g.name()), e))
+}
+
+/// The rows of a 2-D dataset (empty if it is absent).
+fn rows(g: &Group, name: &str) -> hdf5::Result<Vec<Vec<f64>>> {
+    if !g.link_exists(name) {
+        return Ok(Vec::new());
+    }
+    let a: ndarray::Array2<f64> = dataset(g, name)?.read_2d().map_err(|e| about(&path_of(g, name), e))?;
+    Ok(a.rows().into_iter().map(|r| r.to_vec()).collect())
+}
+
+/// Whether two arrays hold the same bits.
+pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// The refusal of a dataset that disagrees with what it is derived from.
+fn disagrees(what: &str, from: &str) -> hdf5::Error {
+    hdf5::Error::from(format!(
+        "{what} does not match {from} it is derived from: the file is damaged or was changed after it was written"
+    ))
+}
+
+/// Reads what [`crate::run_h5::write_provenance`] wrote.
+fn read_provenance(file: &hdf5::File) -> hdf5::Result<Provenance> {
+    let mut records = Vec::new();
+    if file.link_exists("inputs") {
+        let inputs = group(file, "inputs/records")?;
+        for role in inputs.member_names()? {
+            let g = group(&inputs, &role)?;
+            records.push(RecordSource {
+                name: attr(&g, "name")?,
+                file: attr(&g, "file")?,
+                sha256: attr(&g, "sha256")?,
+                units: attr(&g, "file_units")?,
+                samples: attr_number::<u64>(&g, "samples")? as usize,
+                dt: number(&g, "dt")?,
+                scale: number(&g, "scale")?,
+                role,
+            });
+        }
+    }
+    Ok(Provenance {
+        command: attr(file, "command")?,
+        config_path: attr(file, "config_path")?,
+        config_file: attr(file, "config_file")?,
+        config: attr(file, "config")?,
+        records,
+        // absent in files of schema 3 written before warnings were kept
+        warnings: read_attr_str(file, "warnings").map(|w| w.lines().map(str::to_string).collect()).unwrap_or_default(),
+    })
+}
+
+/// The results with the joint and without it.
+fn read_results(spec: &Group, dims: [usize; 4]) -> hdf5::Result<Results> {
+    let mut results = Results::new(dims);
+    let with = group(spec, "with_joint")?;
+    for (k, name) in FIELDS.iter().enumerate() {
+        results.values[k] = values(&with, name)?;
+    }
+    results.status = values(&with, "status")?;
+    results.messages = text(&with, "message")?;
+    results.validity = values(&with, "validity")?;
+    results.findings = text(&with, "findings")?;
+    let without = group(spec, "without_joint")?;
+    for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
+        results.without[k] = values(&without, name)?;
+    }
+    let (n, m) = (dims.iter().product::<usize>(), dims[1] * dims[2] * dims[3]);
+    let sizes_ok = results.status.len() == n
+        && results.values.iter().all(|v| v.len() == n)
+        && results.messages.len() == n
+        && results.validity.len() == n
+        && results.findings.len() == n
+        && results.without.iter().all(|v| v.len() == m);
+    if !sizes_ok || dims.contains(&0) {
+        return Err(hdf5::Error::from("the result arrays do not match the grid (case, record, damping, period)"));
+    }
+    Ok(results)
+}
+
+/// `/spectrum/reduction` and `/spectrum/statistics` against the results.
+fn check_derived(spec: &Group, results: &Results) -> hdf5::Result<()> {
+    if !same_bits(&values(spec, "reduction")?, &results.reduction()) {
+        return Err(disagrees("/spectrum/reduction", "the spectra with and without the joint"));
+    }
+    let has = spec.link_exists("statistics");
+    if has != (results.dims[1] >= 2) {
+        return Err(hdf5::Error::from(format!(
+            "/spectrum/statistics is {} for {} records",
+            if has { "present" } else { "missing" },
+            results.dims[1]
+        )));
+    }
+    if !has {
+        return Ok(());
+    }
+    let st = Statistics::of(results);
+    let g = group(spec, "statistics")?;
+    let arrays: [(&str, &[f64]); 10] = [
+        ("with_joint/mean", &st.with_mean),
+        ("with_joint/median", &st.with_median),
+        ("with_joint/dispersion", &st.with_dispersion),
+        ("without_joint/mean", &st.without_mean),
+        ("without_joint/median", &st.without_median),
+        ("without_joint/dispersion", &st.without_dispersion),
+        ("reduction/mean", &st.reduction_mean),
+        ("reduction/median", &st.reduction_median),
+        ("reduction/std", &st.reduction_std),
+        ("reduction/of_mean", &st.reduction_of_mean),
+    ];
+    for (name, expected) in arrays {
+        if !same_bits(&values(&g, name)?, expected) {
+            return Err(disagrees(&format!("/spectrum/statistics/{name}"), "the results"));
+        }
+    }
+    for (name, expected) in [("count", &st.count), ("flagged", &st.flagged)] {
+        if &values::<u32>(&g, name)? != expected {
+            return Err(disagrees(&format!("/spectrum/statistics/{name}"), "the results"));
+        }
+    }
+    Ok(())
+}
+
+/// The records stored in `/records`, each checked against its own PGA.
+fn read_records(file: &hdf5::File, names: &[String]) -> hdf5::Result<Vec<StoredRecord>> {
+    let recs = group(file, "records")?;
+    let mut records = Vec::new();
+    for name in names {
+        let g = group(&recs, name)?;
+        let r = StoredRecord {
+            name: name.clone(),
+            source: attr(&g, "source")?,
+            sha256: attr(&g, "sha256")?,
+            file_units: attr(&g, "file_units")?,
+            dt: number(&g, "dt")?,
+            scale: number(&g, "scale")?,
+            pga: number(&g, "pga")?,
+            acceleration: values(&g, "acceleration")?,
+        };
+        let pga = r.acceleration.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        if pga.to_bits() != r.pga.to_bits() {
+            return Err(disagrees(&format!("/records/{name}/pga"), "the record's acceleration"));
+        }
+        records.push(r);
+    }
+    Ok(records)
+}
+
+/// The provenance of each stored record must describe it.
+fn check_inputs(provenance: &Provenance, records: &[StoredRecord]) -> hdf5::Result<()> {
+    for r in records {
+        let Some(p) = provenance.records.iter().find(|p| p.role == r.name) else {
+            return Err(hdf5::Error::from(format!("/inputs/records has no entry for the record {}", r.name)));
+        };
+        let same = p.dt.to_bits() == r.dt.to_bits()
+            && p.scale.to_bits() == r.scale.to_bits()
+            && p.samples == r.acceleration.len()
+            && (&p.sha256, &p.units, &p.file) == (&r.sha256, &r.file_units, &r.source);
+        if !same {
+            return Err(disagrees(&format!("/inputs/records/{}", r.name), "the stored record"));
+        }
+    }
+    Ok(())
+}
+
+/// The histories in `/histories`, each checked against the grid and the
+/// job's results.
+fn read_histories(file: &hdf5::File, f: &mut SweepFile) -> hdf5::Result<()> {
+    if !file.link_exists("histories") {
+        return Ok(());
+    }
+    let hist = group(file, "histories")?;
+    let d = f.results.dims;
+    for name in hist.member_names()? {
+        let g = group(&hist, &name)?;
+        let job = attr_number::<u64>(&g, "job")?;
+        if name != format!("job_{job}") || job >= f.results.status.len() as u64 {
+            return Err(hdf5::Error::from(format!("/histories/{name} names job {job}, not its own")));
+        }
+        let j = job as usize;
+        let (c, r, z, t) = (j / (d[1] * d[2] * d[3]), j / (d[2] * d[3]) % d[1], j / d[3] % d[2], j % d[3]);
+        let meta_ok = attr(&g, "case")? == f.cases[c]
+            && attr(&g, "record")? == f.records[r].name
+            && number(&g, "damping")?.to_bits() == f.damping[z].to_bits()
+            && number(&g, "period")?.to_bits() == f.periods[t].to_bits()
+            && attr_number::<u32>(&g, "validity")? == f.results.validity[j]
+            && attr(&g, "validity_label")? == quakejoint_model::validity::Flags(f.results.validity[j]).label()
+            && attr(&g, "findings")? == f.results.findings[j];
+        if !meta_ok {
+            return Err(disagrees(&format!("/histories/{name}"), "the grid and the job's results"));
+        }
+        let h = JobHistory {
+            t: values(&g, "t")?,
+            ag: values(&g, "ag")?,
+            u: values(&g, "u")?,
+            a_abs: values(&g, "a_abs")?,
+            a_abs_without_joint: values(&g, "a_abs_without_joint")?,
+            joint_force: values(&g, "joint_force")?,
+            friction_power: values(&g, "friction_power")?,
+            subgaps: rows(&g, "subgaps")?,
+            contact_force: rows(&g, "contact_force")?,
+        };
+        f.results.histories.insert(job as u32, h);
+    }
+    Ok(())
+}
+
+/// Reads a sweep file written by [`crate::sweep_h5::write_sweep`], every
+/// dataset of it, and checks what is derived against what it is derived
+/// from (module doc).
+pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
+    let inner = || -> hdf5::Result<SweepFile> {
+        let file = hdf5::File::open(path)?;
+        if attr(&file, "kind")? != "sweep" {
+            return Err(hdf5::Error::from("not a sweep file (attribute kind != sweep)"));
+        }
+        let spec = group(&file, "spectrum")?;
+        let periods: Vec<f64> = values(&spec, "period")?;
+        let damping: Vec<f64> = values(&spec, "damping")?;
+        let record_names = text(&spec, "record")?;
+        let cases = text(&spec, "case")?;
+        let scope: Vec<u32> = values(&spec, "scope")?;
+        let dims = [cases.len(), record_names.len(), damping.len(), periods.len()];
+        let results = read_results(&spec, dims)?;
+        let n = results.status.len();
+        if let Some(&j) = scope.iter().find(|&&j| j as usize >= n) {
+            return Err(hdf5::Error::from(format!("/spectrum/scope names job {j}, beyond the sweep's jobs")));
+        }
+        check_derived(&spec, &results)?;
+        let records = read_records(&file, &record_names)?;
+        let provenance = read_provenance(&file)?;
+        check_inputs(&provenance, &records)?;
+        let case_configs = text(&spec, "case_config")?;
+        if case_configs.len() != cases.len() {
+            return Err(hdf5::Error::from("/spectrum/case_config does not match the cases"));
+        }
+        let mut f = SweepFile {
+            provenance,
+            case_configs,
+            config_sha256: attr(&file, "config_sha256")?,
+            shard: attr(&file, "shard")?,
+            scope,
+            periods,
+            damping,
+            cases,
+            records,
+            suite: read_suite(&file).map_err(|e| about("/suite", e))?,
+            results,
+        };
+        read_histories(&file, &mut f)?;
+        Ok(f)
+    };
+    inner().map_err(|e| OutputError::hdf5(path, e))
+}
