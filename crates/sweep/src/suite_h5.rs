@@ -3,7 +3,7 @@
 
 use ndarray::{ArrayView2, ArrayView3};
 
-use crate::h5::{array, attach_scales, attr_str, read_attr_str, scalar};
+use crate::h5::{array, attach_scales, attr_str, scalar};
 use crate::plan::Suite;
 use crate::statistics::Statistics;
 
@@ -101,26 +101,27 @@ pub fn write_suite(
 
 /// Reads `/suite` (None when the sweep has no suite).
 pub fn read_suite(file: &hdf5::File) -> hdf5::Result<Option<StoredSuite>> {
-    let Ok(g) = file.group("suite") else { return Ok(None) };
-    let vec = |n: &str| -> hdf5::Result<Vec<f64>> { g.dataset(n)?.read_raw() };
-    let num = |n: &str| -> hdf5::Result<f64> { g.dataset(n)?.read_scalar() };
-    let fit = g.group("fit")?;
-    let fv = |n: &str| -> hdf5::Result<Vec<f64>> { fit.dataset(n)?.read_raw() };
-    let range = vec("range")?;
+    use crate::sweep_read::{attr, attr_number, group, number, values};
+    if !file.link_exists("suite") {
+        return Ok(None);
+    }
+    let g = group(file, "suite")?;
+    let fit = group(&g, "fit")?;
+    let range: Vec<f64> = values(&g, "range")?;
     Ok(Some(StoredSuite {
-        target: read_attr_str(&g, "target")?,
-        target_config: read_attr_str(&g, "target_config")?,
-        rule: read_attr_str(&g, "rule")?,
+        target: attr(&g, "target")?,
+        target_config: attr(&g, "target_config")?,
+        rule: attr(&g, "rule")?,
         range: [range.first().copied().unwrap_or(f64::NAN), range.get(1).copied().unwrap_or(f64::NAN)],
-        factors: vec("factor")?,
-        rule_factor: num("rule_factor")?,
-        fit_periods: fv("period")?,
-        fit_target: fv("target")?,
-        fit_mean: fv("mean")?,
-        min_ratio: [num("min_ratio")?, num("min_ratio_period")?],
-        ec8_satisfied: g.attr("ec8_satisfied")?.read_scalar::<u8>()? != 0,
-        pga_ratio: num("pga_ratio")?,
-        target_sa: vec("target_sa")?,
+        factors: values(&g, "factor")?,
+        rule_factor: number(&g, "rule_factor")?,
+        fit_periods: values(&fit, "period")?,
+        fit_target: values(&fit, "target")?,
+        fit_mean: values(&fit, "mean")?,
+        min_ratio: [number(&g, "min_ratio")?, number(&g, "min_ratio_period")?],
+        ec8_satisfied: attr_number::<u8>(&g, "ec8_satisfied")? != 0,
+        pga_ratio: number(&g, "pga_ratio")?,
+        target_sa: values(&g, "target_sa")?,
     }))
 }
 

@@ -14,7 +14,7 @@ use crate::suite_h5::{write_statistics, write_suite, StoredSuite};
 pub use crate::sweep_read::read_sweep;
 
 /// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 8;
+pub const SCHEMA_VERSION: u32 = 9;
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]

@@ -40,36 +40,36 @@ fn path_of(g: &Group, name: &str) -> String {
     format!("{}/{name}", g.name().trim_end_matches('/'))
 }
 
-fn dataset(g: &Group, name: &str) -> hdf5::Result<Dataset> {
+pub(crate) fn dataset(g: &Group, name: &str) -> hdf5::Result<Dataset> {
     g.dataset(name).map_err(|e| about(&path_of(g, name), e))
 }
 
-fn group(g: &Group, name: &str) -> hdf5::Result<Group> {
+pub(crate) fn group(g: &Group, name: &str) -> hdf5::Result<Group> {
     g.group(name).map_err(|e| about(&path_of(g, name), e))
 }
 
 /// The values of a dataset, in row-major order.
-fn values<T: H5Type>(g: &Group, name: &str) -> hdf5::Result<Vec<T>> {
+pub(crate) fn values<T: H5Type>(g: &Group, name: &str) -> hdf5::Result<Vec<T>> {
     dataset(g, name)?.read_raw().map_err(|e| about(&path_of(g, name), e))
 }
 
 /// A scalar dataset.
-fn number(g: &Group, name: &str) -> hdf5::Result<f64> {
+pub(crate) fn number(g: &Group, name: &str) -> hdf5::Result<f64> {
     dataset(g, name)?.read_scalar().map_err(|e| about(&path_of(g, name), e))
 }
 
 /// A text dataset.
-fn text(g: &Group, name: &str) -> hdf5::Result<Vec<String>> {
+pub(crate) fn text(g: &Group, name: &str) -> hdf5::Result<Vec<String>> {
     read_strings(&dataset(g, name)?).map_err(|e| about(&path_of(g, name), e))
 }
 
 /// A string attribute.
-fn attr(g: &hdf5::Location, name: &str) -> hdf5::Result<String> {
+pub(crate) fn attr(g: &hdf5::Location, name: &str) -> hdf5::Result<String> {
     read_attr_str(g, name).map_err(|e| about(&format!("{} attribute {name}", g.name()), e))
 }
 
 /// A numeric attribute.
-fn attr_number<T: H5Type>(g: &hdf5::Location, name: &str) -> hdf5::Result<T> {
+pub(crate) fn attr_number<T: H5Type>(g: &hdf5::Location, name: &str) -> hdf5::Result<T> {
     g.attr(name).and_then(|a| a.read_scalar()).map_err(|e| about(&format!("{} attribute {name}", g.name()), e))
 }
 
@@ -318,7 +318,7 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
             damping,
             cases,
             records,
-            suite: read_suite(&file).map_err(|e| about("/suite", e))?,
+            suite: read_suite(&file)?,
             results,
         };
         read_histories(&file, &mut f)?;
