@@ -246,8 +246,9 @@ pub struct ServiceArgs {
 /// A record file and how to read it (`record` and `spectrum`).
 #[derive(Debug, Args)]
 pub struct RecordFileArgs {
-    /// The record: PEER NGA-West2 .AT2, ESM or K-NET ASCII, two-column
-    /// time/acceleration text or CSV, or one-column text (give --dt).
+    /// The record: PEER NGA-West2 .AT2, ESM or K-NET ASCII, COSMOS, CSMIP
+    /// Volume 1/2 (CESMD), two-column time/acceleration text or CSV, or
+    /// one-column text (give --dt).
     pub file: PathBuf,
     #[command(flatten)]
     pub read: RecordReadArgs,
@@ -266,9 +267,21 @@ pub struct RecordReadArgs {
     /// Time step of a one-column file [s].
     #[arg(long, allow_negative_numbers = true)]
     pub dt: Option<f64>,
-    /// Column holding the acceleration in a multi-column file (1-based).
+    /// Column holding the acceleration in a multi-column text file (1-based).
     #[arg(long)]
     pub column: Option<usize>,
+    /// Channel of a COSMOS or CSMIP file that holds several, by its number
+    /// in the file (`Chan 2`).
+    #[arg(long)]
+    pub channel: Option<u32>,
+    /// Channel of a COSMOS or CSMIP file that holds several, by the
+    /// direction it points [degrees clockwise from north].
+    #[arg(long)]
+    pub azimuth: Option<f64>,
+    /// Read a vertical component (refused otherwise: the excitation is
+    /// horizontal).
+    #[arg(long)]
+    pub allow_vertical: bool,
     /// Scale factor applied after the unit conversion (default 1).
     #[arg(long, allow_negative_numbers = true)]
     pub scale: Option<f64>,
@@ -280,7 +293,7 @@ pub struct RecordReadArgs {
 /// Record file formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum FormatArg {
-    /// From the extension (.at2), the header (ESM, K-NET, COSMOS) and --dt.
+    /// From the extension (.at2), the header (ESM, K-NET, COSMOS, CSMIP) and --dt.
     Auto,
     /// PEER NGA-West2 AT2.
     At2,
@@ -294,6 +307,9 @@ pub enum FormatArg {
     Knet,
     /// COSMOS V1/V2 acceleration.
     Cosmos,
+    /// CSMIP/DMG Volume 1 or 2 (CESMD .v1, .RAW, .V2).
+    #[value(alias = "dmg")]
+    Csmip,
     /// Values in reading order, any number per line, with --dt.
     Sequence,
 }
@@ -324,6 +340,9 @@ impl RecordReadArgs {
             || self.units.is_some()
             || self.dt.is_some()
             || self.column.is_some()
+            || self.channel.is_some()
+            || self.azimuth.is_some()
+            || self.allow_vertical
             || self.scale.is_some()
             || self.target_pga_g.is_some()
     }
@@ -339,6 +358,7 @@ impl RecordReadArgs {
             FormatArg::Esm => quakejoint_motion::Format::Esm,
             FormatArg::Knet => quakejoint_motion::Format::Knet,
             FormatArg::Cosmos => quakejoint_motion::Format::Cosmos,
+            FormatArg::Csmip => quakejoint_motion::Format::Csmip,
             FormatArg::Sequence => quakejoint_motion::Format::Sequence,
         };
         spec.units = self.units.map(|u| match u {
@@ -348,6 +368,9 @@ impl RecordReadArgs {
         });
         spec.dt = self.dt;
         spec.column = self.column;
+        spec.channel = self.channel;
+        spec.azimuth = self.azimuth;
+        spec.allow_vertical = self.allow_vertical;
         spec.scale = self.scale.unwrap_or(1.0);
         spec.target_pga_g = self.target_pga_g;
         spec

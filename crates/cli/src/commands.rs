@@ -355,7 +355,8 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         PathBuf::new()
     } else if a.read.any() {
         return Err(InputError(
-            "--format, --units, --dt, --column, --scale and --target-pga-g describe the file of --record; without \
+            "--format, --units, --dt, --column, --channel, --azimuth, --allow-vertical, --scale and --target-pga-g \
+             describe the file of --record; without \
              --record, set them in the config's [record]"
                 .into(),
         )

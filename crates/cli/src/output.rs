@@ -398,6 +398,7 @@ pub fn record_stats(loaded: &LoadedRecord, s: &RecordStats, json: bool) {
             "arias": s.arias,
             "d5_95": s.d5_95, "t5": s.t5, "t95": s.t95,
             "scale": record.scale,
+            "channel": loaded.channel,
             "warnings": warnings,
             "units": {
                 "dt": "s", "duration": "s", "pga": "m/s^2", "t_pga": "s", "pgv": "m/s", "t_pgv": "s",
@@ -424,9 +425,12 @@ pub fn record_stats(loaded: &LoadedRecord, s: &RecordStats, json: bool) {
         record.units.name(),
         quakejoint_motion::number(record.user_scale)
     );
+    if let Some(c) = &loaded.channel {
+        out!("  channel           {}", c.describe());
+    }
     out!("  dt                {:>12.5} s", s.dt);
     out!("  samples           {:>12}", s.samples);
-    out!("  duration          {:>12.3} s", s.duration);
+    out!("  duration          {:>12.3} s (first to last sample: (samples - 1) dt)", s.duration);
     out!("  PGA               {:>12.5} m/s^2 ({:.4} g) at t = {:.3} s", s.pga, s.pga / g, s.t_pga);
     out!("  PGV               {:>12.5} m/s at t = {:.3} s", s.pgv, s.t_pgv);
     out!("  PGD               {:>12.5} m at t = {:.3} s (raw integration, no baseline correction)", s.pgd, s.t_pgd);

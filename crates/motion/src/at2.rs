@@ -169,7 +169,7 @@ pub fn parse_at2(text: &str, file: &str) -> Result<RawRecord, RecordError> {
             found: values.len(),
         });
     }
-    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings: Vec::new() })
+    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings: Vec::new(), channel: None })
 }
 
 #[cfg(test)]

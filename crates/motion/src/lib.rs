@@ -1,7 +1,8 @@
 //! Ground-motion records and exact linear response spectra.
 //!
 //! Read a record (PEER NGA-West2 `.AT2`, ESM and K-NET/KiK-net ASCII,
-//! COSMOS V1/V2, two-column time/acceleration text or CSV, one-column text
+//! COSMOS V1/V2, CSMIP/DMG Volume 1/2 (CESMD), two-column time/acceleration
+//! text or CSV, one-column text
 //! or a sequence of values with a given time step) described by a
 //! [`RecordSpec`], get a [`Record`] in m/s² with a uniform time step, its
 //! [`RecordStats`] (PGA, PGV, PGD, Arias intensity, significant duration) and
@@ -60,7 +61,10 @@ pub mod text;
 
 pub use at2::parse_at2;
 pub use error::{RecordError, SpectrumError};
-pub use formats::{cosmos::parse_cosmos, detect_format, esm::parse_esm, knet::parse_knet, sniff_format};
+pub use formats::channel::{Channel, ChannelChoice, Orientation};
+pub use formats::{
+    cosmos::parse_cosmos, csmip::parse_csmip, detect_format, esm::parse_esm, knet::parse_knet, sniff_format,
+};
 pub use oscillator::Oscillator;
 pub use record::{
     load_record, load_record_from_samples, load_record_from_str, sha256_hex, LoadedRecord, RawRecord, Record,

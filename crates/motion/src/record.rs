@@ -5,7 +5,8 @@ use std::path::Path;
 
 use crate::at2::parse_at2;
 use crate::error::RecordError;
-use crate::formats::{cosmos::parse_cosmos, detect_format, esm::parse_esm, knet::parse_knet};
+use crate::formats::channel::Channel;
+use crate::formats::{cosmos::parse_cosmos, csmip::parse_csmip, detect_format, esm::parse_esm, knet::parse_knet};
 use crate::spec::{Format, HeaderUnits, RecordSpec, Units};
 use crate::text::{parse_one_column, parse_sequence, parse_two_column};
 
@@ -26,9 +27,12 @@ pub struct RawRecord {
     /// K-NET scale factor, COSMOS units code, a text column header)
     pub header_units: HeaderUnits,
     /// what the reader found worth saying (a K-NET mean removed, a header
-    /// peak that disagrees with the data, a vertical component, ...), each
-    /// starting with the file's name
+    /// peak that disagrees with the data, ...), each starting with the
+    /// file's name
     pub warnings: Vec<String>,
+    /// the channel read, where the format says which (COSMOS, CSMIP, ESM,
+    /// K-NET): its number, of how many, where it points
+    pub channel: Option<Channel>,
 }
 
 /// A record ready for use: uniform time step, acceleration in m/s² after
@@ -171,6 +175,10 @@ pub struct LoadedRecord {
     /// SHA-256 of the file's bytes (of the text for
     /// [`load_record_from_str`]), in hex: which file it was, for provenance
     pub sha256: String,
+    /// the channel read, where the format says which (COSMOS, CSMIP: one of
+    /// several; ESM, K-NET: the file's one): its number, of how many, and
+    /// where it points
+    pub channel: Option<Channel>,
 }
 
 /// SHA-256 of some bytes, in hex.
@@ -209,10 +217,9 @@ pub fn load_record(spec: &RecordSpec, base_dir: &Path) -> Result<LoadedRecord, R
 pub fn load_record_from_str(spec: &RecordSpec, text: &str) -> Result<LoadedRecord, RecordError> {
     spec.validate()?;
     let format = detect_format(spec, text);
-    if format != spec.resolved_format() {
-        // `dt` or `column` given for a file that turns out to be ESM, say
-        spec.validate_for(format)?;
-    }
+    // `dt` or `column` given for a file that turns out to be ESM, say, or
+    // `channel` for a text file
+    spec.validate_for(format)?;
     let file = spec.file.display().to_string();
     // validate_for() guarantees dt for one-column and sequence files
     let dt = spec.dt.unwrap_or(f64::NAN);
@@ -223,7 +230,8 @@ pub fn load_record_from_str(spec: &RecordSpec, text: &str) -> Result<LoadedRecor
         Format::TwoColumn | Format::Auto => parse_two_column(text, &file, spec.column.unwrap_or(2))?,
         Format::Esm => parse_esm(text, &file)?,
         Format::Knet => parse_knet(text, &file)?,
-        Format::Cosmos => parse_cosmos(text, &file)?,
+        Format::Cosmos => parse_cosmos(text, &file, spec.channel_choice())?,
+        Format::Csmip => parse_csmip(text, &file, spec.channel_choice())?,
     };
     from_raw(spec, format, raw, sha256_hex(text.as_bytes()))
 }
@@ -322,6 +330,7 @@ pub fn load_record_from_samples(spec: &RecordSpec, dt: f64, values: Vec<f64>) ->
         first_time: None,
         header_units: HeaderUnits::NotInFormat,
         warnings: Vec::new(),
+        channel: None,
     };
     from_raw(spec, Format::Sequence, raw, sha256_hex(&bytes))
 }
@@ -333,6 +342,22 @@ fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -
     let mut warnings = Vec::new();
     let units = units_of(spec, format, &raw, &mut warnings)?;
     warnings.extend(raw.warnings.iter().cloned());
+    if let Some(c) = raw.channel.as_ref().filter(|c| c.orientation.is_vertical()) {
+        if !spec.allow_vertical {
+            return Err(RecordError::Spec {
+                file,
+                field: "allow_vertical",
+                message: format!(
+                    "{} is a vertical component, but the joint model's excitation is horizontal (along or across \
+                     the bridge): read a horizontal channel{}, or set `allow_vertical = true` \
+                     (`--allow-vertical`) if the vertical motion is meant",
+                    c.describe(),
+                    if c.of > 1 { " (`channel = N`, `--channel N`)" } else { "" }
+                ),
+            });
+        }
+        warnings.push(format!("{file}: {} is a vertical component, read as asked (`allow_vertical`)", c.describe()));
+    }
     if let Some(t0) = raw.first_time {
         if t0.abs() > 0.5 * raw.dt {
             warnings.push(format!(
@@ -394,7 +419,7 @@ fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -
         user_scale,
         units,
         file_pga,
-        header: raw.header,
+        header: raw.header.clone(),
     };
     validate(&file, record.dt, &record.acceleration)?;
     let pga = record.pga();
@@ -408,5 +433,5 @@ fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -
             100.0 * START_WARNING_FRACTION
         ));
     }
-    Ok(LoadedRecord { format, record, warnings, sha256 })
+    Ok(LoadedRecord { format, record, warnings, sha256, channel: raw.channel })
 }

@@ -96,8 +96,9 @@ pub enum Format {
     /// Decide from the file ([`crate::detect_format`]): an `.at2` extension
     /// (any case) means [`Format::At2`]; else the first line of the content
     /// names ESM (`EVENT_NAME:`), K-NET/KiK-net (`Origin Time`) or COSMOS
-    /// (`... (Format v01.20 ...)`); else plain text: [`Format::OneColumn`]
-    /// if `dt` is given, else [`Format::TwoColumn`].
+    /// (`... (Format v01.20 ...)`) or CSMIP (`Uncorrected Accelerogram
+    /// Data`, `Corrected accelerogram`); else plain text:
+    /// [`Format::OneColumn`] if `dt` is given, else [`Format::TwoColumn`].
     #[default]
     Auto,
     /// PEER NGA `.AT2`: 4 header lines, line 4 holds NPTS and DT, then the
@@ -117,8 +118,12 @@ pub enum Format {
     #[serde(alias = "k-net", alias = "kik-net")]
     Knet,
     /// COSMOS Strong-Motion Data Format v1.20, V1 or V2 acceleration
-    /// (CESMD, CSMIP, USGS; [`crate::formats::cosmos`]).
+    /// ([`crate::formats::cosmos`]).
     Cosmos,
+    /// CSMIP/DMG Volume 1 or Volume 2, the format CESMD distributes
+    /// (`.v1`, `.RAW`, `.V2`; [`crate::formats::csmip`]).
+    #[serde(alias = "dmg")]
+    Csmip,
     /// Numbers in reading order, any number per line (the body of a K-NET,
     /// COSMOS or PEER file without its header), at the spec's `dt`.
     Sequence,
@@ -135,6 +140,7 @@ impl Format {
             Format::Esm => "esm",
             Format::Knet => "knet",
             Format::Cosmos => "cosmos",
+            Format::Csmip => "csmip",
             Format::Sequence => "sequence",
         }
     }
@@ -149,13 +155,20 @@ impl Format {
             Format::Esm => "ESM ASCII",
             Format::Knet => "K-NET/KiK-net ASCII",
             Format::Cosmos => "COSMOS V1/V2",
+            Format::Csmip => "CSMIP/DMG Volume 1/2",
             Format::Sequence => "sequence of values",
         }
     }
 
     /// Whether the file carries its own time step (then `dt` is an error).
     pub fn has_own_time_step(self) -> bool {
-        matches!(self, Format::At2 | Format::TwoColumn | Format::Esm | Format::Knet | Format::Cosmos)
+        matches!(self, Format::At2 | Format::TwoColumn | Format::Esm | Format::Knet | Format::Cosmos | Format::Csmip)
+    }
+
+    /// Whether a file of the format may hold several channels (then
+    /// `channel` or `azimuth` choose one).
+    pub fn has_channels(self) -> bool {
+        matches!(self, Format::Cosmos | Format::Csmip)
     }
 }
 
@@ -213,6 +226,19 @@ pub struct RecordSpec {
     /// combined with `scale` other than 1.
     #[serde(default)]
     pub target_pga_g: Option<f64>,
+    /// The channel to read from a file of several (COSMOS, CSMIP): its
+    /// number as the file gives it (`Chan  2:`); without it (and without
+    /// `azimuth`) the first is read, with a warning naming the others.
+    #[serde(default)]
+    pub channel: Option<u32>,
+    /// The channel to read from a file of several, by the direction it
+    /// points \[degrees clockwise from north, 0 to 360\].
+    #[serde(default)]
+    pub azimuth: Option<f64>,
+    /// Read a vertical component as the excitation (refused otherwise: the
+    /// joint model's excitation is horizontal).
+    #[serde(default)]
+    pub allow_vertical: bool,
     /// Label of the record (default: the file stem).
     #[serde(default)]
     pub name: Option<String>,
@@ -230,7 +256,15 @@ impl RecordSpec {
             scale: 1.0,
             target_pga_g: None,
             name: None,
+            channel: None,
+            azimuth: None,
+            allow_vertical: false,
         }
+    }
+
+    /// The channel this spec chooses (`channel`, `azimuth`).
+    pub fn channel_choice(&self) -> crate::formats::channel::ChannelChoice {
+        crate::formats::channel::ChannelChoice { number: self.channel, azimuth: self.azimuth }
     }
 
     /// The format after resolving [`Format::Auto`] without the file's
@@ -283,13 +317,22 @@ impl RecordSpec {
     /// Check the fields against each other (without reading the file),
     /// for the format [`RecordSpec::resolved_format`] gives. Errors name the
     /// file and the field.
+    /// `channel` and `azimuth` of a spec whose format is left to the
+    /// content (`auto`) are checked once the content says the format
+    /// ([`RecordSpec::validate_for`]).
     pub fn validate(&self) -> Result<(), RecordError> {
-        self.validate_for(self.resolved_format())
+        self.check(self.resolved_format(), self.format == Format::Auto)
     }
 
     /// As [`RecordSpec::validate`] for the file read as `format` (the one
     /// [`crate::detect_format`] found in the file's content, say).
     pub fn validate_for(&self, format: Format) -> Result<(), RecordError> {
+        self.check(format, false)
+    }
+
+    /// The checks, for a file read as `format`; `guessed`: the format is
+    /// not known yet (the content decides).
+    fn check(&self, format: Format, guessed: bool) -> Result<(), RecordError> {
         let file = self.file.display().to_string();
         let err = |field: &'static str, message: String| Err(RecordError::Spec { file: file.clone(), field, message });
         if crate::builtin::is_builtin(&self.file) && crate::builtin::bytes(&self.file).is_none() {
@@ -325,8 +368,33 @@ impl RecordSpec {
             (Format::OneColumn, Some(0)) => return err("column", "columns are counted from 1".into()),
             (Format::TwoColumn | Format::OneColumn | Format::Auto, _) | (_, None) => {}
             (f, Some(_)) => {
-                let message = format!("`column` is only for one- and two-column text files, not {}", f.description());
+                let mut message =
+                    format!("`column` is only for one- and two-column text files, not {}", f.description());
+                if f.has_channels() {
+                    message += ": to read another channel of the file, give `channel = N` (`--channel N`) or \
+                                `azimuth = DEGREES` (`--azimuth DEGREES`)";
+                }
                 return err("column", message);
+            }
+        }
+        if self.channel.is_some() || self.azimuth.is_some() {
+            let field = if self.channel.is_some() { "channel" } else { "azimuth" };
+            if !(format.has_channels() || guessed) {
+                let message = format!(
+                    "`{field}` chooses a channel of a COSMOS or CSMIP file, which may hold several; a file read as \
+                     {} holds one",
+                    format.description()
+                );
+                return err(field, message);
+            }
+            if self.channel.is_some() && self.azimuth.is_some() {
+                return err("azimuth", "give either `channel` or `azimuth`, not both".into());
+            }
+            if self.channel == Some(0) {
+                return err("channel", "channels are numbered from 1, as the file numbers them".into());
+            }
+            if let Some(a) = self.azimuth.filter(|a| !(a.is_finite() && (0.0..=360.0).contains(a))) {
+                return err("azimuth", format!("azimuth = {a}: degrees clockwise from north, 0 to 360"));
             }
         }
         if !self.scale.is_finite() || self.scale == 0.0 {

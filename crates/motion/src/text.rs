@@ -20,7 +20,7 @@ pub(crate) use lines::{data_lines, Table};
 use crate::error::RecordError;
 use crate::label::time_label_unit;
 use crate::record::RawRecord;
-use crate::spec::HeaderUnits;
+use crate::spec::{Format, HeaderUnits};
 
 /// Why a token is not accepted as a number.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -118,7 +118,7 @@ pub fn parse_two_column(text: &str, file: &str, column: usize) -> Result<RawReco
             message: format!("column {column}: the acceleration column is 2 or more (time is column 1)"),
         });
     }
-    let table = data_lines(text, file)?;
+    let table = data_lines(text, file, Format::TwoColumn)?;
     check_time_label(&table, file)?;
     let lines = &table.lines;
     let mut times = Vec::with_capacity(lines.len());
@@ -178,6 +178,7 @@ pub fn parse_two_column(text: &str, file: &str, column: usize) -> Result<RawReco
         first_time: Some(t0),
         header_units: table.units_of_column(column),
         warnings: Vec::new(),
+        channel: None,
     })
 }
 
@@ -265,7 +266,7 @@ pub fn parse_one_column(text: &str, file: &str, dt: f64, column: Option<usize>) 
     if column == Some(0) {
         return Err(RecordError::Spec { file: file.into(), field: "column", message: "columns count from 1".into() });
     }
-    let table = data_lines(text, file)?;
+    let table = data_lines(text, file, Format::OneColumn)?;
     if let Some(c) = column {
         check_column_pick(&table, file, dt, c)?;
     }
@@ -303,7 +304,7 @@ pub fn parse_one_column(text: &str, file: &str, dt: f64, column: Option<usize>) 
         _ => HeaderUnits::NotInFormat,
     };
     let warnings = counts_warning(&values, file).into_iter().collect();
-    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units, warnings })
+    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units, warnings, channel: None })
 }
 
 /// `field` cut before every `+` or `-` that follows a digit or a point:
@@ -333,7 +334,7 @@ pub fn parse_sequence(text: &str, file: &str, dt: f64) -> Result<RawRecord, Reco
     if !(dt.is_finite() && dt > 0.0) {
         return Err(RecordError::Spec { file: file.into(), field: "dt", message: format!("dt = {dt} s must be > 0") });
     }
-    let table = data_lines(text, file)?;
+    let table = data_lines(text, file, Format::Sequence)?;
     let mut values = Vec::new();
     for dl in &table.lines {
         for field in &dl.fields {
@@ -347,7 +348,7 @@ pub fn parse_sequence(text: &str, file: &str, dt: f64) -> Result<RawRecord, Reco
         _ => HeaderUnits::NotInFormat,
     };
     let warnings = counts_warning(&values, file).into_iter().collect();
-    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units, warnings })
+    Ok(RawRecord { dt, values, header: Vec::new(), first_time: None, header_units, warnings, channel: None })
 }
 
 #[cfg(test)]

@@ -50,12 +50,12 @@ use proptest::collection::vec;
 use proptest::prelude::*;
 use proptest::sample::{select, Index};
 use quakejoint_motion::{
-    load_record_from_str, parse_at2, parse_cosmos, parse_esm, parse_knet, parse_one_column, parse_sequence,
-    parse_two_column, Format, RawRecord, RecordError, RecordSpec, Units, G,
+    load_record_from_str, parse_at2, parse_cosmos, parse_csmip, parse_esm, parse_knet, parse_one_column,
+    parse_sequence, parse_two_column, ChannelChoice, Format, RawRecord, RecordError, RecordSpec, Units, G,
 };
 
 /// Every format.
-const FORMATS: [Format; 8] = [
+const FORMATS: [Format; 9] = [
     Format::Auto,
     Format::At2,
     Format::TwoColumn,
@@ -63,6 +63,7 @@ const FORMATS: [Format; 8] = [
     Format::Esm,
     Format::Knet,
     Format::Cosmos,
+    Format::Csmip,
     Format::Sequence,
 ];
 
@@ -141,6 +142,14 @@ const TOKENS: &[&str] = &[
     "VELOCITY",
     "DISPLACEMENT",
     "UNITS OF G",
+    "Uncorrected Accelerogram Data",
+    "Corrected accelerogram",
+    "/&  ----------  End of Data for Station Channel   1",
+    "Chan  1:  90 Deg",
+    "Chan  2:  Up",
+    " 3 Accelerogram points at 100 pts/sec in units of g.       Format: (8f9.6)",
+    " 3 points of accel data equally spaced at 0.005 sec, in cm/sec2. (8f10.6)",
+    "  36032080",
 ];
 
 /// A random spec for `file`: any format, units, dt, column, scale and
@@ -155,22 +164,30 @@ fn spec_strategy(file: &'static str) -> impl Strategy<Value = RecordSpec> {
     let target = prop_oneof![Just(None), select(vec![0.3, 0.0, -0.3, 1e-320, 1e308, f64::NAN]).prop_map(Some)];
     let format = select(FORMATS.to_vec());
     let units = select(vec![None, Some(Units::G), Some(Units::MetersPerSecond2), Some(Units::CentimetersPerSecond2)]);
-    (format, units, dt, column, scale, target).prop_map(move |(format, units, dt, column, scale, target_pga_g)| {
-        let mut spec = RecordSpec::new(file);
-        spec.format = format;
-        spec.units = units;
-        spec.dt = dt;
-        spec.column = column;
-        spec.scale = scale;
-        spec.target_pga_g = target_pga_g;
-        spec
-    })
+    let channel = (
+        select(vec![None, Some(0u32), Some(1), Some(2), Some(u32::MAX)]),
+        select(vec![None, Some(90.0), Some(-1.0), Some(f64::NAN)]),
+        any::<bool>(),
+    );
+    (format, units, dt, column, scale, target, channel).prop_map(
+        move |(format, units, dt, column, scale, target_pga_g, (channel, azimuth, allow_vertical))| {
+            let mut spec = RecordSpec::new(file);
+            (spec.channel, spec.azimuth, spec.allow_vertical) = (channel, azimuth, allow_vertical);
+            spec.format = format;
+            spec.units = units;
+            spec.dt = dt;
+            spec.column = column;
+            spec.scale = scale;
+            spec.target_pga_g = target_pga_g;
+            spec
+        },
+    )
 }
 
 /// A file name for [`load_record_from_str`] (the extension decides the
 /// format under [`Format::Auto`]).
 fn file_strategy() -> impl Strategy<Value = &'static str> {
-    select(vec![AT2_FILE, "f.at2", "f.txt", "f.csv", "dir/f.AT2", "f", "f.ASC", "f.EW", "f.V2"])
+    select(vec![AT2_FILE, "f.at2", "f.txt", "f.csv", "dir/f.AT2", "f", "f.ASC", "f.EW", "f.V2", "f.v1", "f.RAW"])
 }
 
 /// Checks a reader's result: a usable record, or an error whose message
@@ -221,7 +238,10 @@ fn all_readers(text: &str, spec: &RecordSpec, column: usize, dt: f64) -> Result<
     check_raw(parse_sequence(text, "f.txt", dt), "f.txt")?;
     check_raw(parse_esm(text, "f.ASC"), "f.ASC")?;
     check_raw(parse_knet(text, "f.EW"), "f.EW")?;
-    check_raw(parse_cosmos(text, "f.V2"), "f.V2")?;
+    check_raw(parse_cosmos(text, "f.V2", ChannelChoice::default()), "f.V2")?;
+    for choice in [ChannelChoice::default(), ChannelChoice { number: Some(2), azimuth: None }] {
+        check_raw(parse_csmip(text, "f.v1", choice), "f.v1")?;
+    }
     check_load(spec, text)?;
     for format in FORMATS {
         let mut s = spec.clone();

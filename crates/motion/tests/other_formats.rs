@@ -218,9 +218,13 @@ fn knet_rules() {
     assert!(loaded.warnings[0].contains("the record's mean, 2000.0000 gal (1000.00 counts), was removed"));
     // Max. Acc. 5 % off; a vertical component; KiK-net borehole
     let text = knet("100Hz", "U-D", "2000(gal)/1000", "16.8", "1000 1008 992 1000\n");
-    let w = load_record_from_str(&RecordSpec::new("k.UD"), &text).unwrap().warnings;
+    let e = load_record_from_str(&RecordSpec::new("k.UD"), &text).unwrap_err().to_string();
+    assert!(e.contains("field `allow_vertical`") && e.contains("vertical") && e.contains("horizontal"), "{e}");
+    let mut vertical = RecordSpec::new("k.UD");
+    vertical.allow_vertical = true;
+    let w = load_record_from_str(&vertical, &text).unwrap().warnings;
     assert!(w.iter().any(|w| w.contains("Max. Acc. (gal) = 16.8 gal but the data peak at 16.0000 gal")), "{w:?}");
-    assert!(w.iter().any(|w| w.contains("vertical") && w.contains("horizontal")), "{w:?}");
+    assert!(w.iter().any(|w| w.contains("vertical component, read as asked")), "{w:?}");
     let text = knet("200Hz", "2", "2000(gal)/1000", "16", "1000 1008 992 1000\n");
     let loaded = load_record_from_str(&RecordSpec::new("k.EW1"), &text).unwrap();
     assert_eq!(loaded.record.dt, 0.005);

@@ -67,7 +67,20 @@ fn a_header_of_an_unknown_format_is_not_numeric_data() {
     let mut two = spec("x.txt", GAL, None, None);
     two.format = Format::TwoColumn;
     let m = err(&two, "Corrected acceleration  (Format v01.20 with 13 text lines)\nLoma Prieta\n");
-    assert!(m.contains("The file looks like COSMOS V1/V2: read it with `format = \"auto\"` (or `\"cosmos\"`)"), "{m}");
+    assert!(
+        m.contains(
+            "The file looks like COSMOS V1/V2: read it with `format = \"auto\"` (`--format auto`, the default) or \
+                    `\"cosmos\"` (`--format cosmos`)"
+        ),
+        "{m}"
+    );
+    // a CSMIP file read as a sequence: not advised to read it as a sequence
+    let mut seq = spec("x.v1", UG, Some(0.01), None);
+    seq.format = Format::Sequence;
+    let m = err(&seq, "Uncorrected Accelerogram Data             Processed: 07/06/19\nRcrd of Fri Jul  5, 2019\n");
+    assert!(m.contains("The file looks like CSMIP/DMG Volume 1/2") && m.contains("`--format csmip`"), "{m}");
+    assert!(!m.contains("format = \"sequence\"") && m.contains("A sequence holds numbers only"), "{m}");
+    assert!(m.lines().all(|l| l.len() <= 500), "every line of a message is short: {m}");
     let m = err(&spec("r.txt", UG, None, None), "PEER NGA\nLoma Prieta, 1989\nACCELERATION\nNPTS= 2, DT= .01\n1 2\n");
     assert!(m.contains("looks like a PEER NGA AT2 file: name it `.AT2` or set `format = \"at2\"`"), "{m}");
     // ESM keys without their first line

@@ -27,18 +27,22 @@
 //! | real 64 | peak value of the data: a warning beyond 1 % |
 //! | integer 2 | physical parameter: 1 (acceleration), else refused |
 //! | integer 3 | units code: 2 = g, 4 = cm/s², 10 = gal; checked against the code in the data line (`units=cm/sec2 (04)`); another code is unknown units (then `units` is required) |
-//! | integer 54 | orientation: 400-402 (vertical) gives a warning |
+//! | integer 54 | orientation, where text line 9 (`Sta Chan   1: 90 deg`) does not give it: 0-360 azimuth, 400-402 vertical |
 //!
 //! The positions are those of the COSMOS v1.20 tables as the USGS readers
 //! use them (gmprocess `io/cosmos/core.py`: sampling interval = real 62 in
 //! ms, length = real 63; PRISM `VFileConstants`: DELTA_T = real 62,
 //! SERIES_LENGTH = real 63, units code = integer 3, code 4 = cm/sec2), and
 //! agree on a CESMD file (42000 pts × 5 ms = 210 s = real 63, real 64 =
-//! the `Max =` of text line 11). Only the first channel's acceleration is
-//! read; a file holding more acceleration channels gives a warning.
+//! the `Max =` of text line 11). A file holds one channel or several, each
+//! opening with its `(Format v01.20 ...)` line; `channel` or `azimuth`
+//! choose one ([`crate::formats::channel`]), and the text header's `Sta
+//! Chan   N: 90 deg` gives each one's number and orientation.
 
 use crate::error::RecordError;
-use crate::formats::{peak, peak_warning, vertical_warning};
+use crate::formats::channel::{choose, Channel, ChannelChoice, Orientation};
+use crate::formats::fortran::{fortran_format, fortran_tokens};
+use crate::formats::{peak, peak_warning};
 use crate::record::RawRecord;
 use crate::spec::{HeaderUnits, Units};
 use crate::text::{excerpt, number, number_at, parse_number};
@@ -49,35 +53,6 @@ fn units_of_code(code: i64) -> Option<Units> {
         2 => Some(Units::G),
         4 | 10 => Some(Units::CentimetersPerSecond2),
         _ => None,
-    }
-}
-
-/// Values per line and field width of a Fortran format `(8F10.5)`,
-/// `(10I8)`, `(1E15.6)` after `Format=` on `line`.
-fn fortran_format(line: &str) -> Option<(usize, usize)> {
-    let lower = line.to_ascii_lowercase();
-    let rest = lower[lower.find("format=")? + "format=".len()..].trim_start().strip_prefix('(')?;
-    let spec: String = rest.split(')').next()?.chars().filter(|c| !c.is_whitespace()).collect();
-    let letter = spec.find(|c: char| c.is_ascii_alphabetic())?;
-    let repeat = if letter == 0 { 1 } else { spec[..letter].parse().ok()? };
-    if !"ifegd".contains(&spec[letter..=letter]) {
-        return None;
-    }
-    let width: String = spec[letter + 1..].chars().take_while(|c| c.is_ascii_digit()).collect();
-    Some((repeat, width.parse().ok().filter(|&w| w > 0)?))
-}
-
-/// The numbers of a data line: its white-space separated tokens, or, if
-/// one of those is not a number and the field width is known, fixed-width
-/// fields (Fortran writes `1234.56789-123.45678` without a space).
-fn fortran_tokens(line: &str, width: Option<usize>) -> Vec<&str> {
-    let words: Vec<&str> = line.split_whitespace().collect();
-    match width {
-        Some(w) if line.is_ascii() && words.iter().any(|t| parse_number(t).is_err()) => {
-            let body = line.trim_end();
-            (0..body.len()).step_by(w).map(|a| body[a..(a + w).min(body.len())].trim()).collect()
-        }
-        _ => words,
     }
 }
 
@@ -162,13 +137,58 @@ impl Reader<'_> {
 
 /// Parse the text of a COSMOS V1/V2 file; `file` names it in errors. The
 /// first channel's acceleration is read, in the file's units.
-pub fn parse_cosmos(text: &str, file: &str) -> Result<RawRecord, RecordError> {
+pub fn parse_cosmos(text: &str, file: &str, choice: ChannelChoice) -> Result<RawRecord, RecordError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.trim().is_empty() {
         return Err(RecordError::Empty { file: file.into() });
     }
     let r = Reader { lines: text.lines().collect(), file };
     let first = r.lines.iter().position(|l| !l.trim().is_empty()).unwrap_or(0);
+    // each channel opens with its `(Format v01.20 ...)` line
+    let starts: Vec<usize> =
+        (first..r.lines.len()).filter(|&i| r.lines[i].to_ascii_lowercase().contains("(format v")).collect();
+    if starts.first() != Some(&first) {
+        return parse_channel(&r, first).map(|(raw, _)| raw);
+    }
+    let channels: Vec<Channel> = starts
+        .iter()
+        .enumerate()
+        .map(|(k, &s)| {
+            let chan = r.lines[s..r.lines.len().min(s + 13)].iter().find_map(|l| sta_chan(l));
+            let (number, orientation) = chan.unwrap_or((k as u32 + 1, Orientation::Unknown));
+            Channel { number, of: starts.len() as u32, orientation }
+        })
+        .collect();
+    let (pick, warning) = choose(file, &channels, choice)?;
+    let (mut raw, code) = parse_channel(&r, starts[pick])?;
+    let mut channel = channels[pick].clone();
+    if channel.orientation == Orientation::Unknown {
+        channel.orientation = match code {
+            Some(c) if (0.0..=360.0).contains(&c) => Orientation::Azimuth { degrees: c },
+            Some(c) if (400.0..=402.0).contains(&c) => Orientation::Vertical { label: format!("code {c}") },
+            _ => Orientation::Unknown,
+        };
+    }
+    raw.warnings.splice(0..0, warning);
+    raw.channel = Some(channel);
+    Ok(raw)
+}
+
+/// `Sta Chan   1: 90 deg ( Rcrd Chan  1)`: the station channel's number
+/// and orientation.
+fn sta_chan(line: &str) -> Option<(u32, Orientation)> {
+    let lower = line.to_ascii_lowercase();
+    let rest = &line[lower.find("chan")? + 4..];
+    let (num, after) = rest.split_once(':')?;
+    let number = num.trim().parse().ok()?;
+    let label = after.trim_start().split(['(', ' ']).take(2).collect::<Vec<_>>().join(" ");
+    Some((number, Orientation::from_label(&label)))
+}
+
+/// The channel whose `(Format v...` line is `first`, and its orientation
+/// code (integer-header value 54), if stated.
+fn parse_channel(r: &Reader, first: usize) -> Result<(RawRecord, Option<f64>), RecordError> {
+    let file = r.file;
     let line1 = r.lines[first];
     let lower1 = line1.to_ascii_lowercase();
     let example = "Corrected acceleration  (Format v01.20 with 13 text lines)";
@@ -286,7 +306,7 @@ pub fn parse_cosmos(text: &str, file: &str) -> Result<RawRecord, RecordError> {
         },
     };
 
-    let (values, _, after) = r.numbers(&data)?;
+    let (values, _, _) = r.numbers(&data)?;
     if values.is_empty() {
         return Err(RecordError::TooShort { file: file.into(), message: "0 acceleration points".into() });
     }
@@ -315,29 +335,18 @@ pub fn parse_cosmos(text: &str, file: &str) -> Result<RawRecord, RecordError> {
     if let Some(&max) = reals.get(63).filter(|v| known_real(**v) && **v != 0.0) {
         warnings.extend(peak_warning(file, "peak (real-header value 64)", max.abs(), peak(&values), unit_text));
     }
-    if ints.get(53).is_some_and(|o| (400.0..=402.0).contains(o)) {
-        warnings.push(vertical_warning(file, "integer-header value 54 (orientation) 400-402"));
-    }
-    let more = r.lines[after..]
-        .iter()
-        .filter(|l| {
-            let l = l.to_ascii_lowercase();
-            l.contains("(format v") && l.contains("acceleration")
-        })
-        .count();
-    if more > 0 {
-        warnings.push(format!(
-            "{file}: the file holds {more} more acceleration channel(s); the first (`{}`) is read",
-            excerpt(r.lines.get(first + 8).map_or("", |l| l.trim()), 40)
-        ));
-    }
     let header = r.lines[first..first + n_text].iter().map(|l| l.trim_end().to_string()).collect();
-    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings })
+    let code = ints.get(53).copied().filter(|v| known_int(*v));
+    Ok((RawRecord { dt, values, header, first_time: None, header_units, warnings, channel: None }, code))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn parse(text: &str, file: &str) -> Result<RawRecord, RecordError> {
+        parse_cosmos(text, file, ChannelChoice::default())
+    }
 
     /// A COSMOS file with 100 integer and 100 real header values, -999
     /// (unknown) except those given.
@@ -375,14 +384,12 @@ mod tests {
     fn reads_time_step_units_and_fixed_width_values() {
         let body = "   1.00000-123.45000   2.00000\n   3.00000   4.00000\n";
         let text = cosmos(&[(2, 1), (3, 4)], &[(62, 10.0), (63, 0.05), (64, -123.45)], LINE, body);
-        let r = parse_cosmos(&text, "c.V2").unwrap();
+        let r = parse(&text, "c.V2").unwrap();
         assert_eq!(r.dt, 0.01);
         assert_eq!(r.values, vec![1.0, -123.45, 2.0, 3.0, 4.0]);
         assert_eq!(r.header_units, HeaderUnits::Stated(Units::CentimetersPerSecond2));
         assert_eq!(r.header.len(), 13);
         assert!(r.warnings.is_empty(), "{:?}", r.warnings);
-        assert_eq!(fortran_format("Format= (10I8)"), Some((10, 8)));
-        assert_eq!(fortran_format("units=cm/sec2(04),Format=(1E15.6)"), Some((1, 15)));
     }
 
     #[test]
@@ -390,33 +397,35 @@ mod tests {
         let data = "1 2 3 4 5\n";
         // no sampling interval: never derived from "approx ... secs"
         for dt in [-999.0, 0.0, 5e-324] {
-            let e = parse_cosmos(&cosmos(&[], &[(62, dt)], LINE, data), "c.V2").unwrap_err().to_string();
+            let e = parse(&cosmos(&[], &[(62, dt)], LINE, data), "c.V2").unwrap_err().to_string();
             assert!(e.starts_with("c.V2:38: the sampling interval (real-header value 62) is"), "{e}");
             assert!(e.contains("format = \"sequence\""), "{e}");
         }
-        let e = parse_cosmos(&cosmos(&[(2, 2)], &[(62, 5.0)], LINE, data), "c.V2").unwrap_err().to_string();
+        let e = parse(&cosmos(&[(2, 2)], &[(62, 5.0)], LINE, data), "c.V2").unwrap_err().to_string();
         assert!(e.contains("physical parameter) is 2, not 1"), "{e}");
-        let e = parse_cosmos(&cosmos(&[(3, 2)], &[(62, 5.0)], LINE, data), "c.V2").unwrap_err().to_string();
+        let e = parse(&cosmos(&[(3, 2)], &[(62, 5.0)], LINE, data), "c.V2").unwrap_err().to_string();
         assert!(e.contains("units code 4 (`cm/sec2`) differs from integer-header value 3 (2)"), "{e}");
         let vel = cosmos(&[], &[(62, 5.0)], LINE, data).replace("Corrected acceleration", "Velocity data");
-        assert!(parse_cosmos(&vel, "v.V2").unwrap_err().to_string().contains("`Velocity data`: not an acceleration"));
+        assert!(parse(&vel, "v.V2").unwrap_err().to_string().contains("`Velocity data`: not an acceleration"));
         for count in ["18446744073709551615", "99"] {
             let huge = cosmos(&[], &[(62, 5.0)], LINE, data).replace("with 13 text", &format!("with {count} text"));
-            let e = parse_cosmos(&huge, "c.V2").unwrap_err().to_string();
+            let e = parse(&huge, "c.V2").unwrap_err().to_string();
             assert!(e.contains(&format!("announces {count} text lines")), "{e}");
             let huge = cosmos(&[], &[(62, 5.0)], LINE, data).replace("   1 Comment", &format!("{count} Comment"));
-            assert!(parse_cosmos(&huge, "c.V2").is_err());
+            assert!(parse(&huge, "c.V2").is_err());
         }
-        let short = parse_cosmos(&cosmos(&[], &[(62, 5.0)], LINE, "1 2\n"), "c.V2").unwrap_err().to_string();
+        let short = parse(&cosmos(&[], &[(62, 5.0)], LINE, "1 2\n"), "c.V2").unwrap_err().to_string();
         assert!(short.contains("announces 5 values"), "{short}");
         // an unknown units code: units not recognised (then `units` is required)
         let mg = LINE.replace("cm/sec2 (04)", "mg (11)");
-        let r = parse_cosmos(&cosmos(&[], &[(62, 5.0)], &mg, data), "c.V2").unwrap();
+        let r = parse(&cosmos(&[], &[(62, 5.0)], &mg, data), "c.V2").unwrap();
         assert_eq!(r.header_units, HeaderUnits::Unrecognised("code 11 (mg)".into()));
-        // uncorrected, vertical, wrong length and peak warn
+        // uncorrected, wrong length and peak warn; orientation code 400 is
+        // vertical where the text header does not say
         let text = cosmos(&[(54, 400)], &[(62, 5.0), (63, 99.0), (64, 7.0)], LINE, data)
             .replace("Corrected acceleration", "Uncorrected acceleration");
-        let w = parse_cosmos(&text, "c.V1").unwrap().warnings;
-        assert_eq!(w.len(), 4, "{w:?}");
+        let r = parse(&text, "c.V1").unwrap();
+        assert_eq!(r.warnings.len(), 3, "{:?}", r.warnings);
+        assert!(r.channel.unwrap().orientation.is_vertical());
     }
 }

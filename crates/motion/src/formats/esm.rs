@@ -12,10 +12,11 @@
 //! | `UNITS` | the units (`cm/s^2`, read by [`crate::Units::from_header`]); missing or unknown: `units` is required, as for AT2 |
 //! | `DATA_TYPE` | must be `ACCELERATION` (velocity, displacement and spectra files are refused) |
 //! | `PGA_CM/S^2` | checked against the data: a warning if they differ by more than 1 % |
-//! | `STREAM` | a channel code ending in `Z` (vertical) gives a warning |
+//! | `STREAM` | the component: a code ending in `Z` is vertical (refused unless `allow_vertical`), `N` north (0°), `E` east (90°) |
 
 use crate::error::RecordError;
-use crate::formats::{peak, peak_warning, starts_with_number, vertical_warning};
+use crate::formats::channel::{Channel, Orientation};
+use crate::formats::{peak, peak_warning, starts_with_number};
 use crate::record::RawRecord;
 use crate::spec::{HeaderUnits, Units};
 use crate::text::{excerpt, number_at, parse_number};
@@ -144,12 +145,16 @@ pub fn parse_esm(text: &str, file: &str) -> Result<RawRecord, RecordError> {
             warnings.extend(peak_warning(file, "PGA_CM/S^2", pga, data, "cm/s²"));
         }
     }
-    if let Some(e) = get("STREAM") {
-        if e.value.ends_with(['Z', 'z']) {
-            warnings.push(vertical_warning(file, &format!("STREAM `{}`", excerpt(e.value, 20))));
-        }
-    }
-    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings })
+    // the stream's last letter is its component (SEED: Z vertical, N
+    // north, E east)
+    let orientation = match get("STREAM").map(|e| e.value.trim()) {
+        Some(s) if s.ends_with(['Z', 'z']) => Orientation::Vertical { label: excerpt(s, 20) },
+        Some(s) if s.ends_with(['N', 'n']) => Orientation::Azimuth { degrees: 0.0 },
+        Some(s) if s.ends_with(['E', 'e']) => Orientation::Azimuth { degrees: 90.0 },
+        _ => Orientation::Unknown,
+    };
+    let channel = Some(Channel { number: 1, of: 1, orientation });
+    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings, channel })
 }
 
 #[cfg(test)]
@@ -191,11 +196,12 @@ mod tests {
             parse_esm(&odd, "o.ASC").unwrap().header_units,
             HeaderUnits::Unrecognised("furlong/fortnight^2".into())
         );
-        // a PGA 10 % off and a vertical stream warn
-        let w = parse_esm(&esm("", "1\n-2.2\n0\n0\n").replace("HGE", "HGZ"), "w.ASC").unwrap().warnings;
-        assert_eq!(w.len(), 2, "{w:?}");
+        // a PGA 10 % off warns; a vertical stream is said to be vertical
+        let r = parse_esm(&esm("", "1\n-2.2\n0\n0\n").replace("HGE", "HGZ"), "w.ASC").unwrap();
+        assert!(r.channel.unwrap().orientation.is_vertical());
+        let w = r.warnings;
+        assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].contains("PGA_CM/S^2 = 2 cm/s² but the data peak at 2.2000 cm/s²"), "{w:?}");
-        assert!(w[1].contains("vertical"), "{w:?}");
         let e = parse_esm("EVENT_NAME: X\nno colon here\n1\n", "x.ASC").unwrap_err().to_string();
         assert!(e.starts_with("x.ASC:2: `no colon here` is neither"), "{e}");
         let e = parse_esm(&esm("", "1\n-2\n0\n0\n").replace("0.010000", "0"), "z.ASC").unwrap_err().to_string();

@@ -9,7 +9,7 @@
 //! | `Sampling Freq(Hz)` | `100Hz`: dt = 1/f (required) |
 //! | `Scale Factor` | `3920(gal)/6182761`: gal per count (required; a numerator in another unit than gal is refused) |
 //! | `Max. Acc. (gal)` | checked against the PGA after the mean is removed: a warning beyond 1 % |
-//! | `Dir.` | `N-S`, `E-W`, `U-D`, or KiK-net `1`..`6` (1-3 borehole, 4-6 surface; 3 and 6 vertical): a vertical component and a borehole sensor give a warning |
+//! | `Dir.` | `N-S` (0°), `E-W` (90°), `U-D`, or KiK-net `1`..`6` (1-3 borehole, 4-6 surface; 3 and 6 vertical): a vertical component is refused unless `allow_vertical`, a borehole sensor gives a warning |
 //! | `Duration Time(s)` | checked against the number of samples: a warning beyond 1 s + 1 % |
 //!
 //! Acceleration \[gal\] = counts × factor, then the mean of the whole
@@ -17,7 +17,8 @@
 //! mean removed.
 
 use crate::error::RecordError;
-use crate::formats::{peak, peak_warning, vertical_warning};
+use crate::formats::channel::{Channel, Orientation};
+use crate::formats::{peak, peak_warning};
 use crate::record::RawRecord;
 use crate::spec::{HeaderUnits, Units};
 use crate::text::{excerpt, number, number_at, parse_number};
@@ -135,11 +136,15 @@ pub fn parse_knet(text: &str, file: &str) -> Result<RawRecord, RecordError> {
             }
         }
     }
+    let mut orientation = Orientation::Unknown;
     if let Some((_, dir)) = field(head, "Dir.") {
         let d = dir.to_ascii_uppercase();
-        if matches!(d.as_str(), "U-D" | "UD" | "3" | "6") {
-            warnings.push(vertical_warning(file, &format!("Dir. `{}`", excerpt(dir, 10))));
-        }
+        orientation = match d.as_str() {
+            "U-D" | "UD" | "3" | "6" => Orientation::Vertical { label: excerpt(dir, 10) },
+            "N-S" | "NS" | "1" | "4" => Orientation::Azimuth { degrees: 0.0 },
+            "E-W" | "EW" | "2" | "5" => Orientation::Azimuth { degrees: 90.0 },
+            _ => Orientation::Unknown,
+        };
         if matches!(d.as_str(), "1" | "2" | "3") {
             warnings.push(format!(
                 "{file}: Dir. `{dir}` is a KiK-net borehole sensor (1-3), recorded at depth, not at the ground \
@@ -155,6 +160,7 @@ pub fn parse_knet(text: &str, file: &str) -> Result<RawRecord, RecordError> {
         first_time: None,
         header_units: HeaderUnits::Stated(Units::CentimetersPerSecond2),
         warnings,
+        channel: Some(Channel { number: 1, of: 1, orientation }),
     })
 }
 
@@ -187,11 +193,13 @@ mod tests {
 
     #[test]
     fn warnings_and_refusals() {
-        let w = parse_knet(&knet("U-D", "1.0", "1 2 3\n"), "k.UD").unwrap().warnings;
-        assert!(w.iter().any(|w| w.contains("Max. Acc. (gal) = 1 gal")), "{w:?}");
-        assert!(w.iter().any(|w| w.contains("vertical")), "{w:?}");
-        let w = parse_knet(&knet("3", "0.0006", "1 2 3\n"), "k.UD1").unwrap().warnings;
-        assert!(w.iter().any(|w| w.contains("vertical")) && w.iter().any(|w| w.contains("borehole")), "{w:?}");
+        let r = parse_knet(&knet("U-D", "1.0", "1 2 3\n"), "k.UD").unwrap();
+        assert!(r.warnings.iter().any(|w| w.contains("Max. Acc. (gal) = 1 gal")), "{:?}", r.warnings);
+        assert!(r.channel.unwrap().orientation.is_vertical());
+        let r = parse_knet(&knet("3", "0.0006", "1 2 3\n"), "k.UD1").unwrap();
+        assert!(r.channel.unwrap().orientation.is_vertical() && r.warnings.iter().any(|w| w.contains("borehole")));
+        let r = parse_knet(&knet("E-W", "0.0006", "1 2 3\n"), "k.EW").unwrap();
+        assert_eq!(r.channel.unwrap().orientation, Orientation::Azimuth { degrees: 90.0 });
         let e = parse_knet(&knet("E-W", "1", "1 2\n").replace("(gal)", "(m/s2)"), "k").unwrap_err().to_string();
         assert!(e.starts_with("k:7: the scale factor `3920(m/s2)/6182761` is in `m/s2` per count, not gal"), "{e}");
         let e = parse_knet(&knet("E-W", "1", "1 2.5\n"), "k").unwrap_err().to_string();

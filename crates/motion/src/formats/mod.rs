@@ -4,16 +4,22 @@
 //! - [`esm`]: ESM (Engineering Strong Motion database, ORFEUS) ASCII;
 //! - [`knet`]: K-NET / KiK-net (NIED) ASCII;
 //! - [`cosmos`]: COSMOS Strong-Motion Data Format v1.20, V1/V2
-//!   acceleration (CESMD, CSMIP, USGS).
+//!   acceleration;
+//! - [`csmip`]: CSMIP/DMG Volume 1 and 2, the format CESMD distributes;
+//! - [`channel`]: choosing a channel of a file that holds several.
 //!
 //! [`detect_format`] resolves [`Format::Auto`] from the spec and the
 //! file's content: an `.at2` extension means AT2 (as before); else the
-//! first non-blank line names ESM (`EVENT_NAME:`), K-NET (`Origin Time`)
-//! or COSMOS (`(Format v`); else plain text, one-column if `dt` is given,
-//! two-column if not.
+//! first non-blank line names ESM (`EVENT_NAME:`), K-NET (`Origin Time`),
+//! COSMOS (`(Format v`) or CSMIP (`Uncorrected Accelerogram Data`,
+//! `Corrected accelerogram`); else plain text, one-column if `dt` is
+//! given, two-column if not.
 
+pub mod channel;
 pub mod cosmos;
+pub mod csmip;
 pub mod esm;
+pub(crate) mod fortran;
 pub mod knet;
 
 use crate::error::RecordError;
@@ -22,7 +28,8 @@ use crate::text::{excerpt, parse_number};
 
 /// The format a file of this content has, from its first non-blank line:
 /// ESM (`EVENT_NAME:`), K-NET/KiK-net (`Origin Time`), COSMOS (a line
-/// holding `(Format v`), else `None` (AT2 is told by its extension).
+/// holding `(Format v`), CSMIP (`Uncorrected Accelerogram Data`,
+/// `Corrected accelerogram`), else `None` (AT2 is told by its extension).
 pub fn sniff_format(text: &str) -> Option<Format> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let first = text.lines().map(str::trim).find(|l| !l.is_empty())?;
@@ -34,6 +41,8 @@ pub fn sniff_format(text: &str) -> Option<Format> {
         Some(Format::Knet)
     } else if head.contains("(FORMAT V") {
         Some(Format::Cosmos)
+    } else if csmip::looks_like_csmip(first) {
+        Some(Format::Csmip)
     } else {
         None
     }
@@ -56,12 +65,14 @@ pub fn detect_format(spec: &RecordSpec, text: &str) -> Format {
 /// The formats read, for refusals.
 pub const FORMATS_READ: &str = "Formats read: PEER NGA `.AT2`; ESM ASCII (first line `EVENT_NAME:`); K-NET/KiK-net \
                                 ASCII (first line `Origin Time`); COSMOS V1/V2 (first line `... (Format v01.20 ...)`); \
-                                plain numeric text or CSV with at most one column-header line.";
+                                CSMIP/DMG Volume 1/2 from CESMD (first line `Uncorrected Accelerogram Data` or \
+                                `Corrected accelerogram`); plain numeric text or CSV with at most one column-header \
+                                line.";
 
 /// What to do with a file of another format, for refusals.
 pub const OTHER_FORMAT: &str = "For another format, remove the header and read the values with \
-                                `format = \"sequence\"`, `dt` and `units`, or convert the file to a two-column CSV \
-                                (time [s], acceleration).";
+                                `format = \"sequence\"`, `dt` and `units` (`--format sequence --dt S --units U`), or \
+                                convert the file to a two-column CSV (time [s], acceleration).";
 
 /// Whether `text` looks like a PEER AT2 file: line 4 names NPTS and DT.
 fn looks_like_at2(text: &str) -> bool {
@@ -81,43 +92,47 @@ fn looks_like_esm_key(line: &str) -> bool {
 /// The refusal of a text line found where a plain-text record holds
 /// numbers: it quotes the line (shortened), says which format the file
 /// looks like if any, names the formats read and what to do for another.
+/// The guidance comes on lines of its own after the cause, so that every
+/// line stays short. `reading` is the format the file was read as: a
+/// sequence is not advised to one that is read as a sequence already.
 pub(crate) fn not_numeric_data(
     file: &str,
     line: usize,
     content: &str,
     text: &str,
     header_line: Option<usize>,
+    reading: Format,
 ) -> RecordError {
     let mut message = format!("`{}` is not numeric data", excerpt(content, 60));
     if let Some(h) = header_line {
         message += &format!(" (line {h} was taken as the column header; a text record has one header line at most)");
     }
-    message += ". ";
+    message += ".";
     if let Some(f) = sniff_format(text) {
         message += &format!(
-            "The file looks like {}: read it with `format = \"auto\"` (or `\"{}\"`). ",
+            "\nThe file looks like {}: read it with `format = \"auto\"` (`--format auto`, the default) or \
+             `\"{}\"` (`--format {}`).",
             f.description(),
+            f.name(),
             f.name()
         );
     } else if looks_like_at2(text) {
-        message += "The file looks like a PEER NGA AT2 file: name it `.AT2` or set `format = \"at2\"`. ";
+        message +=
+            "\nThe file looks like a PEER NGA AT2 file: name it `.AT2` or set `format = \"at2\"` (`--format at2`).";
     } else if looks_like_esm_key(content) {
-        message += "`KEY: value` lines look like an ESM header, but an ESM file starts with `EVENT_NAME:`: read the \
-                    whole ESM file. ";
+        message += "\n`KEY: value` lines look like an ESM header, but an ESM file starts with `EVENT_NAME:`: read the \
+                    whole ESM file.";
     }
+    message += "\n";
     message += FORMATS_READ;
-    message += " ";
-    message += OTHER_FORMAT;
+    message += "\n";
+    message += if reading == Format::Sequence {
+        "A sequence holds numbers only, in reading order: remove every line before the first value (a header) \
+         and after the last (a trailer) from a copy of the file."
+    } else {
+        OTHER_FORMAT
+    };
     RecordError::Header { file: file.into(), line, message }
-}
-
-/// The warning for a vertical component: the joint model's excitation is
-/// horizontal.
-pub(crate) fn vertical_warning(file: &str, what: &str) -> String {
-    format!(
-        "{file}: {what}: this is a vertical (up-down) component, but the joint model's excitation is horizontal \
-         (along or across the bridge): read a horizontal component unless the vertical one is meant"
-    )
 }
 
 /// The warning for a header's peak that differs from the data's by more

@@ -4,7 +4,7 @@
 
 use crate::error::RecordError;
 use crate::label::label_units;
-use crate::spec::HeaderUnits;
+use crate::spec::{Format, HeaderUnits};
 use crate::text::{excerpt, parse_number, NumberError};
 
 /// How the fields of a line are separated.
@@ -134,7 +134,7 @@ fn is_text_line(fields: &[&str]) -> bool {
 }
 
 /// The data lines of a text file (header and comments skipped).
-pub(crate) fn data_lines<'a>(text: &'a str, file: &str) -> Result<Table<'a>, RecordError> {
+pub(crate) fn data_lines<'a>(text: &'a str, file: &str, reading: Format) -> Result<Table<'a>, RecordError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.trim().is_empty() {
         return Err(RecordError::Empty { file: file.into() });
@@ -158,7 +158,7 @@ pub(crate) fn data_lines<'a>(text: &'a str, file: &str) -> Result<Table<'a>, Rec
         }
         if is_text_line(&fields) {
             let header_line = header.as_ref().map(|h: &HeaderLine| h.line);
-            return Err(crate::formats::not_numeric_data(file, i + 1, trimmed, text, header_line));
+            return Err(crate::formats::not_numeric_data(file, i + 1, trimmed, text, header_line, reading));
         }
         if sep != Sep::White {
             if let Some(f) = lines.iter().find(|l| l.sep != Sep::White) {
