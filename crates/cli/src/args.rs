@@ -120,8 +120,12 @@ impl ProgressArgs {
     pub fn mode(&self) -> Result<quakejoint_sweep::Progress> {
         use quakejoint_sweep::Progress;
         let every = self.progress_interval;
-        if !(every.is_finite() && every > 0.0) {
-            return Err(InputError(format!("--progress-interval {every}: must be a positive number of seconds")).into());
+        if !(every.is_finite() && every > 0.0 && every <= quakejoint_sweep::plan::MAX_INTERVAL) {
+            return Err(InputError(format!(
+                "--progress-interval {every}: seconds between progress lines, above 0 and at most {:e}",
+                quakejoint_sweep::plan::MAX_INTERVAL
+            ))
+            .into());
         }
         let lines = Progress::Lines { every: std::time::Duration::from_secs_f64(every) };
         Ok(match self.progress {
@@ -161,7 +165,7 @@ pub struct PlanArgs {
     #[arg(long, default_value_t = 1)]
     pub shards: usize,
     /// Worker threads per shard process.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = at_least_one)]
     pub threads: usize,
     /// Print only the sbatch resource options of the largest shard
     /// (--cpus-per-task, --mem, --time).
@@ -181,11 +185,15 @@ pub struct CompareArgs {
     pub print: PrintArgs,
 }
 
-/// A whole number of at least 1 (thread counts).
+/// Most worker threads: a sweep never runs more than one per job, and a
+/// machine of more cores than this is not made yet.
+pub const MAX_THREADS: usize = 1024;
+
+/// A thread count: a whole number from 1 to [`MAX_THREADS`].
 fn at_least_one(s: &str) -> std::result::Result<usize, String> {
     match s.trim().parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(n),
-        _ => Err(format!("{s}: expected a whole number of at least 1")),
+        Ok(n) if (1..=MAX_THREADS).contains(&n) => Ok(n),
+        _ => Err(format!("{s}: expected a whole number of threads from 1 to {MAX_THREADS}")),
     }
 }
 

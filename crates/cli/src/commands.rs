@@ -115,7 +115,7 @@ fn name_the_config(err: anyhow::Error, config: &Path) -> anyhow::Error {
 
 /// Reads the plan of a sweep config.
 fn read_plan(config: &Path) -> Result<Plan> {
-    let text = std::fs::read_to_string(config)
+    let text = quakejoint_motion::read_input_text(config, quakejoint_motion::MAX_CONFIG_BYTES)
         .map_err(|e| InputError(format!("{}: cannot read the config: {e}", config.display())))?;
     let plan = Plan::new(&text, &config.display().to_string(), &base_dir(config))?;
     for r in plan.records.iter().chain(&plan.record_y) {
@@ -155,7 +155,7 @@ fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
     output::sweep_summary(&summary, a.print.json);
     if summary.interrupted {
         // the same command continues; --resume insists on the journal
-        let mut words: Vec<String> = std::env::args().filter(|w| w != "--retry-failed").collect();
+        let mut words: Vec<std::ffi::OsString> = std::env::args_os().filter(|w| w != "--retry-failed").collect();
         if !words.iter().any(|w| w == "--resume") {
             words.push("--resume".into());
         }
@@ -253,7 +253,7 @@ fn spectrum_cmd(a: SpectrumArgs) -> Result<ExitCode> {
 
 /// Reads and validates a config file.
 pub fn read_config(path: &Path) -> Result<(Config, String)> {
-    let text = std::fs::read_to_string(path)
+    let text = quakejoint_motion::read_input_text(path, quakejoint_motion::MAX_CONFIG_BYTES)
         .map_err(|e| InputError(format!("{}: cannot read the config: {e}", path.display())))?;
     let config = Config::from_toml(&text, &path.display().to_string())?;
     Ok((config, text))
@@ -285,24 +285,41 @@ fn period_to_omega(period: Option<f64>) -> Result<Option<f64>> {
 }
 
 /// Words joined into a command a POSIX shell reads back as the same words
-/// (those with spaces, quotes or other special characters single-quoted).
-fn shell_words(words: &[String]) -> String {
-    words
-        .iter()
-        .map(|a| {
-            if a.is_empty() || a.contains(|c: char| c.is_whitespace() || "'\"\\$`!*?;&|<>()[]{}~#".contains(c)) {
-                format!("'{}'", a.replace('\'', "'\\''"))
-            } else {
-                a.clone()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join(" ")
+/// (see [`shell_word`]).
+fn shell_words(words: &[std::ffi::OsString]) -> String {
+    words.iter().map(|w| shell_word(w)).collect::<Vec<_>>().join(" ")
 }
 
-/// The command line as typed.
+/// A word a POSIX shell reads back as itself: as it is if plain, else
+/// single-quoted; bytes that are not UTF-8 (a file name in another
+/// encoding) in bash's `$'\xff'` form.
+fn shell_word(word: &std::ffi::OsStr) -> String {
+    use std::os::unix::ffi::OsStrExt;
+    match word.to_str() {
+        Some(a)
+            if !a.is_empty() && !a.contains(|c: char| c.is_whitespace() || "'\"\\$`!*?;&|<>()[]{}~#".contains(c)) =>
+        {
+            a.to_string()
+        }
+        Some(a) => format!("'{}'", a.replace('\'', "'\\''")),
+        None => {
+            let body: String = word
+                .as_bytes()
+                .iter()
+                .map(|&b| match b {
+                    b'\'' | b'\\' => format!("\\{}", b as char),
+                    0x20..=0x7e => (b as char).to_string(),
+                    _ => format!("\\x{b:02x}"),
+                })
+                .collect();
+            format!("$'{body}'")
+        }
+    }
+}
+
+/// The command line as typed (arguments that are not UTF-8 included).
 fn command_line() -> String {
-    shell_words(&std::env::args().collect::<Vec<_>>())
+    shell_words(&std::env::args_os().collect::<Vec<_>>())
 }
 
 /// The provenance of a single run's output: the command, the config file

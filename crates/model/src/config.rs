@@ -495,7 +495,7 @@ impl Config {
 
     /// Reads and parses a config file.
     pub fn from_file(path: &std::path::Path) -> Result<Self, ModelError> {
-        let text = std::fs::read_to_string(path)
+        let text = quakejoint_motion::read_input_text(path, quakejoint_motion::MAX_CONFIG_BYTES)
             .map_err(|e| ModelError::Io { file: path.display().to_string(), message: e.to_string() })?;
         Self::from_toml(&text, &path.display().to_string())
     }

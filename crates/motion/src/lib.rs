@@ -49,6 +49,7 @@ pub mod at2;
 pub mod builtin;
 pub mod error;
 pub mod formats;
+pub mod input;
 mod label;
 pub mod oscillator;
 pub mod record;
@@ -65,6 +66,7 @@ pub use formats::channel::{Channel, ChannelChoice, Orientation};
 pub use formats::{
     cosmos::parse_cosmos, csmip::parse_csmip, detect_format, esm::parse_esm, knet::parse_knet, sniff_format,
 };
+pub use input::{read_input, read_input_text, MAX_CONFIG_BYTES, MAX_RECORD_BYTES};
 pub use oscillator::Oscillator;
 pub use record::{
     load_record, load_record_from_samples, load_record_from_str, sha256_hex, LoadedRecord, RawRecord, Record,

@@ -200,7 +200,7 @@ pub fn load_record(spec: &RecordSpec, base_dir: &Path) -> Result<LoadedRecord, R
         Some(b) => b.to_vec(),
         None => {
             let path = spec.resolve_path(base_dir);
-            std::fs::read(&path).map_err(|source| RecordError::Io {
+            crate::input::read_input(&path, crate::input::MAX_RECORD_BYTES).map_err(|source| RecordError::Io {
                 file: if path == spec.file { file.clone() } else { format!("{file} ({})", path.display()) },
                 source,
             })?

@@ -48,10 +48,23 @@ pub fn kind_of(path: &Path) -> Option<String> {
     Some(kind.as_str().to_string())
 }
 
+/// Refuses an output name the HDF5 library cannot take (it needs UTF-8),
+/// before anything runs.
+pub fn check_name(path: &Path) -> Result<(), String> {
+    if path.to_str().is_none() {
+        return Err(format!(
+            "{}: the HDF5 library takes only UTF-8 file names, and this one is not; choose another name",
+            path.display()
+        ));
+    }
+    Ok(())
+}
+
 /// Refuses to write the output `path` (of the given kind: `simulate`,
 /// `service`, `sparsity`) over an input, or over an existing file that is
 /// not an earlier output of the same kind.
 pub fn check_overwrite(path: &Path, kind: &str, inputs: &[&Path]) -> Result<(), String> {
+    check_name(path)?;
     if let Some(input) = inputs.iter().find(|i| same_file(path, i)) {
         return Err(format!("{}: writing there would overwrite the input {}", path.display(), input.display()));
     }

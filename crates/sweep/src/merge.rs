@@ -116,6 +116,7 @@ fn read_all(inputs: &[PathBuf], notices: &mut Vec<String>) -> Result<Vec<(PathBu
 /// The merged file may replace an earlier merge or nothing, never an input
 /// or the output of a sweep (which has a journal).
 fn check_output(output: &Path, inputs: &[PathBuf]) -> Result<(), SweepError> {
+    crate::files::check_name(output).map_err(SweepError::Merge)?;
     if let Some(i) = inputs.iter().find(|i| same_file(output, i)) {
         return Err(SweepError::Merge(format!(
             "the output {} is one of the inputs ({})",

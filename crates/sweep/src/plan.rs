@@ -34,6 +34,10 @@ use crate::error::SweepError;
 pub const SWEEP_KEYS: [&str; 7] =
     ["periods", "damping", "records", "cases", "histories", "checkpoint_seconds", "suite"];
 
+/// Longest interval between checkpoints or progress lines [s] (116 days;
+/// the longest run allowed, `simulation.max_wall_time`, is as long).
+pub const MAX_INTERVAL: f64 = 1e7;
+
 /// The keys of the `[sweep.suite]` table.
 pub const SUITE_KEYS: [&str; 3] = ["target", "range", "rule"];
 
@@ -444,8 +448,11 @@ impl Plan {
             Some(v) => f64_of(v, "sweep.checkpoint_seconds")?,
             None => 60.0,
         };
-        if !(checkpoint_seconds.is_finite() && checkpoint_seconds > 0.0) {
-            return Err(sweep_err("sweep.checkpoint_seconds", format!("{checkpoint_seconds}: must be positive")));
+        if !(checkpoint_seconds.is_finite() && checkpoint_seconds > 0.0 && checkpoint_seconds <= MAX_INTERVAL) {
+            return Err(sweep_err(
+                "sweep.checkpoint_seconds",
+                format!("{checkpoint_seconds}: seconds between checkpoints, above 0 and at most {MAX_INTERVAL:e}"),
+            ));
         }
         // records
         let specs: Vec<RecordSpec> = match sweep.get("records") {

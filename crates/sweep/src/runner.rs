@@ -383,6 +383,7 @@ fn check_output(plan: &Plan, opts: &SweepOptions) -> Result<(), SweepError> {
         }
     }
     let output = &opts.output;
+    crate::files::check_name(output).map_err(|message| SweepError::Config { field: "--output".into(), message })?;
     let mut inputs = vec![opts.config_path.clone()];
     inputs.extend(plan.records.iter().chain(&plan.record_y).map(|r| r.path.clone()));
     check_not_an_input(output, &inputs)?;
@@ -513,7 +514,11 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let mut dirty = match output_state(output, &file) {
         Ok(behind) => behind,
         Err(problem) => {
-            notices.push(format!("{}: {problem}; it is rebuilt from the journal {}", output.display(), jpath.display()));
+            notices.push(format!(
+                "{}: {problem}; it is rebuilt from the journal {}",
+                output.display(),
+                jpath.display()
+            ));
             true
         }
     };
@@ -542,7 +547,12 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         })
         .count();
 
-    let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())).max(1);
+    // no more workers than jobs to run (a thread waiting for none costs
+    // its stack and its start)
+    let threads = opts
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .clamp(1, todo.len().max(1));
     let label = output.file_name().map_or(output.display().to_string(), |n| n.to_string_lossy().into_owned());
     let cost_left: f64 = todo.iter().map(|&j| plan.cost(plan.job(j))).sum();
     let reporter = Reporter::new(
