@@ -7,12 +7,17 @@ Corralitos, at the reference bridge's period.
 
 Runs the reference model (configs/paper.toml: 27 center beams, 1e8 kg deck,
 T = 0.997 s) once, about 4 s, and plots the two histories and their
-difference. Needs the package (`pip install .`) and matplotlib.
+difference. Needs the package with matplotlib (`pip install ".[plot]"` from
+the checkout).
 """
 import sys
 from pathlib import Path
 
-import matplotlib
+try:
+    import matplotlib
+except ImportError:
+    sys.exit('examples/figure12.py needs matplotlib, which `pip install quakejoint` does not bring: '
+             'pip install "quakejoint[plot]" (from the checkout: pip install ".[plot]")')
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

@@ -10,15 +10,21 @@ period) is one coupled run; runs go on a thread pool, which works because
 `quakejoint.simulate` releases the GIL. The bridge alone is the exact
 linear spectrum of the same record over the same window. Defaults: 8
 periods from 0.2 to 5 s, the whole record (3 x 8 runs, about a minute on
-2 cores).
+2 cores). Needs the package with matplotlib (`pip install ".[plot]"` from
+the checkout).
 """
 import argparse
 import os
+import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-import matplotlib
-import matplotlib.ticker
+try:
+    import matplotlib
+    import matplotlib.ticker
+except ImportError:
+    sys.exit('examples/mass_study.py needs matplotlib, which `pip install quakejoint` does not bring: '
+             'pip install "quakejoint[plot]" (from the checkout: pip install ".[plot]")')
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

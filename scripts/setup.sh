@@ -31,7 +31,7 @@ python_env() {
 
 # python_package: the Python package quakejoint built from this checkout
 # (pyproject.toml: maturin builds crates/python in release) with its test
-# dependencies (pytest, xarray), into .venv
+# dependencies (pytest, matplotlib, xarray, pandas), into .venv
 python_package() {
   echo "== installing the Python package quakejoint into .venv (builds the engine)"
   .venv/bin/python3 -m pip install --quiet --disable-pip-version-check ".[test]"

@@ -5,13 +5,14 @@ The engine of the `quakejoint` command on numpy arrays (SI units throughout):
 - `Record.read(path)` / `Record.from_array(a, dt, units=...)`: ground-motion
   records, units never guessed, with their statistics;
 - `spectrum(record, periods, damping)`: exact linear response spectra (the
-  code of `quakejoint spectrum`, bit for bit);
+  code of `quakejoint spectrum`, bit for bit), arrays of shape
+  np.shape(damping) + np.shape(periods);
 - `Config.from_file(path)` / `Config({...})` / `config.replace({...})`:
   validated model configs;
 - `simulate(config, period=...)`: one coupled earthquake run, scalars and
   time histories; `service(config)`: the hysteresis loop of the joint;
-- `read_sweep(path)`: a `quakejoint sweep` file as labelled arrays, and
-  `.to_xarray()`.
+- `read_sweep(path)`: a `quakejoint sweep` file as labelled arrays,
+  `.to_xarray()` (extra `xarray`) and `.to_dataframe()` (extra `pandas`).
 
 Errors are `InputError` (bad input: the message names the file, field or
 value) and `SimulationError` (a run that failed), both `quakejoint.Error`.

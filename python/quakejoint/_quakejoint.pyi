@@ -19,7 +19,10 @@ class InputError(Error):
 class SimulationError(Error):
     """A run that failed (the command line's exit code 1)."""
 
-_Numbers = Union[float, Sequence[float], npt.NDArray[np.float64]]
+#: a real number, or a 1-D sequence or array of them (not complex)
+_Numbers = Union[float, Sequence[float], npt.NDArray[np.floating[Any]], npt.NDArray[np.integer[Any]]]
+#: an array of spectrum values: shape np.shape(damping) + np.shape(periods)
+_SpectrumArray = npt.NDArray[np.float64]
 
 class Record:
     """A ground-motion record: acceleration [m/s^2] at a uniform time step."""
@@ -48,7 +51,8 @@ class Record:
         target_pga_g: Optional[float] = None,
         name: Optional[str] = None,
     ) -> Record:
-        """A record from 1-D samples in `units` (required) at time step `dt` [s]; named "array" by default."""
+        """A record from 1-D real samples in `units` (required) at time step `dt` [s]; named "array" by default.
+        A complex array is refused (InputError), not cut to its real part."""
     @property
     def acceleration(self) -> npt.NDArray[np.float64]:
         """Ground acceleration [m/s^2] (a copy)."""
@@ -91,41 +95,44 @@ class Record:
     def stats(self) -> dict[str, Union[float, int]]:
         """dt, samples, duration [s], pga [m/s^2], pgv [m/s], pgd [m], their times, arias [m/s], d5_95, t5, t95 [s]."""
     def spectrum(self, periods: _Numbers, damping: Optional[_Numbers] = None, *, subdivisions: int = 0) -> Spectrum:
-        """The exact linear response spectrum (see `spectrum`)."""
+        """The exact linear response spectrum (see `spectrum`; the same shapes)."""
     def __len__(self) -> int: ...
 
 class Spectrum:
-    """Exact linear spectrum; arrays of shape (len(damping), len(periods))."""
+    """Exact linear spectrum. Each array has the shape np.shape(damping) + np.shape(periods)
+    of the arguments: a number has no axis, a sequence (of one, or of none) has one. A number
+    of damping (or the default 0.05) gives (len(periods),), a list of dampings
+    (len(damping), len(periods)); empty periods with two dampings (2, 0)."""
 
     @property
     def periods(self) -> npt.NDArray[np.float64]:
-        """[s]"""
+        """[s], always 1-D"""
     @property
     def damping(self) -> npt.NDArray[np.float64]:
-        """[-]"""
+        """[-], always 1-D"""
     @property
-    def sa(self) -> npt.NDArray[np.float64]:
+    def sa(self) -> _SpectrumArray:
         """Peak absolute acceleration [m/s^2]."""
     @property
-    def psa(self) -> npt.NDArray[np.float64]:
+    def psa(self) -> _SpectrumArray:
         """w^2 Sd [m/s^2]."""
     @property
-    def sd(self) -> npt.NDArray[np.float64]:
+    def sd(self) -> _SpectrumArray:
         """Peak relative displacement [m]."""
     @property
-    def sv(self) -> npt.NDArray[np.float64]:
+    def sv(self) -> _SpectrumArray:
         """Peak relative velocity [m/s]."""
     @property
-    def psv(self) -> npt.NDArray[np.float64]:
+    def psv(self) -> _SpectrumArray:
         """w Sd [m/s]."""
     @property
-    def t_sa(self) -> npt.NDArray[np.float64]:
+    def t_sa(self) -> _SpectrumArray:
         """[s]"""
     @property
-    def t_sd(self) -> npt.NDArray[np.float64]:
+    def t_sd(self) -> _SpectrumArray:
         """[s]"""
     @property
-    def t_sv(self) -> npt.NDArray[np.float64]:
+    def t_sv(self) -> _SpectrumArray:
         """[s]"""
 
 def spectrum(
@@ -137,19 +144,25 @@ def spectrum(
     units: Optional[str] = None,
     subdivisions: int = 0,
 ) -> Spectrum:
-    """Exact linear response spectrum of a record, or of an array at `dt` [s] in `units`; damping default 0.05."""
+    """Exact linear response spectrum of a record, or of an array at `dt` [s] in `units`; damping default 0.05.
+    Arrays of shape np.shape(damping) + np.shape(periods): (len(periods),) for a number of damping,
+    (len(damping), len(periods)) for a sequence of them."""
 
 class Config:
     """A validated model config; relative record paths are read from `base_dir`."""
 
     def __init__(self, tables: Optional[dict[str, Any]] = None, *, base_dir: Union[str, PathLike[str]] = ".") -> None:
-        """From a dict of the TOML file's tables; every default without one."""
+        """From a dict of the TOML file's tables; every default without one. Values are numbers
+        (Python's or numpy's, real), strings, booleans, lists and dicts; a dict that contains
+        itself or is nested deeper than 32 levels, a whole number beyond its field's range and a
+        complex number raise InputError naming the key."""
     @staticmethod
     def from_file(path: Union[str, PathLike[str]]) -> Config: ...
     @staticmethod
     def from_toml(text: str, *, base_dir: Union[str, PathLike[str]] = ".", source: str = "config (text)") -> Config: ...
     def replace(self, changes: dict[str, Any]) -> Config:
-        """A copy with dotted keys ({"bridge.mass": 2e8}) or nested dicts changed, validated again."""
+        """A copy with dotted keys ({"bridge.mass": 2e8}) or nested dicts changed, validated again
+        (the values checked as `Config(tables)` checks them)."""
     def to_dict(self) -> dict[str, Any]: ...
     def to_toml(self) -> str: ...
     @property

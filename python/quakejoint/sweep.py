@@ -3,6 +3,8 @@
 A job is one (case, record, damping, period); results with the joint have
 the dimensions ("case", "record", "damping", "period"), the exact spectra
 without it ("record", "damping", "period"). Layout: docs/hdf5-layout.md.
+`Sweep.to_xarray()` needs the extra `xarray`, `Sweep.to_dataframe()` the
+extra `pandas` (`pip install "quakejoint[xarray,pandas]"`).
 """
 from __future__ import annotations
 
@@ -54,7 +56,11 @@ class Sweep:
     #: over the records, per (case, damping, period) ((damping, period)
     #: without the joint): {"with_joint": {"mean", "median", "dispersion"},
     #: "without_joint": {...}, "reduction": {"mean", "median", "std",
-    #: "of_mean"}, "count", "flagged"}; None for a single record
+    #: "of_mean"}, "count", "flagged"}. For a sweep of one record (whose
+    #: file stores none) the record's own values: count 1 where its job
+    #: finished (0 and NaN elsewhere), mean = median = the value,
+    #: dispersion and std NaN (undefined for one value). None only for a
+    #: file that has neither.
     statistics: Optional[dict] = None
     #: the suite's target and scaling: target (in words), rule, range [s],
     #: factor (per record), rule_factor, min_ratio, min_ratio_period [s],
@@ -123,11 +129,9 @@ class Sweep:
 
     def to_xarray(self):
         """The results as an xarray.Dataset with coordinates case, record,
-        damping and period (needs xarray: `pip install xarray`)."""
-        try:
-            import xarray as xr
-        except ImportError as e:
-            raise ImportError("Sweep.to_xarray needs xarray: pip install xarray") from e
+        damping and period (needs the extra `xarray`:
+        `pip install "quakejoint[xarray]"`)."""
+        xr = _extra("xarray", "xarray", "Sweep.to_xarray")
         coords = {"case": self.cases, "record": self.records, "damping": self.damping, "period": self.periods}
         data = {}
         for name, a in self.with_joint.items():
@@ -156,6 +160,65 @@ class Sweep:
             data["suite_factor"] = (("record",), self.suite["factor"], {"units": "1"})
             data["target_sa"] = (("period",), self.suite["target_sa"], {"units": "m/s^2"})
         return xr.Dataset(data, coords=coords, attrs={k: v for k, v in self.attrs.items() if k != "config_file"})
+
+    def _columns(self) -> dict[str, tuple[np.ndarray, str]]:
+        """The results per job, by the names of `to_xarray` and
+        `to_dataframe`: name -> (array of shape (case, record, damping,
+        period), units). A result the file holds with and without the joint
+        is `<name>_with_joint` and `<name>_without_joint` (the spectrum
+        without the joint repeated over the cases), one it holds with the
+        joint only keeps its name."""
+        shape = self.status.shape
+        out = {}
+        for name, a in self.with_joint.items():
+            out[f"{name}_with_joint" if name in self.without_joint else name] = (a, self.units.get(name, ""))
+        for name, a in self.without_joint.items():
+            out[f"{name}_without_joint"] = (np.broadcast_to(a[None], shape), self.units.get(name, ""))
+        out["reduction"] = (self.reduction, "1")
+        return out
+
+    def to_dataframe(self):
+        """The results as a pandas.DataFrame in long format: one row per job
+        (case, record, damping, period; the period fastest, as in the
+        file's arrays) with the columns case, record, damping [-], period
+        [s], every result with and without the joint (named as in
+        `to_xarray`), reduction, status, validity, message and findings.
+        Failed jobs and jobs that did not run hold NaN (see `status` and
+        `message`). The units are in `df.attrs["units"]` (column ->
+        units). Needs the extra `pandas`: `pip install "quakejoint[pandas]"`."""
+        pd = _extra("pandas", "pandas", "Sweep.to_dataframe")
+        shape = self.status.shape
+        labels = np.meshgrid(
+            np.array(self.cases, dtype=object),
+            np.array(self.records, dtype=object),
+            self.damping,
+            self.periods,
+            indexing="ij",
+        )
+        data = {name: values.ravel() for name, values in zip(DIMS, labels)}
+        units = {"damping": "1", "period": "s"}
+        for name, (a, unit) in self._columns().items():
+            data[name] = np.asarray(a).reshape(shape).ravel()
+            units[name] = unit
+        data["status"] = self.status.ravel()
+        data["validity"] = self.validity.ravel()
+        data["message"] = self.message.ravel()
+        data["findings"] = self.findings.ravel()
+        df = pd.DataFrame(data)
+        df.attrs["units"] = units
+        return df
+
+
+def _extra(module: str, extra: str, what: str):
+    """Imports `module`, which the package's extra `extra` brings; an
+    ImportError that says how to install it otherwise."""
+    try:
+        return __import__(module)
+    except ImportError as e:
+        raise ImportError(
+            f"{what} needs {module}, which `pip install quakejoint` does not bring: "
+            f'pip install "quakejoint[{extra}]" (from the checkout: pip install ".[{extra}]")'
+        ) from e
 
 
 def _text(values) -> np.ndarray:
@@ -193,7 +256,7 @@ def read_sweep(path) -> Sweep:
         without_joint = {k: woj[k][()] for k in woj}
         units = {k: str(wj[k].attrs.get("units", "")) for k in wj if k not in special}
         units.update({k: str(woj[k].attrs.get("units", "")) for k in woj})
-        return Sweep(
+        sweep = Sweep(
             path=path,
             cases=list(_text(s["case"][()])),
             records=list(_text(s["record"][()])),
@@ -209,19 +272,51 @@ def read_sweep(path) -> Sweep:
             reduction=s["reduction"][()],
             flag_names=_flag_names(str(wj["validity"].attrs.get("meaning", ""))),
             attrs={k: (v.item() if hasattr(v, "item") else v) for k, v in f.attrs.items()},
-            statistics=_statistics(s),
             suite=_suite(f),
         )
+        sweep.statistics = _statistics(s) if "statistics" in s else _one_record_statistics(sweep)
+        return sweep
 
 
-def _statistics(s) -> Optional[dict]:
-    if "statistics" not in s:
-        return None
+def _statistics(s) -> dict:
     g = s["statistics"]
     out = {k: {n: g[k][n][()] for n in g[k]} for k in ("with_joint", "without_joint", "reduction")}
     out["count"] = g["count"][()]
     out["flagged"] = g["flagged"][()]
     return out
+
+
+def _one_record_statistics(sweep: Sweep) -> Optional[dict]:
+    """The statistics of a sweep of one record, which its file does not
+    store, by the definitions of the file's (crates/sweep/src/statistics.rs)
+    for one value: count 1 where the job finished, mean = median = the
+    value (NaN where the job did not finish, or for an Sa that is not a
+    positive number), dispersion and std NaN (a sample standard deviation
+    of one value is undefined), of_mean = 1 - mean with / mean without."""
+    if len(sweep.records) != 1:
+        return None
+
+    def positive(a):
+        return np.where(np.isfinite(a) & (a > 0), a, np.nan)
+
+    done = sweep.status[:, 0] == 0  # (case, damping, period)
+    nan = np.full(done.shape, np.nan)
+    with_joint = np.where(done, positive(sweep.with_joint["sa"][:, 0]), np.nan)
+    without = positive(sweep.without_joint["sa"][0])  # (damping, period)
+    reduction = np.where(done, sweep.reduction[:, 0], np.nan)
+    flagged = done & ((sweep.validity[:, 0].astype(np.int64) & ~NOT_CHECKED) != 0)
+    return {
+        "with_joint": {"mean": with_joint, "median": with_joint.copy(), "dispersion": nan.copy()},
+        "without_joint": {"mean": without, "median": without.copy(), "dispersion": np.full(without.shape, np.nan)},
+        "reduction": {
+            "mean": reduction,
+            "median": reduction.copy(),
+            "std": nan.copy(),
+            "of_mean": 1 - with_joint / without[None],
+        },
+        "count": done.astype(np.uint32),
+        "flagged": flagged.astype(np.uint32),
+    }
 
 
 def _suite(f) -> Optional[dict]:

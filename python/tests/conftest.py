@@ -147,3 +147,31 @@ def suite_sweep(cli, tmp_path_factory):
     (d / "suite.toml").write_text(suite_config())
     run_cli(cli, "sweep", d / "suite.toml", "--output", d / "suite.h5", "--progress", "none")
     return d / "suite.h5"
+
+
+ONE_RECORD = SMALL_JOINT + f"""[record]
+file = "{RECORD}"
+scale = 0.15
+[simulation]
+duration = 2.0
+[sweep]
+periods = [0.5, 1.0, 2.0]
+damping = [0.02, 0.05]
+[[sweep.cases]]
+name = "base"
+[[sweep.cases]]
+name = "few steps"
+simulation.max_steps = 5
+"""
+
+
+@pytest.fixture(scope="session")
+def one_record_sweep(cli, tmp_path_factory):
+    """One record, two cases at 3 periods and 2 damping ratios: the small
+    joint under 2 s of Corralitos at 0.15, and the same stopped after 5
+    steps (its jobs fail: exit code 3)."""
+    d = tmp_path_factory.mktemp("one_record")
+    (d / "one.toml").write_text(ONE_RECORD)
+    code, _, err = run_cli(cli, "sweep", d / "one.toml", "--output", d / "one.h5", "--progress", "none", check=False)
+    assert code == 3, err
+    return d / "one.h5"

@@ -52,7 +52,7 @@ def test_a_harmonic_ground_motion_against_the_closed_form(period, zeta):
     exact = np.abs(harmonic_response(period, zeta, amplitude, freq, t)).max()
     # the engine is exact for ground acceleration linear between samples:
     # the sine's interpolation error is (W dt)^2 / 8, about 2e-6
-    assert spec.sa[0, 0] == pytest.approx(exact, rel=2e-5)
+    assert spec.sa[0] == pytest.approx(exact, rel=2e-5)
 
 
 def test_an_array_and_its_record_give_one_spectrum():
@@ -74,3 +74,32 @@ def test_bad_spectrum_inputs_are_refused():
         qj.spectrum(rec, [1.0], 1.5)
     with pytest.raises(qj.InputError, match="Record carries its own"):
         qj.spectrum(rec, [1.0], dt=0.01)
+
+
+def test_the_shape_follows_the_arguments(cli):
+    """A number has no axis, a sequence (of one, or of none) has one: the
+    arrays have shape np.shape(damping) + np.shape(periods)."""
+    rec = qj.Record.read(RECORD)
+    periods = [0.5, 1.0, 2.0]
+    rows = cli_json(cli, "spectrum", RECORD, "--periods", "0.5,1.0,2.0", "--damping", "0.05")
+    one = qj.spectrum(rec, periods, 0.05)
+    for key in ("sa", "psa", "sd", "sv", "psv", "t_sa", "t_sd", "t_sv"):
+        assert getattr(one, key).shape == (3,), key
+    assert one.sa.tolist() == [row["sa"] for row in rows]  # the command's numbers, one per period
+    assert qj.spectrum(rec, periods).sa.shape == (3,)  # the default damping is the number 0.05
+    assert rec.spectrum(periods, 0.05).sa.shape == (3,)
+    assert qj.spectrum(rec, np.array(periods), np.float64(0.05)).sa.shape == (3,)
+    assert qj.spectrum(rec, periods, [0.05]).sa.tolist() == [one.sa.tolist()]
+    assert qj.spectrum(rec, periods, [0.02, 0.05]).sa.shape == (2, 3)
+    assert qj.spectrum(rec, periods, np.array([0.02, 0.05])).sa[1].tolist() == one.sa.tolist()
+    # empty sequences keep their axis and the other's
+    assert qj.spectrum(rec, [], [0.02, 0.05]).sa.shape == (2, 0)
+    assert qj.spectrum(rec, np.array([]), 0.05).sa.shape == (0,)
+    assert qj.spectrum(rec, periods, []).sa.shape == (0, 3)
+    # a number of periods has no period axis either
+    assert qj.spectrum(rec, 1.0, [0.02, 0.05]).sa.tolist() == [qj.spectrum(rec, [1.0], z).sa[0] for z in (0.02, 0.05)]
+    assert qj.spectrum(rec, 1.0, 0.05).sa.shape == ()
+    assert float(qj.spectrum(rec, 1.0, 0.05).sa) == one.sa[1]
+    # the labels are always 1-D
+    assert one.damping.tolist() == [0.05] and one.periods.tolist() == periods
+    assert qj.spectrum(rec, 1.0).periods.tolist() == [1.0]

@@ -1,4 +1,6 @@
 """Sweep files as labelled arrays."""
+import sys
+
 import h5py
 import numpy as np
 import pytest
@@ -40,3 +42,113 @@ def test_not_a_sweep_file_is_refused(tmp_path):
         f.attrs["kind"] = "simulate"
     with pytest.raises(qj.InputError, match="not a sweep file"):
         qj.read_sweep(path)
+
+
+def test_a_one_record_sweep_has_the_records_own_statistics(one_record_sweep):
+    """One record: count 1 where its job finished, mean = median = its value,
+    dispersion (and the reductions' std) NaN: undefined for one value."""
+    s = qj.read_sweep(one_record_sweep)
+    with h5py.File(one_record_sweep) as f:
+        assert "statistics" not in f["spectrum"]  # the file stores none for one record
+        sa = f["spectrum/with_joint/sa"][()][:, 0]  # (case, damping, period)
+        alone = f["spectrum/without_joint/sa"][()][0]  # (damping, period)
+        status = f["spectrum/with_joint/status"][()][:, 0]
+        validity = f["spectrum/with_joint/validity"][()][:, 0]
+    done = status == 0
+    assert done[0].all() and not done[1].any()  # the second case stops after 5 steps
+    st = s.statistics
+    np.testing.assert_array_equal(st["count"], done.astype(int))
+    np.testing.assert_array_equal(st["flagged"], (done & ((validity.astype(np.int64) & ~(1 << 15)) != 0)).astype(int))
+    for name in ("mean", "median"):
+        np.testing.assert_array_equal(st["with_joint"][name][done], sa[done])
+        assert np.isnan(st["with_joint"][name][~done]).all()
+        np.testing.assert_array_equal(st["without_joint"][name], alone)
+        np.testing.assert_allclose(st["reduction"][name][done], (1 - sa / alone[None])[done], rtol=1e-14)
+        assert np.isnan(st["reduction"][name][~done]).all()
+    np.testing.assert_allclose(st["reduction"]["of_mean"][done], (1 - sa / alone[None])[done], rtol=1e-14)
+    assert np.isnan(st["with_joint"]["dispersion"]).all() and np.isnan(st["without_joint"]["dispersion"]).all()
+    assert np.isnan(st["reduction"]["std"]).all()
+    assert st["with_joint"]["mean"].shape == (2, 2, 3) and st["without_joint"]["mean"].shape == (2, 3)
+
+
+def test_the_suites_statistics_are_still_the_files(suite_sweep):
+    s = qj.read_sweep(suite_sweep)
+    with h5py.File(suite_sweep) as f:
+        g = f["spectrum/statistics"]
+        np.testing.assert_array_equal(s.statistics["with_joint"]["dispersion"], g["with_joint/dispersion"][()])
+        np.testing.assert_array_equal(s.statistics["count"], g["count"][()])
+
+
+def columns_of(f):
+    """The dataframe's result columns from the file itself: name -> (dataset, with joint)."""
+    wj, woj = f["spectrum/with_joint"], f["spectrum/without_joint"]
+    special = {"status", "message", "validity", "findings"}
+    out = {}
+    for k in wj:
+        if k not in special:
+            out[f"{k}_with_joint" if k in woj else k] = (wj[k], True)
+    for k in woj:
+        out[f"{k}_without_joint"] = (woj[k], False)
+    return out
+
+
+def test_to_dataframe_has_one_row_per_job(one_record_sweep):
+    pd = pytest.importorskip("pandas")
+    s = qj.read_sweep(one_record_sweep)
+    df = s.to_dataframe()
+    assert isinstance(df, pd.DataFrame)
+    shape = (len(s.cases), len(s.records), len(s.damping), len(s.periods))
+    assert len(df) == np.prod(shape) == 12
+    assert list(df.columns[:4]) == ["case", "record", "damping", "period"]
+    # against the file read by h5py directly: rows in the order of the
+    # file's arrays (case, record, damping, period), the last fastest
+    with h5py.File(one_record_sweep) as f:
+        sp = f["spectrum"]
+        labels = np.meshgrid(
+            [v.decode() for v in sp["case"][()]],
+            [v.decode() for v in sp["record"][()]],
+            sp["damping"][()],
+            sp["period"][()],
+            indexing="ij",
+        )
+        for name, values in zip(("case", "record", "damping", "period"), labels):
+            assert df[name].tolist() == values.ravel().tolist(), name
+        columns = columns_of(f)
+        for name, (ds, with_joint) in columns.items():
+            values = ds[()] if with_joint else np.broadcast_to(ds[()][None], shape)
+            np.testing.assert_array_equal(df[name].to_numpy(), values.ravel(), err_msg=name)
+            assert df.attrs["units"][name] == ds.attrs["units"], name
+        wj = f["spectrum/with_joint"]
+        np.testing.assert_array_equal(df["reduction"].to_numpy(), sp["reduction"][()].ravel())
+        np.testing.assert_array_equal(df["status"].to_numpy(), wj["status"][()].ravel())
+        np.testing.assert_array_equal(df["validity"].to_numpy(), wj["validity"][()].ravel())
+        assert df["message"].tolist() == [m.decode() for m in wj["message"][()].ravel()]
+        assert df["findings"].tolist() == [m.decode() for m in wj["findings"][()].ravel()]
+    assert set(df.columns) == {"case", "record", "damping", "period", "reduction", "status", "validity", "message",
+                               "findings", *columns}
+    assert df.attrs["units"]["period"] == "s" and df.attrs["units"]["reduction"] == "1"
+    # against the Sweep's own arrays, job by job
+    for c, case in enumerate(s.cases):
+        for z, damping in enumerate(s.damping):
+            for t, period in enumerate(s.periods):
+                row = df[(df.case == case) & (df.damping == damping) & (df.period == period)]
+                assert len(row) == 1
+                row = row.iloc[0]
+                np.testing.assert_array_equal(row["sa_with_joint"], s["sa"][c, 0, z, t])
+                assert row["sa_without_joint"] == s.without_joint["sa"][0, z, t]
+                assert row["status"] == s.status[c, 0, z, t] and row["message"] == s.message[c, 0, z, t]
+    failed = df[df.status != 0]
+    assert len(failed) == 6 and (failed.case == "few steps").all() and failed["sa_with_joint"].isna().all()
+    assert failed["message"].str.contains("step limit of 5 steps").all()
+
+
+def test_a_missing_extra_is_named(quick_sweep, monkeypatch):
+    s = qj.read_sweep(quick_sweep)
+    monkeypatch.setitem(sys.modules, "xarray", None)
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ImportError) as e:
+        s.to_xarray()
+    assert 'pip install "quakejoint[xarray]"' in str(e.value) and 'pip install ".[xarray]"' in str(e.value)
+    with pytest.raises(ImportError) as e:
+        s.to_dataframe()
+    assert 'pip install "quakejoint[pandas]"' in str(e.value) and 'pip install ".[pandas]"' in str(e.value)

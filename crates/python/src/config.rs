@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 use quakejoint_model::config::base_dir;
 use quakejoint_model::Config;
 
-use crate::convert::{from_toml, to_toml};
+use crate::convert::{dict_error, from_toml, to_toml, too_deep, MAX_DEPTH};
 use crate::{config_error, InputError};
 
 /// A validated config. Relative record paths are read from `base_dir` (the
@@ -27,6 +27,18 @@ impl PyConfig {
     /// Parses and validates TOML text.
     fn parse(text: &str, source: &str, base_dir: PathBuf) -> PyResult<Self> {
         let config = Config::from_toml(text, source).map_err(|e| config_error(e, source))?;
+        check_geometry(&config, source)?;
+        Ok(PyConfig { config, base_dir, source: source.into() })
+    }
+
+    /// Validates the tables of a dict (`Config(d)`, `replace`): read
+    /// without a text in between, so that a message names the key, not a
+    /// line of text the user never wrote.
+    fn from_tables(table: toml::Table, source: &str, base_dir: PathBuf) -> PyResult<Self> {
+        let config: Config = toml::Value::Table(table)
+            .try_into()
+            .map_err(|e: toml::de::Error| InputError::new_err(format!("{source}: {}", dict_error(&e))))?;
+        config.validate().map_err(|e| config_error(e, source))?;
         check_geometry(&config, source)?;
         Ok(PyConfig { config, base_dir, source: source.into() })
     }
@@ -50,6 +62,17 @@ fn check_geometry(config: &Config, source: &str) -> PyResult<()> {
         quakejoint_model::geometry::Geometry::new(config).map_err(|e| config_error(e, source))?;
     }
     Ok(())
+}
+
+/// An `InputError` about a dict's value, prefixed with what the config is
+/// read from (`config (dict)`); other errors (a KeyboardInterrupt, say) as
+/// they are.
+fn named(py: Python<'_>, e: PyErr, source: &str) -> PyErr {
+    if e.is_instance_of::<InputError>(py) {
+        InputError::new_err(format!("{source}: {}", e.value(py)))
+    } else {
+        e
+    }
 }
 
 /// Sets `value` at the dotted `key` of `table`, merging dicts into tables.
@@ -86,17 +109,23 @@ impl PyConfig {
     /// A config from a dict of the TOML file's tables (`{"bridge": {"mass":
     /// 2e8}}`; omitted keys take their defaults), or every default (the
     /// reference model under the built-in Corralitos record) without one.
-    /// Relative record paths are taken from `base_dir`.
+    /// Relative record paths are taken from `base_dir`. A dict that
+    /// contains itself or is nested deeper than 32 levels, a whole number
+    /// beyond its field's range and a complex number are InputErrors
+    /// naming the key.
     #[new]
     #[pyo3(signature = (tables=None, *, base_dir=PathBuf::from(".")))]
     fn new(tables: Option<&Bound<'_, PyDict>>, base_dir: PathBuf) -> PyResult<Self> {
-        let text = match tables {
-            Some(d) => {
-                toml::to_string(&to_toml(d.as_any(), "")?).map_err(|e| InputError::new_err(format!("config: {e}")))?
-            }
-            None => String::new(),
+        const SOURCE: &str = "config (dict)";
+        let table = match tables {
+            Some(d) => match to_toml(d.as_any(), "") {
+                Ok(toml::Value::Table(t)) => t,
+                Ok(_) => unreachable!("a dict converts to a table"),
+                Err(e) => return Err(named(d.py(), e, SOURCE)),
+            },
+            None => toml::Table::new(),
         };
-        Self::parse(&text, "config (dict)", absolute(base_dir))
+        Self::from_tables(table, SOURCE, absolute(base_dir))
     }
 
     /// Reads a config file (as `quakejoint simulate <config>` does).
@@ -119,19 +148,22 @@ impl PyConfig {
     /// A copy with some values changed and validated again: dotted keys
     /// (`{"bridge.mass": 2e8, "joint.friction.mu": 0.1}`) or nested dicts.
     fn replace(&self, changes: &Bound<'_, PyDict>) -> PyResult<Self> {
-        let mut table = self.table()?;
-        for (k, v) in changes.iter() {
-            let key: String =
-                k.extract().map_err(|_| InputError::new_err(format!("replace: key {k} is not a string")))?;
-            set_dotted(&mut table, &key, to_toml(&v, &key)?);
-        }
-        let text = toml::to_string(&table).map_err(|e| InputError::new_err(format!("replace: {e}")))?;
         let source = if self.source.ends_with(" (replaced)") {
             self.source.clone()
         } else {
             format!("{} (replaced)", self.source)
         };
-        Self::parse(&text, &source, self.base_dir.clone())
+        let mut table = self.table()?;
+        for (k, v) in changes.iter() {
+            let key: String =
+                k.extract().map_err(|_| InputError::new_err(format!("replace: key {k} is not a string")))?;
+            if key.split('.').count() > MAX_DEPTH {
+                return Err(InputError::new_err(format!("replace: {}", too_deep(&key))));
+            }
+            let value = to_toml(&v, &key).map_err(|e| named(changes.py(), e, &source))?;
+            set_dotted(&mut table, &key, value);
+        }
+        Self::from_tables(table, &source, self.base_dir.clone())
     }
 
     /// Every value, defaults filled in, as nested dicts (SI units).

@@ -4,14 +4,16 @@
 
 use std::path::{Path, PathBuf};
 
-use numpy::{PyArray1, PyArray2, PyReadonlyArray1};
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::{PyArray1, PyArrayDyn};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyString};
 use quakejoint_motion::{
     load_record, load_record_from_samples, spectrum_samples, LoadedRecord, RecordStats, SpectrumOptions, SpectrumRow,
+    MAX_SUBDIVISIONS,
 };
 
-use crate::convert::{array_or_scalar, record_spec, SpecFields};
+use crate::convert::{real, real_opt, record_spec, whole, Numbers, SpecFields};
 use crate::input_error;
 
 /// A ground-motion record: acceleration in m/s^2 at a uniform time step,
@@ -37,13 +39,23 @@ impl PyRecord {
         path: PathBuf,
         format: Option<String>,
         units: Option<String>,
-        dt: Option<f64>,
-        column: Option<usize>,
-        scale: Option<f64>,
-        target_pga_g: Option<f64>,
+        dt: Option<&Bound<'_, PyAny>>,
+        column: Option<&Bound<'_, PyAny>>,
+        scale: Option<&Bound<'_, PyAny>>,
+        target_pga_g: Option<&Bound<'_, PyAny>>,
         name: Option<String>,
     ) -> PyResult<Self> {
-        let fields = SpecFields { format, units, dt, column, scale, target_pga_g, name };
+        const F: &str = "Record.read";
+        let column = column.map(|c| whole(c, F, "column", 1, u32::MAX as i64).map(|c| c as usize)).transpose()?;
+        let fields = SpecFields {
+            format,
+            units,
+            dt: real_opt(dt, F, "dt")?,
+            column,
+            scale: real_opt(scale, F, "scale")?,
+            target_pga_g: real_opt(target_pga_g, F, "target_pga_g")?,
+            name,
+        };
         let spec = record_spec(&path, fields)?;
         let loaded = py.detach(|| load_record(&spec, Path::new(""))).map_err(input_error)?;
         Ok(PyRecord { loaded })
@@ -51,21 +63,31 @@ impl PyRecord {
 
     /// A record from an array of ground accelerations at time step `dt`
     /// [s], in `units` (required: an array cannot say its units; "g",
-    /// "m/s2", "cm/s2" or "gal"), checked as a file's numbers are (finite,
-    /// at most 5 g, dt from 1e-5 to 1 s).
+    /// "m/s2", "cm/s2" or "gal"), checked as a file's numbers are (real and
+    /// finite, at most 5 g, dt from 1e-5 to 1 s).
     #[staticmethod]
     #[pyo3(signature = (acceleration, dt, *, units=None, scale=None, target_pga_g=None, name=None))]
     fn from_array(
         acceleration: &Bound<'_, PyAny>,
-        dt: f64,
+        dt: &Bound<'_, PyAny>,
         units: Option<String>,
-        scale: Option<f64>,
-        target_pga_g: Option<f64>,
+        scale: Option<&Bound<'_, PyAny>>,
+        target_pga_g: Option<&Bound<'_, PyAny>>,
         name: Option<String>,
     ) -> PyResult<Self> {
-        let values = samples_of(acceleration)?;
+        const F: &str = "Record.from_array";
+        let values = samples_of(acceleration, F, "acceleration")?;
+        let dt = real(dt, F, "dt")?;
         let name = name.unwrap_or_else(|| "array".to_string());
-        let fields = SpecFields { format: None, units, dt: None, column: None, scale, target_pga_g, name: Some(name) };
+        let fields = SpecFields {
+            format: None,
+            units,
+            dt: None,
+            column: None,
+            scale: real_opt(scale, F, "scale")?,
+            target_pga_g: real_opt(target_pga_g, F, "target_pga_g")?,
+            name: Some(name),
+        };
         let label = fields.name.clone().unwrap_or_default();
         let spec = record_spec(Path::new(&label), fields)?;
         let loaded = load_record_from_samples(&spec, dt, values).map_err(input_error)?;
@@ -190,17 +212,17 @@ impl PyRecord {
     }
 
     /// The exact linear response spectrum of this record (see
-    /// `quakejoint.spectrum`).
-    #[pyo3(signature = (periods, damping=None, *, subdivisions=0))]
+    /// `quakejoint.spectrum`; the same shapes).
+    #[pyo3(signature = (periods, damping=None, *, subdivisions=None))]
     fn spectrum(
         &self,
         py: Python<'_>,
         periods: &Bound<'_, PyAny>,
         damping: Option<&Bound<'_, PyAny>>,
-        subdivisions: u32,
+        subdivisions: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PySpectrum> {
         let r = &self.loaded.record;
-        compute(py, &r.acceleration, r.dt, periods, damping, subdivisions)
+        compute(py, "Record.spectrum", &r.acceleration, r.dt, periods, damping, subdivisions)
     }
 
     fn __len__(&self) -> usize {
@@ -222,20 +244,27 @@ impl PyRecord {
     }
 }
 
-/// An exact linear response spectrum: arrays of shape (len(damping),
-/// len(periods)), SI units.
+/// An exact linear response spectrum, SI units. Each array has the shape
+/// `np.shape(damping) + np.shape(periods)` of the arguments: a number has
+/// no axis, a sequence (of one, or of none) has one. So a number of damping
+/// gives arrays of shape (len(periods),), a list of dampings
+/// (len(damping), len(periods)).
 #[pyclass(name = "Spectrum", module = "quakejoint", frozen)]
 pub struct PySpectrum {
     periods: Vec<f64>,
     dampings: Vec<f64>,
     rows: Vec<SpectrumRow>,
+    /// The arrays' shape.
+    shape: Vec<usize>,
 }
 
 impl PySpectrum {
-    fn field<'py>(&self, py: Python<'py>, f: impl Fn(&SpectrumRow) -> f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let n = self.periods.len();
-        let rows: Vec<Vec<f64>> = self.rows.chunks(n.max(1)).map(|c| c.iter().map(&f).collect()).collect();
-        PyArray2::from_vec2(py, &rows).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+    fn field<'py>(&self, py: Python<'py>, f: impl Fn(&SpectrumRow) -> f64) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        // rows are damping-major: the values in C order of (damping, period)
+        let values: Vec<f64> = self.rows.iter().map(f).collect();
+        let array = ArrayD::from_shape_vec(IxDyn(&self.shape), values)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        Ok(PyArrayDyn::from_owned_array(py, array))
     }
 }
 
@@ -255,75 +284,83 @@ impl PySpectrum {
 
     /// Spectral acceleration: peak absolute acceleration [m/s^2].
     #[getter]
-    fn sa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn sa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         self.field(py, |r| r.peaks.sa)
     }
 
     /// Pseudo-spectral acceleration w^2 Sd [m/s^2].
     #[getter]
-    fn psa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn psa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         self.field(py, |r| r.peaks.psa)
     }
 
     /// Spectral displacement: peak relative displacement [m].
     #[getter]
-    fn sd<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn sd<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         self.field(py, |r| r.peaks.sd)
     }
 
     /// Spectral velocity: peak relative velocity [m/s].
     #[getter]
-    fn sv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn sv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         self.field(py, |r| r.peaks.sv)
     }
 
     /// Pseudo-spectral velocity w Sd [m/s].
     #[getter]
-    fn psv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn psv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         self.field(py, |r| r.peaks.psv)
     }
 
     /// Time of Sa [s].
     #[getter]
-    fn t_sa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn t_sa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         self.field(py, |r| r.peaks.t_sa)
     }
 
     /// Time of Sd [s].
     #[getter]
-    fn t_sd<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn t_sd<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         self.field(py, |r| r.peaks.t_sd)
     }
 
     /// Time of Sv [s].
     #[getter]
-    fn t_sv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn t_sv<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         self.field(py, |r| r.peaks.t_sv)
     }
 
     fn __repr__(&self) -> String {
-        format!("Spectrum({} periods x {} damping ratios)", self.periods.len(), self.dampings.len())
+        format!(
+            "Spectrum({} periods x {} damping ratios, arrays of shape {:?})",
+            self.periods.len(),
+            self.dampings.len(),
+            self.shape
+        )
     }
 }
 
 /// The exact linear response spectrum of a record, or of an array of
 /// ground accelerations at time step `dt` [s] in `units` (required for an
-/// array), for `periods` [s] and `damping` ratios [-] (a number or a
-/// sequence; default 0.05). The oscillator step is exact for ground
-/// acceleration linear between samples (Nigam and Jennings 1969), the code
-/// of `quakejoint spectrum`; peaks at the sample times, or at
+/// array), for `periods` [s] and `damping` ratios [-] (each a number or a
+/// sequence; damping default 0.05). The arrays have the shape
+/// `np.shape(damping) + np.shape(periods)`: a number has no axis, a
+/// sequence (of one, or of none) has one. The oscillator step is exact for
+/// ground acceleration linear between samples (Nigam and Jennings 1969),
+/// the code of `quakejoint spectrum`; peaks at the sample times, or at
 /// `subdivisions` points per interval.
 #[pyfunction]
-#[pyo3(signature = (record, periods, damping=None, *, dt=None, units=None, subdivisions=0))]
+#[pyo3(signature = (record, periods, damping=None, *, dt=None, units=None, subdivisions=None))]
 fn spectrum(
     py: Python<'_>,
     record: &Bound<'_, PyAny>,
     periods: &Bound<'_, PyAny>,
     damping: Option<&Bound<'_, PyAny>>,
-    dt: Option<f64>,
+    dt: Option<&Bound<'_, PyAny>>,
     units: Option<String>,
-    subdivisions: u32,
+    subdivisions: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PySpectrum> {
+    const F: &str = "spectrum";
     if let Ok(r) = record.cast::<PyRecord>() {
         if dt.is_some() || units.is_some() {
             return Err(crate::InputError::new_err(
@@ -331,54 +368,60 @@ fn spectrum(
             ));
         }
         let r = &r.get().loaded.record;
-        return compute(py, &r.acceleration, r.dt, periods, damping, subdivisions);
+        return compute(py, F, &r.acceleration, r.dt, periods, damping, subdivisions);
     }
-    let samples = samples_of(record)?;
-    let Some(dt) = dt else {
+    let samples = samples_of(record, F, "record")?;
+    let Some(dt) = real_opt(dt, F, "dt")? else {
         return Err(crate::InputError::new_err("spectrum: an array needs its time step `dt` [s]"));
     };
     let fields = SpecFields { units, ..SpecFields::default() };
     let spec = record_spec(Path::new("array"), fields)?;
     let loaded = load_record_from_samples(&spec, dt, samples).map_err(input_error)?;
     let r = &loaded.record;
-    compute(py, &r.acceleration, r.dt, periods, damping, subdivisions)
+    compute(py, F, &r.acceleration, r.dt, periods, damping, subdivisions)
 }
 
-/// Ground-acceleration samples from a 1-D numpy array of floats or a
-/// sequence of numbers.
-fn samples_of(obj: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
-    if let Ok(a) = obj.extract::<PyReadonlyArray1<'_, f64>>() {
-        return Ok(a.as_array().to_vec());
+/// Ground-acceleration samples, the argument `what` of `func`: a 1-D array
+/// or sequence of real numbers.
+fn samples_of(obj: &Bound<'_, PyAny>, func: &str, what: &str) -> PyResult<Vec<f64>> {
+    let expected = if what == "record" { "a Record or a 1-D array of samples" } else { "a 1-D array of samples" };
+    let refuse =
+        |found: String| crate::InputError::new_err(format!("{func}: `{what}` must be {expected}, not {found}"));
+    if obj.is_instance_of::<PyString>() {
+        return Err(refuse("a string".into()));
     }
-    if let Ok(shape) = obj.getattr("shape").and_then(|s| s.extract::<Vec<usize>>()) {
-        if shape.len() != 1 {
-            return Err(crate::InputError::new_err(format!(
-                "the acceleration must be a 1-D array of samples, not an array of shape {shape:?}"
-            )));
-        }
+    let n = Numbers::of(obj, func, what)?;
+    match n.shape.len() {
+        1 => Ok(n.values),
+        0 => Err(refuse("a single number".into())),
+        _ => Err(refuse(format!("an array of shape {:?}", n.shape))),
     }
-    obj.extract::<Vec<f64>>().map_err(|_| {
-        crate::InputError::new_err("the acceleration must be a Record, a 1-D array of floats or a sequence of numbers")
-    })
 }
 
 /// The spectrum of samples [m/s^2], GIL released.
 fn compute(
     py: Python<'_>,
+    func: &str,
     accel: &[f64],
     dt: f64,
     periods: &Bound<'_, PyAny>,
     damping: Option<&Bound<'_, PyAny>>,
-    subdivisions: u32,
+    subdivisions: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PySpectrum> {
-    let periods = array_or_scalar(periods, "periods")?;
+    let periods = Numbers::at_most_1d(periods, func, "periods")?;
     let dampings = match damping {
-        Some(d) => array_or_scalar(d, "damping")?,
-        None => vec![0.05],
+        Some(d) => Numbers::at_most_1d(d, func, "damping")?,
+        None => Numbers { values: vec![0.05], shape: vec![] },
     };
+    let subdivisions = match subdivisions {
+        Some(s) => whole(s, func, "subdivisions", 0, MAX_SUBDIVISIONS as i64)? as u32,
+        None => 0,
+    };
+    let shape = [dampings.shape.as_slice(), periods.shape.as_slice()].concat();
+    let (periods, dampings) = (periods.values, dampings.values);
     let options = SpectrumOptions { subdivisions };
     let rows = py.detach(|| spectrum_samples(accel, dt, &periods, &dampings, options)).map_err(input_error)?;
-    Ok(PySpectrum { periods, dampings, rows })
+    Ok(PySpectrum { periods, dampings, rows, shape })
 }
 
 /// Adds the record classes and functions to the module.

@@ -18,6 +18,7 @@ use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{LoadedRecord, G};
 
 use crate::config::PyConfig;
+use crate::convert::real_opt;
 use crate::record::PyRecord;
 use crate::{config_error, model_error, InputError};
 
@@ -203,7 +204,7 @@ fn cumulative(t: &[f64], y: &[f64]) -> Vec<f64> {
 fn simulate(
     py: Python<'_>,
     config: Option<&PyConfig>,
-    period: Option<f64>,
+    period: Option<&Bound<'_, PyAny>>,
     record: Option<&PyRecord>,
     joint: bool,
     history: bool,
@@ -213,7 +214,7 @@ fn simulate(
         None => (Config::default(), std::path::PathBuf::from("."), "config (defaults)".to_string()),
     };
     let named = |e: ModelError| config_error(e, &source);
-    if let Some(t) = period {
+    if let Some(t) = real_opt(period, "simulate", "period")? {
         if !(t.is_finite() && t > 0.0) {
             return Err(InputError::new_err(format!("period = {t} s: must be finite and > 0")));
         }
