@@ -38,9 +38,15 @@ class Record:
         scale: Optional[float] = None,
         target_pga_g: Optional[float] = None,
         name: Optional[str] = None,
+        channel: Optional[int] = None,
+        azimuth: Optional[float] = None,
+        allow_vertical: bool = False,
     ) -> Record:
-        """Reads a record file (AT2, ESM, K-NET, COSMOS, CSV, text); units from
-        the header or `units` ("g", "m/s2", "cm/s2", "gal"), never guessed."""
+        """Reads a record file (AT2, ESM, K-NET, COSMOS, CSMIP/DMG from CESMD, CSV,
+        text); units from the header or `units` ("g", "m/s2", "cm/s2", "gal"),
+        never guessed. `channel` (number) or `azimuth` [degrees from north]
+        choose a channel of a file of several; a vertical one needs
+        `allow_vertical=True`."""
     @staticmethod
     def from_array(
         acceleration: npt.ArrayLike,
@@ -73,6 +79,10 @@ class Record:
     @property
     def format(self) -> str:
         """The format the file was read as."""
+    @property
+    def channel(self) -> Optional[dict]:
+        """The channel read: {"number", "of", "orientation": {"kind", "degrees" or
+        "label"}, "description"}; None for AT2 and text."""
     @property
     def scale(self) -> float:
         """The user's scale factor [-]."""

@@ -249,6 +249,7 @@ def read_sweep(path) -> Sweep:
         if f.attrs.get("kind") != "sweep" or "spectrum" not in f:
             kind = f.attrs.get("kind", "unknown")
             raise InputError(f"{path}: not a sweep file (kind `{kind}`; `quakejoint sweep` writes one)")
+        _verify(f, path)
         s = f["spectrum"]
         wj, woj = s["with_joint"], s["without_joint"]
         special = {"status", "message", "validity", "findings"}
@@ -276,6 +277,35 @@ def read_sweep(path) -> Sweep:
         )
         sweep.statistics = _statistics(s) if "statistics" in s else _one_record_statistics(sweep)
         return sweep
+
+
+def _verify(f, path: str) -> None:
+    """Reads every dataset of the file, so that HDF5 checks each one's
+    checksum (docs/hdf5-layout.md, "Checksums"), and checks the reduction
+    against the spectra it is computed from: a damaged file is refused,
+    naming the dataset, never read as a good one."""
+    again = " (run the sweep again: it rebuilds its output from its journal)"
+    names = []
+    try:
+        f.visit(names.append)
+    except (OSError, KeyError) as e:
+        raise InputError(f"{path}: the file is damaged ({e}){again}") from None
+    for name in names:
+        try:
+            obj = f[name]
+            if isinstance(obj, h5py.Dataset):
+                obj[()]
+        except (OSError, KeyError, ValueError) as e:
+            raise InputError(f"{path}: /{name} is damaged: it cannot be read ({e}){again}") from None
+    s = f["spectrum"]
+    sa, without = s["with_joint/sa"][()], s["without_joint/sa"][()]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        expected = 1.0 - sa / without[np.newaxis]
+    if not np.array_equal(s["reduction"][()], expected, equal_nan=True):
+        raise InputError(
+            f"{path}: /spectrum/reduction does not match the spectra with and without the joint it is derived "
+            f"from: the file is damaged or was changed after it was written{again}"
+        )
 
 
 def _statistics(s) -> dict:

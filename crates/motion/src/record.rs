@@ -404,10 +404,27 @@ fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -
     };
     let scale = to_si * user_scale;
     let acceleration: Vec<f64> = raw.values.iter().map(|v| v * scale).collect();
-    if let Some(i) = acceleration.iter().position(|a| !a.is_finite()) {
-        return Err(RecordError::Invalid {
-            name: file,
-            message: format!("sample {i} overflows after scaling by {scale} (m/s² per file unit)"),
+    // the file as read passed the 5 g limit above: beyond it now is the
+    // user's factor's doing, so the error names that field
+    if let Some(i) = beyond_limit(&acceleration, 1.0).or_else(|| acceleration.iter().position(|a| !a.is_finite())) {
+        let (field, value) = match spec.target_pga_g {
+            Some(t) => ("target_pga_g", t),
+            None => ("scale", spec.scale),
+        };
+        return Err(RecordError::Spec {
+            file,
+            field,
+            message: format!(
+                "{field} = {}: the scaled record reaches {} at sample {i} (t = {} s), beyond {MAX_ACCELERATION_G} g: \
+                 no recorded ground motion is that strong",
+                crate::text::number(value),
+                if acceleration[i].is_finite() {
+                    format!("{:.3} g", acceleration[i] / crate::G)
+                } else {
+                    "an overflow".to_string()
+                },
+                crate::text::number(i as f64 * raw.dt)
+            ),
         });
     }
     let record = Record {

@@ -245,7 +245,11 @@ fn physically_absurd_records_are_refused() {
     assert!(load_record_from_str(&spec, "0 0\n0.01 5\n").is_ok());
     spec.scale = 2.0;
     let e = load_record_from_str(&spec, "0 0\n0.01 3\n").unwrap_err().to_string();
-    assert!(e.contains("beyond 5 g") && e.contains("check the units and the scale"), "{e}");
+    assert!(e.contains("field `scale`: scale = 2: the scaled record reaches 6.000 g") && e.contains("beyond 5 g"), "{e}");
+    // a scale that overflows names its field too
+    spec.scale = 1e308;
+    let e = load_record_from_str(&spec, "0 0\n0.01 3\n").unwrap_err().to_string();
+    assert!(e.contains("field `scale`: scale = 1e308: the scaled record reaches an overflow"), "{e}");
     // a day and a bit at 1 s
     let long = quakejoint_motion::Record::new("long", 1.0, vec![0.0; 86_402]).unwrap_err().to_string();
     assert!(long.contains("more than a day"), "{long}");

@@ -28,6 +28,12 @@ pub(crate) struct SpecFields {
     pub target_pga_g: Option<f64>,
     /// `name`.
     pub name: Option<String>,
+    /// `channel` (its number in a COSMOS or CSMIP file).
+    pub channel: Option<u32>,
+    /// `azimuth` [degrees from north].
+    pub azimuth: Option<f64>,
+    /// `allow_vertical`.
+    pub allow_vertical: bool,
 }
 
 /// The spec of `path` with `fields`, read as a config's `[record]` table is
@@ -47,6 +53,9 @@ pub(crate) fn record_spec(path: &Path, fields: SpecFields) -> PyResult<RecordSpe
     put("scale", fields.scale.map(toml::Value::Float));
     put("target_pga_g", fields.target_pga_g.map(toml::Value::Float));
     put("name", fields.name.map(toml::Value::String));
+    put("channel", fields.channel.map(|c| toml::Value::Integer(c as i64)));
+    put("azimuth", fields.azimuth.map(toml::Value::Float));
+    put("allow_vertical", fields.allow_vertical.then_some(toml::Value::Boolean(true)));
     let spec: RecordSpec = toml::Value::Table(t)
         .try_into()
         .map_err(|e: toml::de::Error| InputError::new_err(format!("{}: {}", path.display(), e.message())))?;

@@ -25,14 +25,17 @@ pub struct PyRecord {
 
 #[pymethods]
 impl PyRecord {
-    /// Reads a record file (PEER AT2, ESM, K-NET/KiK-net, COSMOS, CSV or
-    /// text; docs/ground-motions.md) as `quakejoint record` does. Units are
-    /// never guessed: a file whose header does not state them needs `units`
-    /// ("g", "m/s2", "cm/s2" or "gal"). `dt` [s] is for one-column and
-    /// sequence files only, `column` (1-based) for text files; `scale` [-] or
-    /// `target_pga_g` [g] scale the record.
+    /// Reads a record file (PEER AT2, ESM, K-NET/KiK-net, COSMOS, CSMIP/DMG
+    /// Volume 1/2 from CESMD, CSV or text; docs/ground-motions.md) as
+    /// `quakejoint record` does. Units are never guessed: a file whose
+    /// header does not state them needs `units` ("g", "m/s2", "cm/s2" or
+    /// "gal"). `dt` [s] is for one-column and sequence files only, `column`
+    /// (1-based) for text files; `channel` (its number) or `azimuth`
+    /// [degrees from north] choose a channel of a COSMOS or CSMIP file that
+    /// holds several, and `allow_vertical=True` reads a vertical one;
+    /// `scale` [-] or `target_pga_g` [g] scale the record.
     #[staticmethod]
-    #[pyo3(signature = (path, *, format=None, units=None, dt=None, column=None, scale=None, target_pga_g=None, name=None))]
+    #[pyo3(signature = (path, *, format=None, units=None, dt=None, column=None, scale=None, target_pga_g=None, name=None, channel=None, azimuth=None, allow_vertical=false))]
     #[allow(clippy::too_many_arguments)]
     fn read(
         py: Python<'_>,
@@ -44,9 +47,13 @@ impl PyRecord {
         scale: Option<&Bound<'_, PyAny>>,
         target_pga_g: Option<&Bound<'_, PyAny>>,
         name: Option<String>,
+        channel: Option<&Bound<'_, PyAny>>,
+        azimuth: Option<&Bound<'_, PyAny>>,
+        allow_vertical: bool,
     ) -> PyResult<Self> {
         const F: &str = "Record.read";
         let column = column.map(|c| whole(c, F, "column", 1, u32::MAX as i64).map(|c| c as usize)).transpose()?;
+        let channel = channel.map(|c| whole(c, F, "channel", 1, u32::MAX as i64).map(|c| c as u32)).transpose()?;
         let fields = SpecFields {
             format,
             units,
@@ -55,6 +62,9 @@ impl PyRecord {
             scale: real_opt(scale, F, "scale")?,
             target_pga_g: real_opt(target_pga_g, F, "target_pga_g")?,
             name,
+            channel,
+            azimuth: real_opt(azimuth, F, "azimuth")?,
+            allow_vertical,
         };
         let spec = record_spec(&path, fields)?;
         let loaded = py.detach(|| load_record(&spec, Path::new(""))).map_err(input_error)?;
@@ -87,6 +97,7 @@ impl PyRecord {
             scale: real_opt(scale, F, "scale")?,
             target_pga_g: real_opt(target_pga_g, F, "target_pga_g")?,
             name: Some(name),
+            ..SpecFields::default()
         };
         let label = fields.name.clone().unwrap_or_default();
         let spec = record_spec(Path::new(&label), fields)?;
@@ -172,7 +183,41 @@ impl PyRecord {
         self.loaded.record.header.clone()
     }
 
-    /// Duration (n - 1) dt [s].
+    /// The channel read, where the format says which: a dict with
+    /// `number` (as the file gives it), `of` (channels in the file) and
+    /// `orientation` ({"kind": "azimuth", "degrees": 90.0}, {"kind":
+    /// "vertical", "label": "Up"}, {"kind": "axis", "label": "Long"} or
+    /// {"kind": "unknown"}); None for formats of one unnamed channel
+    /// (AT2, text).
+    #[getter]
+    fn channel<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(c) = &self.loaded.channel else { return Ok(None) };
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("number", c.number)?;
+        d.set_item("of", c.of)?;
+        let o = pyo3::types::PyDict::new(py);
+        match &c.orientation {
+            quakejoint_motion::Orientation::Azimuth { degrees } => {
+                o.set_item("kind", "azimuth")?;
+                o.set_item("degrees", degrees)?;
+            }
+            quakejoint_motion::Orientation::Vertical { label } => {
+                o.set_item("kind", "vertical")?;
+                o.set_item("label", label)?;
+            }
+            quakejoint_motion::Orientation::Axis { label } => {
+                o.set_item("kind", "axis")?;
+                o.set_item("label", label)?;
+            }
+            quakejoint_motion::Orientation::Unknown => o.set_item("kind", "unknown")?,
+        }
+        d.set_item("orientation", o)?;
+        d.set_item("description", c.describe())?;
+        Ok(Some(d.into_any()))
+    }
+
+    /// Duration (n - 1) dt [s], from the first sample to the last (a
+    /// header's record length is n dt).
     #[getter]
     fn duration(&self) -> f64 {
         self.loaded.record.duration()
