@@ -14,8 +14,11 @@ most three side by side, then another row), panels sharing the time axis:
 2. their difference, with - without: the joint's effect, which the first
    panel cannot show when it is a fraction of a percent;
 3. the force of the joint on the deck;
-4. the clear sub-gaps (abutment side first), zero, where beams touch,
-   marked;
+4. the clear sub-gaps (abutment side first) at the wider end of each cell
+   (solid: how far it opens) and at the narrower end (dotted: how close
+   the beams come), with zero (the beams touch) and the joint's movement
+   capacity (`joint.capacity.max_subgap`) drawn, and the largest opening
+   marked and labelled when it goes beyond the capacity;
 5. the largest contact force across each sub-gap per time step (only for
    runs with contacts).
 A run without the joint (`simulate --no-joint`) shows the bridge alone and
@@ -35,7 +38,7 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from plotlib import NOT_CHECKED, accel_units, text  # noqa: E402
+from plotlib import NOT_CHECKED, accel_units, text, tomllib  # noqa: E402
 
 
 def flagged(attrs):
@@ -48,7 +51,16 @@ def flagged(attrs):
 def series(g):
     """The arrays of one run's history group (None where absent)."""
     get = lambda k: g[k][:] if k in g else None  # noqa: E731
-    return {k: get(k) for k in ("t", "a_abs", "a_abs_without_joint", "joint_force", "subgaps", "contact_force")}
+    names = ("t", "a_abs", "a_abs_without_joint", "joint_force", "subgaps", "subgaps_wide", "contact_force")
+    return {k: get(k) for k in names}
+
+
+def capacity(config_text):
+    """joint.capacity.max_subgap [m] of a config as used (TOML, defaults filled in), or None."""
+    try:
+        return float(tomllib.loads(text(config_text))["joint"]["capacity"]["max_subgap"])
+    except (KeyError, ValueError, TypeError, tomllib.TOMLDecodeError):
+        return None
 
 
 def runs(f):
@@ -58,8 +70,11 @@ def runs(f):
         joint = not text(f.attrs.get("method", "multibody")).startswith("exact")
         what = "" if joint else " -- bridge alone (--no-joint), exact linear"
         title = f"{record}, T = {f['result/period'][()]:.4g} s{what}" + flagged(f.attrs)
-        yield title, joint, series(f["history"])
+        yield title, joint, dict(series(f["history"]), capacity=capacity(f.attrs.get("config", "")))
     jobs = f.get("histories", {})
+    configs = {}
+    if "spectrum/case_config" in f:
+        configs = dict(zip(f["spectrum/case"].asstr()[()], f["spectrum/case_config"].asstr()[()]))
     number = lambda n: int(n.rsplit("_", 1)[-1]) if n.rsplit("_", 1)[-1].isdigit() else -1  # noqa: E731
     for name in sorted(jobs, key=number):
         g = jobs[name]
@@ -67,7 +82,8 @@ def runs(f):
             f"{text(g.attrs['case'])} / {text(g.attrs['record'])} / damping {g['damping'][()]:g} / "
             f"T = {g['period'][()]:.4g} s"
         )
-        yield title + flagged(g.attrs), True, series(g)
+        cap = capacity(configs.get(text(g.attrs["case"]), ""))
+        yield title + flagged(g.attrs), True, dict(series(g), capacity=cap)
 
 
 def note(ax, message):
@@ -104,7 +120,7 @@ def figure(src, window=None, in_g=False):
             ax.plot(t, k * s["a_abs"], color="tab:red", lw=0.7, label="with joint")
         ax.set_title(title, fontsize=9, color="tab:red" if "FLAGGED" in title else "k")
         ax.set_ylabel(f"deck abs. acc. [{unit}]")
-        ax.legend(fontsize=7, loc="upper right")
+        ax.legend(fontsize=8, loc="upper right", framealpha=0.8)
         for a in axes[:, col]:
             a.grid(True, alpha=0.3)
         axes[-1, col].set_xlabel("t [s]")
@@ -130,15 +146,39 @@ def figure(src, window=None, in_g=False):
             note(axf, "no joint in this run")
         axd.set_ylabel(f"difference [{unit}]")
         axf.set_ylabel("joint force [kN]")
-        gaps = s["subgaps"]
+        gaps, wide = s["subgaps"], s["subgaps_wide"]
         if gaps is None or len(gaps) == 0:
             note(axg, "no sub-gaps (no joint)")
         else:
-            for j, g in enumerate(gaps):
-                axg.plot(t, 1e3 * g, lw=0.7, color=f"C{j % 10}", label=f"sub-gap {j + 1}" if len(gaps) <= 8 else None)
+            if wide is None:  # a file of an earlier version: the narrower end only
+                wide = gaps
+            for j, (g, w) in enumerate(zip(gaps, wide)):
+                label = f"sub-gap {j + 1}" if len(gaps) <= 8 else None
+                axg.plot(t, 1e3 * w, lw=0.8, color=f"C{j % 10}", label=label)
+                axg.plot(t, 1e3 * g, lw=0.6, ls=":", color=f"C{j % 10}")
             axg.axhline(0, color="k", lw=1.0, ls="--", label="beams touch")
-            axg.set_title("clear sub-gaps, abutment side first", fontsize=8)
-            axg.legend(fontsize=6, ncol=3, loc="upper right")
+            cap = s.get("capacity")
+            title = "clear sub-gaps, abutment side first: wider end solid, narrower end dotted"
+            if cap is not None:
+                axg.axhline(1e3 * cap, color="tab:red", lw=1.2, ls="--", label=f"capacity {1e3 * cap:.0f} mm")
+                j, i = np.unravel_index(np.argmax(wide), wide.shape)
+                if wide[j, i] > cap:
+                    axg.plot(t[i], 1e3 * wide[j, i], "o", color="tab:red", ms=6, zorder=5)
+                    axg.annotate(
+                        f"sub-gap {j + 1} opens to {1e3 * wide[j, i]:.1f} mm at t = {t[i]:.2f} s",
+                        (t[i], 1e3 * wide[j, i]),
+                        xytext=(10, 4),
+                        textcoords="offset points",
+                        fontsize=8,
+                        color="tab:red",
+                        bbox={"boxstyle": "round", "fc": "white", "ec": "tab:red", "alpha": 0.9},
+                    )
+                    title += " -- beyond the capacity"
+            # room above the largest opening for the legend and the label
+            top = 1e3 * max(np.nanmax(wide), cap if cap is not None else 0.0)
+            axg.set_ylim(min(-0.05 * top, 1e3 * np.nanmin(gaps)), 1.45 * top)
+            axg.set_title(title, fontsize=8)
+            axg.legend(fontsize=8, ncol=3, loc="upper right", framealpha=0.9)
         axg.set_ylabel("sub-gap [mm]")
         if contacts:
             axc = axes[4, col]
@@ -152,7 +192,7 @@ def figure(src, window=None, in_g=False):
                 for j in closed:
                     axc.plot(t, 1e-3 * forces[j], lw=0.8, color=f"C{j % 10}", label=f"sub-gap {j + 1}")
                 if len(closed) <= 8:
-                    axc.legend(fontsize=6, ncol=3, loc="upper right")
+                    axc.legend(fontsize=8, ncol=3, loc="upper right", framealpha=0.8)
                 axc.set_title(f"contact force, peak per time step ({len(closed)} of {len(forces)} sub-gaps closed)",
                               fontsize=8)
             axc.set_ylabel("contact force [kN]")

@@ -30,6 +30,7 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
             friction_power: vec![f64::NAN; n],
             center_beam_dx: Vec::new(),
             subgaps: Vec::new(),
+            subgaps_wide: Vec::new(),
             contact_force: Vec::new(),
             impacts: Vec::new(),
             ..Histories::default()

@@ -77,9 +77,13 @@ pub struct Histories {
     /// x displacement of each center beam from its reference position,
     /// `[beam][time]` [m].
     pub center_beam_dx: Vec<Vec<f64>>,
-    /// Clear sub-gaps, the smaller of the two beam ends, abutment side
-    /// first, `[gap][time]` [m] (Nc + 1 of them).
+    /// Clear sub-gaps at the narrower of the two beam ends (where the beams
+    /// close first: pounding), abutment side first, `[gap][time]` [m]
+    /// (Nc + 1 of them).
     pub subgaps: Vec<Vec<f64>>,
+    /// Clear sub-gaps at the wider of the two beam ends (where a cell
+    /// opens most: the movement capacity), `[gap][time]` [m].
+    pub subgaps_wide: Vec<Vec<f64>>,
     /// Largest contact force across each sub-gap (both ends) since the
     /// previous output time, `[gap][time]` [N] (empty without contacts): an
     /// impact is shorter than a record's time step.
@@ -603,6 +607,7 @@ impl EarthquakeObserver {
         let histories = histories.then(|| Histories {
             center_beam_dx: vec![Vec::new(); model.center_beams.len()],
             subgaps: vec![Vec::new(); n_gaps],
+            subgaps_wide: vec![Vec::new(); n_gaps],
             contact_force: vec![Vec::new(); if contacts.is_some() { n_gaps } else { 0 }],
             ..Histories::default()
         });
@@ -742,6 +747,9 @@ impl EarthquakeObserver {
                     h.center_beam_dx[i].push(q[c] - g.geometry.center_x[i]);
                 }
                 for (series, &gap) in h.subgaps.iter_mut().zip(&g.smallest) {
+                    series.push(gap);
+                }
+                for (series, &gap) in h.subgaps_wide.iter_mut().zip(&g.largest) {
                     series.push(gap);
                 }
                 for (series, &f) in h.contact_force.iter_mut().zip(&self.gap_forces) {

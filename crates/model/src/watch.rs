@@ -23,9 +23,10 @@ pub(crate) struct Gaps {
     phi: Vec<f64>,
     /// clear sub-gaps at both ends [m]
     ends: Vec<[f64; 2]>,
-    /// the smaller and the larger end of each sub-gap at the last check [m]
+    /// each sub-gap at its narrower end at the last check [m]
     pub smallest: Vec<f64>,
-    largest: Vec<f64>,
+    /// each sub-gap at its wider end at the last check [m]
+    pub largest: Vec<f64>,
     /// smallest and largest clear sub-gap so far [m]
     pub min: f64,
     pub max: f64,

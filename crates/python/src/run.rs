@@ -169,6 +169,7 @@ fn history_dict<'py>(py: Python<'py>, h: &Histories, without: Vec<f64>, joint: b
     }
     if !h.subgaps.is_empty() {
         d.set_item("subgaps", matrix(&h.subgaps)?)?;
+        d.set_item("subgaps_wide", matrix(&h.subgaps_wide)?)?;
     }
     if !h.contact_force.is_empty() {
         d.set_item("contact_force", matrix(&h.contact_force)?)?;
@@ -196,8 +197,9 @@ fn cumulative(t: &[f64], y: &[f64]) -> Vec<f64> {
 /// v, a_abs, a_abs_without_joint (the bridge alone over the same window),
 /// joint_force, friction_power, friction_energy (its running trapezoid
 /// integral at the output times; the run's exact total is
-/// `friction_energy` of the result), center_beam_dx, subgaps and
-/// contact_force. The GIL is released while the run goes on; Ctrl-C stops
+/// `friction_energy` of the result), center_beam_dx, subgaps (at the
+/// narrower end of each cell: pounding), subgaps_wide (at the wider end:
+/// the capacity) and contact_force. The GIL is released while the run goes on; Ctrl-C stops
 /// it (KeyboardInterrupt).
 #[pyfunction]
 #[pyo3(signature = (config=None, *, period=None, record=None, joint=true, history=true))]

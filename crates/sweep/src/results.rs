@@ -87,9 +87,12 @@ pub struct JobHistory {
     pub joint_force: Vec<f64>,
     /// Friction power [W].
     pub friction_power: Vec<f64>,
-    /// Clear sub-gaps, the smaller of the two beam ends, `[gap][time]`,
-    /// abutment side first [m].
+    /// Clear sub-gaps at the narrower of the two beam ends (pounding),
+    /// `[gap][time]`, abutment side first [m].
     pub subgaps: Vec<Vec<f64>>,
+    /// Clear sub-gaps at the wider of the two beam ends (the capacity),
+    /// `[gap][time]` [m].
+    pub subgaps_wide: Vec<Vec<f64>>,
     /// Contact force across each sub-gap, `[gap][time]` [N] (empty
     /// without contacts).
     pub contact_force: Vec<Vec<f64>>,

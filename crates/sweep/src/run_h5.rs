@@ -148,6 +148,7 @@ pub fn write_run(
             }
             if !h.subgaps.is_empty() {
                 dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
+                dataset_2d(&g, "subgaps_wide", &h.subgaps_wide, "m")?;
             }
             if !h.contact_force.is_empty() {
                 dataset_2d(&g, "contact_force", &h.contact_force, "N")?;

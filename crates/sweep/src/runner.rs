@@ -41,7 +41,7 @@ use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
 /// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
 /// and contact-force histories; 6: each job's CPU time).
-const JOURNAL_SCHEMA: u32 = 8;
+const JOURNAL_SCHEMA: u32 = 9;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
@@ -258,6 +258,7 @@ pub fn run_job(
                     joint_force: h.joint_force.clone(),
                     friction_power: h.friction_power.clone(),
                     subgaps: h.subgaps.clone(),
+                    subgaps_wide: h.subgaps_wide.clone(),
                     contact_force: h.contact_force.clone(),
                 }
             });

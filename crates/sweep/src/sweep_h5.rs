@@ -211,6 +211,7 @@ fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: 
     crate::h5::dataset_1d(&g, "friction_power", &h.friction_power, "W")?;
     if !h.subgaps.is_empty() {
         crate::h5::dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
+        crate::h5::dataset_2d(&g, "subgaps_wide", &h.subgaps_wide, "m")?;
     }
     if !h.contact_force.is_empty() {
         crate::h5::dataset_2d(&g, "contact_force", &h.contact_force, "N")?;

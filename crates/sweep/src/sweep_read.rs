@@ -272,6 +272,7 @@ fn read_histories(file: &hdf5::File, f: &mut SweepFile) -> hdf5::Result<()> {
             joint_force: values(&g, "joint_force")?,
             friction_power: values(&g, "friction_power")?,
             subgaps: rows(&g, "subgaps")?,
+            subgaps_wide: rows(&g, "subgaps_wide")?,
             contact_force: rows(&g, "contact_force")?,
         };
         f.results.histories.insert(job as u32, h);
