@@ -285,18 +285,25 @@ def _verify(f, path: str) -> None:
     against the spectra it is computed from: a damaged file is refused,
     naming the dataset, never read as a good one."""
     again = " (run the sweep again: it rebuilds its output from its journal)"
-    names = []
+
+    def walk(group, prefix):
+        # by the links' names, which live in the group: a damaged object
+        # header is then named when it is opened
+        for key in group.keys():
+            name = f"{prefix}/{key}"
+            try:
+                obj = group[key]
+                if isinstance(obj, h5py.Dataset):
+                    obj[()]
+            except (OSError, KeyError, ValueError, RuntimeError) as e:
+                raise InputError(f"{path}: {name} is damaged: it cannot be read ({e}){again}") from None
+            if isinstance(obj, h5py.Group):
+                walk(obj, name)
+
     try:
-        f.visit(names.append)
-    except (OSError, KeyError) as e:
+        walk(f, "")
+    except (OSError, RuntimeError) as e:
         raise InputError(f"{path}: the file is damaged ({e}){again}") from None
-    for name in names:
-        try:
-            obj = f[name]
-            if isinstance(obj, h5py.Dataset):
-                obj[()]
-        except (OSError, KeyError, ValueError) as e:
-            raise InputError(f"{path}: /{name} is damaged: it cannot be read ({e}){again}") from None
     s = f["spectrum"]
     sa, without = s["with_joint/sa"][()], s["without_joint/sa"][()]
     with np.errstate(divide="ignore", invalid="ignore"):

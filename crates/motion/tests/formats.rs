@@ -245,7 +245,10 @@ fn physically_absurd_records_are_refused() {
     assert!(load_record_from_str(&spec, "0 0\n0.01 5\n").is_ok());
     spec.scale = 2.0;
     let e = load_record_from_str(&spec, "0 0\n0.01 3\n").unwrap_err().to_string();
-    assert!(e.contains("field `scale`: scale = 2: the scaled record reaches 6.000 g") && e.contains("beyond 5 g"), "{e}");
+    assert!(
+        e.contains("field `scale`: scale = 2: the scaled record reaches 6.000 g") && e.contains("beyond 5 g"),
+        "{e}"
+    );
     // a scale that overflows names its field too
     spec.scale = 1e308;
     let e = load_record_from_str(&spec, "0 0\n0.01 3\n").unwrap_err().to_string();

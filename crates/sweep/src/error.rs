@@ -31,7 +31,8 @@ impl OutputError {
 /// addresses, `bytes actually written = 18446744073709551615`); other
 /// messages as they are, after `HDF5: `.
 fn in_words(text: &str) -> String {
-    let errno = text.split("errno = ").nth(1).and_then(|r| r.split(',').next()).and_then(|n| n.trim().parse::<i32>().ok());
+    let errno =
+        text.split("errno = ").nth(1).and_then(|r| r.split(',').next()).and_then(|n| n.trim().parse::<i32>().ok());
     let said = text.split("error message = '").nth(1).and_then(|r| r.split('\'').next());
     match (errno, said) {
         (Some(n), Some(m)) => {
