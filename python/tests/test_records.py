@@ -100,3 +100,30 @@ def test_other_databases_formats_read_as_the_command_line_reads_them(cli, name, 
     assert rec.format == fmt == expect["format"] and rec.units == expect["file_units"]
     for key in ("pga", "pgv", "arias", "d5_95"):
         assert rec.stats[key] == expect[key], key
+
+
+CESMD = ROOT / "ground_motions" / "cesmd" / "CICLC.v1"
+
+
+@pytest.mark.parametrize("choice", [{"channel": 2}, {"azimuth": 360}, {"azimuth": 0.0}])
+def test_a_cesmd_channel_is_chosen_as_the_command_line_chooses_it(cli, choice):
+    rec = qj.Record.read(CESMD, **choice)
+    assert rec.format == "csmip" and rec.units == "g"
+    assert rec.channel["number"] == 2 and rec.channel["of"] == 3
+    assert rec.channel["orientation"] == {"kind": "azimuth", "degrees": 360.0}
+    flag, value = next(iter(choice.items()))
+    cmd = cli_json(cli, "record", CESMD, f"--{flag}", str(value))
+    assert rec.stats["pga"] == cmd["pga"] and rec.stats["samples"] == cmd["samples"] == 32080
+    assert cmd["channel"]["number"] == 2
+
+
+def test_a_vertical_channel_needs_allow_vertical():
+    with pytest.raises(qj.InputError, match="allow_vertical"):
+        qj.Record.read(CESMD, channel=3)
+    rec = qj.Record.read(CESMD, channel=3, allow_vertical=True)
+    assert rec.channel["orientation"]["kind"] == "vertical"
+    assert any("vertical component, read as asked" in w for w in rec.warnings)
+    with pytest.raises(qj.InputError, match="no channel 4"):
+        qj.Record.read(CESMD, channel=4)
+    with pytest.raises(qj.InputError, match="channel"):
+        qj.Record.read(RECORD, channel=1)
