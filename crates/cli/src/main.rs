@@ -6,6 +6,7 @@
 
 mod args;
 mod commands;
+mod continuation;
 mod interrupt;
 mod output;
 

@@ -453,7 +453,7 @@ fn stale_shards_of_a_changed_config_are_refused() {
     let res = script(&[]);
     assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
     assert!(stderr(&res).contains("holds the results of a different sweep"), "{}", stderr(&res));
-    assert!(stderr(&res).contains("shard 1 cannot run"), "{}", stderr(&res));
+    assert!(stderr(&res).contains("shard(s) 1,2 of 2 cannot run"), "{}", stderr(&res));
     assert_eq!(std::fs::read(d.join("job.h5")).unwrap(), merged, "the merged file is untouched");
     // a merge told the current config refuses the old shards
     let shards = [d.join("shards/job-1-of-2.h5"), d.join("shards/job-2-of-2.h5")];
@@ -469,6 +469,29 @@ fn stale_shards_of_a_changed_config_are_refused() {
     assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
     assert!(stderr(&res).contains("computed from another version of the config"), "{}", stderr(&res));
     assert!(!d.join("new.h5").exists());
+
+    // shard 2 computed for the changed config (its old files deleted), shard
+    // 1 still of the old one: the script names only shard 1's files to
+    // delete, never the finished shard 2's
+    for f in ["shards/job-2-of-2.h5", "shards/job-2-of-2.h5.journal"] {
+        std::fs::remove_file(d.join(f)).unwrap();
+    }
+    let res = script(&["--tasks", "2"]);
+    assert_eq!(res.status.code(), Some(2), "the merge refuses the old shard 1: {}", stderr(&res));
+    let finished = std::fs::read(d.join("shards/job-2-of-2.h5.journal")).unwrap();
+    let res = script(&[]);
+    assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
+    let err = stderr(&res);
+    assert!(err.contains("shard(s) 1 of 2 cannot run") && !err.contains('*'), "{err}");
+    let rm = err.lines().map(str::trim).find(|l| l.starts_with("rm ")).unwrap_or_else(|| panic!("{err}"));
+    assert_eq!(rm, "rm -f shards/job-1-of-2.h5 shards/job-1-of-2.h5.journal shards/job-1-of-2.h5.json");
+    // done as told, the sweep goes on: shard 1 runs, shard 2 is kept
+    ok(&Command::new("sh").args(["-c", rm]).current_dir(&d).output().unwrap());
+    ok(&script(&[]));
+    assert_eq!(std::fs::read(d.join("shards/job-2-of-2.h5.journal")).unwrap(), finished, "shard 2 was kept");
+    let reference = d.join("reference.h5");
+    ok(&sweep(&cfg, &reference, &[]));
+    assert_identical(&read_sweep(&d.join("job.h5")).unwrap(), &read_sweep(&reference).unwrap(), "after the advice");
 }
 
 /// Small things a user ran into: `--threads 0`, an error in `--json` mode
