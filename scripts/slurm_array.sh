@@ -16,25 +16,30 @@
 #
 # Before submitting, the script checks the config, its records and every
 # shard file already there (`quakejoint sweep --check`): shards of an
-# earlier version of the config are refused (delete them, or use another
-# config name), and so is a merged name that is an unsharded sweep's output
-# (it has a journal) and a config whose jobs are already queued.
+# earlier version of the config are refused, naming exactly their files (to
+# delete, if they are to be computed again: never the finished shards of
+# this config), or use another config name; so is a merged name that is an
+# unsharded sweep's output (it has a journal) and a config whose jobs are
+# already queued.
 #
 # Each task runs `quakejoint sweep <config> --shard K/N --output <shard file>`
 # with one worker thread per CPU it gets. A sweep continues its journal, so
 # a task that is requeued, preempted, timed out or cancelled and submitted
 # again (--tasks) finishes the jobs its shard has not done. SIGTERM (scancel,
 # the time limit) makes a task write a final checkpoint and stop within
-# seconds.
+# seconds. Its log then ends with the command that resubmits it
+# (`scripts/slurm_array.sh <config> <N> --tasks K`, run on the login node;
+# the script passes it to the tasks and the merge job as
+# QUAKEJOINT_RESUBMIT).
 #
 # The merge job runs when every task has ended, whatever their fate
 # (afterany). It refuses to write an incomplete result: its log names the
-# missing shards and jobs, and it exits non-zero. Then resubmit those shards
-# with --tasks (a new merge job follows them), or accept a partial result
-# with --allow-partial. Jobs that failed inside a shard (the solver gave up,
-# a per-job limit) are results too: the merge writes them, marked failed,
-# and exits with 3; after raising the limit in the config, --retry-failed
-# runs only those jobs again.
+# missing shards and jobs, prints the command that resubmits them (--tasks;
+# a new merge job follows them), and exits non-zero; or accept a partial
+# result with --allow-partial. Jobs that failed inside a shard (the solver
+# gave up, a per-job limit) are results too: the merge writes them, marked
+# failed, prints the command that runs them again (--tasks with
+# --retry-failed) and exits with 3; raise the limit in the config first.
 #
 # Options:
 #   --tasks LIST     submit only these shards (e.g. 3,5-6), then a merge
@@ -64,7 +69,7 @@ set -euo pipefail
 usage() { sed -n '2,/^set -euo/p' "$0" | sed -e 's/^# \{0,1\}//' -e '$d'; exit "${1:-2}"; }
 die() { echo "slurm_array.sh: $*" >&2; exit 2; }
 
-tasks="" retry="" partial="" mode=slurm dry="" merged="" args=()
+tasks="" retry="" partial="" mode=slurm dry="" merged="" args=() argv0=$0
 while [ $# -gt 0 ]; do
   case "$1" in
     --tasks) tasks=${2:?--tasks needs a list, e.g. 3,5-6}; shift 2 ;;
@@ -111,6 +116,7 @@ else
   list=$(seq 1 "$shards")
   tasks="1-$shards"
 fi
+given_output=$merged
 merged=${merged:-${name}.h5}
 
 # checks the config and its records, and sizes the requests (exit 2 on bad input)
@@ -120,15 +126,42 @@ shard_file() { echo "shards/${name}-$1-of-${shards}.h5"; }
 files=()
 for k in $(seq 1 "$shards"); do files+=("$(shard_file "$k")"); done
 q() { printf '%q ' "$@"; }   # quoted words, each followed by a space
+q1() { printf '%q' "$1"; }    # one quoted word
 
 # every shard already there must be of this config (or its task would stop
-# at once, and a merge of old shards would give old results)
+# at once, and a merge of old shards would give old results); only the
+# shards that cannot run are named, never the finished ones
+bad=() stale=""
 for k in $list; do
-  "$bin" sweep "$config" --shard "$k/$shards" --output "$(shard_file "$k")" --check > /dev/null \
-    || die "shard $k cannot run (above): delete shards/${name}-*-of-${shards}.h5* to start this sweep over, or use another config name"
+  f=$(shard_file "$k")
+  if ! "$bin" sweep "$config" --shard "$k/$shards" --output "$f" --check > /dev/null; then
+    bad+=("$k")
+    for g in "$f" "$f.journal" "$f.json"; do [ ! -e "$g" ] || stale+=" $(q1 "$g")"; done
+  fi
 done
-[ ! -e "${merged}.journal" ] || die "$merged is the output of an unsharded sweep (it has a journal): name the merged file with --output"   # quoted words, each followed by a space
-q1() { printf '%q' "$1"; }    # one quoted word
+if [ ${#bad[@]} -gt 0 ]; then
+  list_bad=$(IFS=,; echo "${bad[*]}")
+  other="use another config name (a copy of the config under a new name starts new shards)"
+  hint="Remove the cause, or $other."
+  [ -z "$stale" ] || hint="If they hold the results of an earlier version of the config, delete only their files (the other shards' files hold finished work: keep them):
+  rm -f$stale
+or $other."
+  die "shard(s) $list_bad of $shards cannot run (the reason is above); nothing was submitted.
+$hint"
+fi
+[ ! -e "${merged}.journal" ] || die "$merged is the output of an unsharded sweep (it has a journal): name the merged file with --output"
+
+# the command that resubmits shards of this sweep with the same settings,
+# for the advice in the logs of the tasks and of the merge (quakejoint
+# appends --tasks K and --retry-failed where they apply)
+resubmit=""
+for v in QUAKEJOINT QJ_CPUS QJ_MEM QJ_TIME QJ_PARTITION SBATCH_ARGS; do
+  [ -z "${!v:-}" ] || resubmit+="$v=$(q1 "${!v}") "
+done
+resubmit+="$(q1 "$argv0") $(q1 "${args[0]}") $shards"
+[ -z "$given_output" ] || resubmit+=" --output $(q1 "$given_output")"
+[ -z "$partial" ] || resubmit+=" $partial"
+[ "$mode" = slurm ] || resubmit+=" --local"
 
 if [ "$mode" = local ]; then
   pids=()
@@ -136,7 +169,7 @@ if [ "$mode" = local ]; then
     cmd=("$bin" sweep "$config" --shard "$k/$shards" --threads "$cpus" --output "$(shard_file "$k")" --progress lines --json)
     [ -z "$retry" ] || cmd+=("$retry")
     if [ -n "$dry" ]; then q "${cmd[@]}"; echo; continue; fi
-    "${cmd[@]}" > "$(shard_file "$k").json" 2> "shards/logs/${name}-$k.log" &
+    QUAKEJOINT_RESUBMIT=$resubmit "${cmd[@]}" > "$(shard_file "$k").json" 2> "shards/logs/${name}-$k.log" &
     pids+=($!)
   done
   merge=("$bin" merge "${files[@]}" --config "$config" --output "$merged")
@@ -145,7 +178,7 @@ if [ "$mode" = local ]; then
   status=0
   for p in "${pids[@]}"; do wait "$p" || status=$?; done
   [ "$status" -eq 0 ] || echo "slurm_array.sh: a shard ended with exit code $status (logs in shards/logs)" >&2
-  "${merge[@]}"
+  QUAKEJOINT_RESUBMIT=$resubmit "${merge[@]}" || status=$?
   exit "$status"
 fi
 
@@ -164,10 +197,10 @@ done
 [ -z "${QJ_PARTITION:-}" ] || opts+=("--partition=$QJ_PARTITION")
 eval "extra=(${SBATCH_ARGS:-})" || die "SBATCH_ARGS: not shell words: ${SBATCH_ARGS:-}"
 
-task_cmd="exec $(q1 "$bin") sweep $(q1 "$config") --shard \${SLURM_ARRAY_TASK_ID}/$shards --threads \${SLURM_CPUS_PER_TASK:-$cpus} --output shards/$(q1 "$name")-\${SLURM_ARRAY_TASK_ID}-of-$shards.h5 --progress lines $retry"
+task_cmd="export QUAKEJOINT_RESUBMIT=$(q1 "$resubmit"); exec $(q1 "$bin") sweep $(q1 "$config") --shard \${SLURM_ARRAY_TASK_ID}/$shards --threads \${SLURM_CPUS_PER_TASK:-$cpus} --output shards/$(q1 "$name")-\${SLURM_ARRAY_TASK_ID}-of-$shards.h5 --progress lines $retry"
 array_cmd=(sbatch --parsable --job-name="qj-$name" --array="$tasks" "${opts[@]}"
   --output="shards/logs/%x_%A_%a.log" "${extra[@]}" --wrap "$task_cmd")
-merge_cmd="exec $(q1 "$bin") merge $(q "${files[@]}")--config $(q1 "$config") --output $(q1 "$merged") $partial"
+merge_cmd="export QUAKEJOINT_RESUBMIT=$(q1 "$resubmit"); exec $(q1 "$bin") merge $(q "${files[@]}")--config $(q1 "$config") --output $(q1 "$merged") $partial"
 merge_opts=(--job-name="qj-$name-merge" --cpus-per-task=1 --mem=1G --time=0:30:00
   --output="shards/logs/%x_%j.log")
 [ -z "${QJ_PARTITION:-}" ] || merge_opts+=("--partition=$QJ_PARTITION")
@@ -196,4 +229,4 @@ for _ in 1 2 3 4 5; do
 done
 echo "submitted shards $tasks of $shards as job array $array and the merge as job $merge"
 echo "  each task: ${opts[*]} ${extra[*]}; logs in shards/logs/; follow with: squeue -j $array,$merge"
-echo "  result: $merged (the merge's log names any missing shard: resubmit it with --tasks K)"
+echo "  result: $merged (the merge's log names any missing shard and the command that resubmits it)"

@@ -14,8 +14,8 @@
 # 4. The Python package (pip install ".[test]" into .venv, which builds the
 #    engine with maturin) and its tests, python/tests: values against the
 #    command line and closed forms, every plot script, the examples.
-# 5. The cluster test on a real one-node SLURM on localhost
-#    (tests/slurm/start.sh, test_array.sh, stop.sh). It needs root; set
+# 5. The cluster tests on a real one-node SLURM on localhost
+#    (tests/slurm/start.sh, test_start.sh, test_array.sh, stop.sh). It needs root; set
 #    QJ_SKIP_SLURM=1 to leave it out where that is impossible (it is then
 #    reported as not run, and CI never sets it).
 set -euo pipefail
@@ -41,6 +41,9 @@ if [ "$(id -u)" -ne 0 ]; then
   echo "the SLURM test needs root to install and start a one-node cluster; run as root, or set QJ_SKIP_SLURM=1" >&2
   exit 1
 fi
-tests/slurm/start.sh
+# the trap first: a start that fails half-way (munged up, slurmctld not) is
+# stopped too
 trap 'tests/slurm/stop.sh > /dev/null' EXIT
+tests/slurm/start.sh
+tests/slurm/test_start.sh
 tests/slurm/test_array.sh target/debug/quakejoint

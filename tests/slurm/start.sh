@@ -6,13 +6,19 @@
 #
 # Idempotent: packages are installed only when missing, slurm.conf is rewritten
 # only when it changes (the SLURM daemons are then restarted), daemons already
-# running are left alone. Daemons are started from their binaries, not systemd.
-# Exits non-zero, with log tails, when the node is not idle or a job fails.
+# running are left alone, and a state directory left by another cluster (whose
+# name slurmctld would refuse: CLUSTER NAME MISMATCH) is moved aside to
+# /var/spool/slurmctld.<its cluster>.<time>.<pid>, not deleted. Daemons are started
+# from their binaries, not systemd. Exits non-zero, with log tails, when the
+# node is not idle or a job fails (tests/slurm/stop.sh then stops whatever
+# did start, munged included).
 set -euo pipefail
 
 TIMEOUT=${SLURM_START_TIMEOUT:-60}   # seconds to wait for the node / smoke jobs
 CONF=/etc/slurm/slurm.conf
 LOGDIR=/var/log/slurm
+CLUSTER=ci
+STATE=/var/spool/slurmctld
 t0=$SECONDS
 say() { echo "[slurm-start +$((SECONDS - t0))s] $*"; }
 
@@ -80,14 +86,14 @@ munge -n | unmunge > /dev/null || { echo "munge does not work"; exit 1; }
 node=$(slurmd -C | head -n 1 | sed "s/^NodeName=[^ ]*/NodeName=$host/")
 cpus=$(sed -n 's/.*CPUs=\([0-9]*\).*/\1/p' <<< "$node")
 mem=$(sed -n 's/.*RealMemory=\([0-9]*\).*/\1/p' <<< "$node")
-install -d -m 0755 /etc/slurm "$LOGDIR" /var/spool/slurmctld /var/spool/slurmd
+install -d -m 0755 /etc/slurm "$LOGDIR" "$STATE" /var/spool/slurmd
 new=$(cat <<EOF
 # Written by tests/slurm/start.sh: one node on localhost, no accounting, no cgroups.
-ClusterName=ci
+ClusterName=$CLUSTER
 SlurmctldHost=$host(127.0.0.1)
 SlurmUser=root
 AuthType=auth/munge
-StateSaveLocation=/var/spool/slurmctld
+StateSaveLocation=$STATE
 SlurmdSpoolDir=/var/spool/slurmd
 SlurmctldPidFile=/run/slurmctld.pid
 SlurmdPidFile=/run/slurmd.pid
@@ -137,6 +143,17 @@ fi
 if [ -n "$changed" ] && { alive slurmctld /run/slurmctld.pid || alive slurmd /run/slurmd.pid; }; then
   say "config changed: restarting the SLURM daemons"
   "$(dirname "$0")/stop.sh" --restart
+fi
+# slurmctld refuses a state directory written by a cluster of another name
+# (an earlier slurm.conf, another test set-up): move that state aside
+if ! alive slurmctld /run/slurmctld.pid && [ -f "$STATE/clustername" ]; then
+  other=$(tr -d '[:space:]' < "$STATE/clustername")
+  if [ "$other" != "$CLUSTER" ]; then
+    aside="$STATE.$(tr -dc 'A-Za-z0-9_.-' <<< "${other:-unnamed}").$(date +%Y%m%dT%H%M%S).$$"
+    say "$STATE holds the state of cluster '$other', not '$CLUSTER': moving it to $aside"
+    mv "$STATE" "$aside"
+    install -d -m 0755 "$STATE"
+  fi
 fi
 if ! alive slurmctld /run/slurmctld.pid; then say "starting slurmctld"; slurmctld; fi
 if ! alive slurmd /run/slurmd.pid; then say "starting slurmd"; slurmd -N "$host"; fi

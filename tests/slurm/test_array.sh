@@ -13,10 +13,15 @@
 #     merge after them: the merged file equals an unsharded run bit for bit
 #     (`quakejoint compare`: wall times, creation times and shard labels
 #     aside);
-#  3. one task cancelled while running (scancel: SIGTERM): the merge still
-#     runs (afterany) and refuses the incomplete set, naming the shard; the
-#     shard resubmitted (--tasks) continues its journal, and the new merge
-#     equals the unsharded run.
+#  3. one task cancelled while running (scancel: SIGTERM) and one stopped by
+#     its time limit (SIGTERM, TIMEOUT): each log ends with the resubmission
+#     of its shard (`slurm_array.sh again.toml 4 --tasks K`, never a
+#     `quakejoint sweep` for the login node); the merge still runs
+#     (afterany), refuses the incomplete set naming both shards, and its log
+#     ends with their resubmission; that command, run as printed, continues
+#     their journals, and the new merge equals the unsharded run. (The two
+#     tasks are held, QUAKEJOINT_TEST_HOLD, so that they are still running
+#     when stopped, however fast the machine.)
 set -euo pipefail
 
 repo=$(cd "$(dirname "$0")/../.." && pwd)
@@ -86,24 +91,51 @@ for k in 1 2 3 4; do
 done
 "$bin" compare job.h5 reference.h5 || fail "the merged file differs from the unsharded run"
 
-say "3. a task cancelled while it runs, its shard resubmitted"
+say "3. a task cancelled and one timed out while they run, both resubmitted as their logs say"
 cp job.toml again.toml
-read -r array merge <<< "$(submit again.toml 4)"
-# tasks 1 and 2 run for about 12 s; slurm_array.sh returns after 5 s
-[ "$(squeue -h -j "${array}_2" -o %T)" = RUNNING ] || fail "task 2 is not running: $(squeue -t all -j "$array")"
+read -r array merge <<< "$(QUAKEJOINT_TEST_HOLD=2/4,3/4 submit again.toml 4)"
+log_of() { echo "shards/logs/qj-again_${array}_$1.log"; }
+# waits until task $1 has started its sweep (its signal handlers are in place)
+started() {
+  local deadline=$((SECONDS + 240))
+  until grep -q "started:" "$(log_of "$1")" 2>/dev/null; do
+    [ $SECONDS -lt $deadline ] || fail "task $1 never started its sweep"
+    sleep 1
+  done
+}
+started 2
 scancel "${array}_2"
-state=$(finish "$merge" 240)
+started 3
+scontrol update JobId="${array}_3" TimeLimit=0:01 || fail "cannot shorten the time limit of task 3"
+state=$(finish "$merge" 400)
 [ "$state" = "FAILED 2:0" ] || fail "the merge of an incomplete set must fail with exit 2, not: $state"
-grep -q "again-2-of-4.h5 (shard 2/4) has .* jobs not run" shards/logs/qj-again-merge_"$merge".log \
-  || fail "the merge log does not name shard 2: $(cat shards/logs/qj-again-merge_"$merge".log)"
+merge_log=shards/logs/qj-again-merge_"$merge".log
+for k in 2 3; do
+  grep -q "again-$k-of-4.h5 (shard $k/4) has .* jobs not run" "$merge_log" || fail "the merge log does not name shard $k: $(cat "$merge_log")"
+done
 [ ! -e again.h5 ] || fail "an incomplete merge wrote again.h5"
-[ "$(scontrol -o show job "${array}_2" | grep -o 'ExitCode=[0-9:]*')" = "ExitCode=143:0" ] \
-  || fail "the cancelled task did not stop on SIGTERM with 143"
-grep -q "continue with" shards/logs/qj-again_"${array}"_2.log || fail "the cancelled task's log has no hint to continue"
-read -r array merge <<< "$(submit again.toml 4 --tasks 2)"
+[ "$(scontrol -o show job "${array}_2" | grep -o 'JobState=[A-Z]* .*ExitCode=[0-9:]*' | sed -E 's/JobState=([A-Z]+).*ExitCode=/\1 /')" = "CANCELLED 143:0" ] \
+  || fail "the cancelled task did not stop on SIGTERM with 143: $(scontrol -o show job "${array}_2")"
+[ "$(scontrol -o show job "${array}_3" | grep -o 'JobState=[A-Z]* .*ExitCode=[0-9:]*' | sed -E 's/JobState=([A-Z]+).*ExitCode=/\1 /')" = "TIMEOUT 143:0" ] \
+  || fail "the timed-out task did not stop on SIGTERM with 143: $(scontrol -o show job "${array}_3")"
+# the advice: the line after "continue with" (tasks) and after "resubmit the
+# shards" (merge): the script, this config and N, --tasks, nothing else
+advice() { grep -A1 "$1" "$2" | sed -n 2p | sed 's/^ *//'; }
+for k in 2 3; do
+  a=$(advice "continue with" "$(log_of $k)")
+  [[ "$a" == *"/scripts/slurm_array.sh again.toml 4 --tasks $k" ]] || fail "task $k's log advises: '$a': $(tail -n 5 "$(log_of $k)")"
+done
+a=$(advice "resubmit the shards" "$merge_log")
+[[ "$a" == *"/scripts/slurm_array.sh again.toml 4 --tasks 2,3" ]] || fail "the merge's log advises: '$a': $(cat "$merge_log")"
+! grep -q "quakejoint sweep" "$merge_log" "$(log_of 2)" "$(log_of 3)" || fail "a log advises running quakejoint sweep"
+# done as the merge's log says
+out=$(bash -c "$a") || fail "the advised command failed: $a"
+echo "$out" >&2
+read -r array merge <<< "$(echo "$out" | sed -nE 's/^submitted .* job array ([0-9]+) and the merge as job ([0-9]+).*/\1 \2/p')"
+[ -n "$merge" ] || fail "no job ids from the advised command"
 state=$(finish "$merge" 240)
 [ "$state" = "COMPLETED 0:0" ] || fail "merge after the resubmission: $state"
-"$bin" compare again.h5 reference.h5 || fail "the merged file after a cancellation differs from the unsharded run"
+"$bin" compare again.h5 reference.h5 || fail "the merged file after a cancellation and a timeout differs from the unsharded run"
 
 say "passed in $((SECONDS - t0)) s"
 cd / && rm -rf "$work"

@@ -16,6 +16,7 @@ use quakejoint_sweep::run_h5::{Provenance, RecordSource};
 use quakejoint_sweep::{run_sweep, Plan, SweepOptions};
 
 use crate::args::*;
+use crate::continuation;
 use crate::interrupt::{interrupted_code, Signals, TerminalProgress};
 use crate::output;
 
@@ -148,20 +149,26 @@ fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
     };
     if a.check {
         let check = quakejoint_sweep::runner::check_sweep(&plan, &opts)?;
-        output::sweep_check(&check, a.print.json);
+        output::sweep_check(&check, a.retry_failed, a.print.json);
         return Ok(ExitCode::SUCCESS);
     }
     let summary = run_sweep(&plan, &opts)?;
-    output::sweep_summary(&summary, a.print.json);
-    if summary.interrupted {
-        // the same command continues; --resume insists on the journal
-        let mut words: Vec<std::ffi::OsString> = std::env::args_os().filter(|w| w != "--retry-failed").collect();
-        if !words.iter().any(|w| w == "--resume") {
-            words.push("--resume".into());
-        }
-        let command = shell_words(&words);
+    let words: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    // interrupted, the same command continues (--resume insists on the
+    // journal), with --retry-failed if this run retried: the failures it
+    // has not retried yet are still in the journal
+    let next = summary.interrupted.then(|| continuation::sweep_next(&words, a.shard, a.retry_failed, true));
+    let retry = (!summary.failed.is_empty()).then(|| continuation::sweep_next(&words, a.shard, true, false));
+    output::sweep_summary(&summary, next.as_ref(), retry.as_ref(), a.print.json);
+    if let Some(next) = next {
+        let retried = if a.retry_failed {
+            " (with --retry-failed: the failed jobs this run has not retried yet run, and so do those it retried \
+             that failed again)"
+        } else {
+            ""
+        };
         eprintln!(
-            "interrupted: {} of {} jobs are done and kept in {} (and in {}); continue with:\n  {command}",
+            "interrupted: {} of {} jobs are done and kept in {} (and in {}); continue with{retried}:\n{next}",
             summary.jobs - summary.not_run,
             summary.jobs,
             summary.journal.display(),
@@ -182,11 +189,14 @@ fn merge_cmd(a: MergeArgs) -> Result<ExitCode> {
         None => None,
     };
     let options = quakejoint_sweep::MergeOptions { allow_partial: a.allow_partial, command: command_line(), expected };
-    let summary = quakejoint_sweep::merge(&a.files, &a.output, options)?;
+    let summary = quakejoint_sweep::merge(&a.files, &a.output, options)
+        .map_err(|e| continuation::merge_error(e, &a.files, &command_line()))?;
     for n in &summary.notices {
         eprintln!("warning: {n}");
     }
-    output::merge_summary(&summary, a.print.json);
+    let shards: Vec<usize> = summary.failed_shards.iter().map(|&(k, _)| k).collect();
+    let retry = if summary.failed > 0 { continuation::resubmit_shards(&shards, true) } else { None };
+    output::merge_summary(&summary, retry.as_deref(), a.print.json);
     Ok(match (summary.failed, summary.flagged) {
         (0, 0) => ExitCode::SUCCESS,
         (0, _) => ExitCode::from(FLAGGED),
@@ -286,7 +296,7 @@ fn period_to_omega(period: Option<f64>) -> Result<Option<f64>> {
 
 /// Words joined into a command a POSIX shell reads back as the same words
 /// (see [`shell_word`]).
-fn shell_words(words: &[std::ffi::OsString]) -> String {
+pub fn shell_words(words: &[std::ffi::OsString]) -> String {
     words.iter().map(|w| shell_word(w)).collect::<Vec<_>>().join(" ")
 }
 

@@ -6,6 +6,7 @@
 
 mod args;
 mod commands;
+mod continuation;
 mod interrupt;
 mod output;
 
@@ -90,6 +91,22 @@ fn bounded_line(line: &str) -> String {
     middle_out(&words, 200, 260)
 }
 
+/// The error and its causes, each cause once: the library errors already
+/// quote their source in their own message.
+fn message(err: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in err.chain() {
+        let part = cause.to_string();
+        if !text.contains(&part) {
+            if !text.is_empty() {
+                text.push_str(": ");
+            }
+            text.push_str(&part);
+        }
+    }
+    text
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -108,20 +125,4 @@ mod tests {
         assert_eq!(bounded_line("short"), "short");
         assert_eq!(bounded("a\nb\n"), "a\nb\n");
     }
-}
-
-/// The error and its causes, each cause once: the library errors already
-/// quote their source in their own message.
-fn message(err: &anyhow::Error) -> String {
-    let mut text = String::new();
-    for cause in err.chain() {
-        let part = cause.to_string();
-        if !text.contains(&part) {
-            if !text.is_empty() {
-                text.push_str(": ");
-            }
-            text.push_str(&part);
-        }
-    }
-    text
 }

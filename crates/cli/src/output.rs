@@ -461,7 +461,14 @@ pub fn spectrum_rows(rows: &[SpectrumRow], json: bool) {
 }
 
 /// `quakejoint sweep`.
-pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
+///
+/// `next` continues an interrupted sweep; `retry` runs its failed jobs again.
+pub fn sweep_summary(
+    s: &quakejoint_sweep::Summary,
+    next: Option<&crate::continuation::Next>,
+    retry: Option<&crate::continuation::Next>,
+    json: bool,
+) {
     if json {
         let failures: Vec<_> = s
             .failed
@@ -489,19 +496,26 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
             "pounded": s.pounded,
             "peak_contact_force": s.peak_contact.as_ref().map(|p| p.0),
             "notices": s.notices,
+            "continue_command": next.map(|n| &n.command),
+            "retry_command": retry.map(|n| &n.command),
             "wall_time_s": s.wall_time_s,
             "peak_memory_mb": s.peak_memory_mb,
         });
         out!("{v}");
         return;
     }
-    let state = if s.interrupted {
+    let mut state = if s.interrupted {
         "interrupted"
     } else if s.ran == 0 && s.not_run == 0 {
         "already complete"
     } else {
         "complete"
-    };
+    }
+    .to_string();
+    if !s.interrupted && !s.failed.is_empty() {
+        // never just "complete" while jobs wait to be retried
+        state += &format!(", but {} of its jobs failed", s.failed.len());
+    }
     let retried = if s.retried > 0 { format!(", {} failed jobs retried", s.retried) } else { String::new() };
     out!(
         "sweep {state}: {} of {} jobs done ({} from the journal{retried}, {} run now) in {:.1} s -> {}",
@@ -524,9 +538,16 @@ pub fn sweep_summary(s: &quakejoint_sweep::Summary, json: bool) {
         out!("peak memory: {mb:.0} MB");
     }
     if !s.failed.is_empty() {
-        out!("{} jobs failed (`--retry-failed` runs them again):", s.failed.len());
+        out!("{} jobs failed:", s.failed.len());
         for (case, record, z, t, msg) in &s.failed {
             out!("  {case} / {record} / damping {z} / T {t:.4} s: {msg}");
+        }
+        if let Some(retry) = retry {
+            out!(
+                "after fixing the cause (raising simulation.max_wall_time or max_steps, say), run the {} failed jobs \
+                 again (`--retry-failed`; the finished ones are kept) with:\n{retry}",
+                s.failed.len()
+            );
         }
     }
     if !s.flagged.is_empty() {
@@ -557,7 +578,10 @@ fn flag_counts(flagged: &[(String, String, f64, f64, u32, String)]) -> serde_jso
 }
 
 /// `quakejoint merge`.
-pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, json: bool) {
+///
+/// `retry`, in a job of `scripts/slurm_array.sh`: the resubmission that runs
+/// the failed jobs again.
+pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, retry: Option<&str>, json: bool) {
     if json {
         let v = json!({
             "output": s.output.display().to_string(),
@@ -587,10 +611,22 @@ pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, json: bool) {
             }
         }
     };
-    list(
-        format!("{} jobs failed (after fixing the cause, `--retry-failed` on their shards runs them again):", s.failed),
-        &s.failed_jobs,
-    );
+    match retry {
+        Some(command) => {
+            list(format!("{} jobs failed:", s.failed), &s.failed_jobs);
+            out!(
+                "after fixing the cause, run them again (on the login node, in the directory slurm_array.sh was run \
+                 from: it resubmits their shards) with:\n  {command}"
+            );
+        }
+        None => list(
+            format!(
+                "{} jobs failed (after fixing the cause, `--retry-failed` on their shards runs them again):",
+                s.failed
+            ),
+            &s.failed_jobs,
+        ),
+    }
     list(format!("{} jobs FLAGGED (outside what the model can stand behind):", s.flagged), &s.flagged_jobs);
     out!(
         "merged {} of {} jobs ({} failed, {} flagged), {state} -> {}",
@@ -688,7 +724,7 @@ pub fn compare_summary(a: &Path, b: &Path, diffs: &[String], json: bool) {
 }
 
 /// `quakejoint sweep --check`.
-pub fn sweep_check(c: &quakejoint_sweep::runner::Check, json: bool) {
+pub fn sweep_check(c: &quakejoint_sweep::runner::Check, retry: bool, json: bool) {
     if json {
         out!(
             "{}",
@@ -710,6 +746,10 @@ pub fn sweep_check(c: &quakejoint_sweep::runner::Check, json: bool) {
     }
     let what = if !c.journal {
         "would start".to_string()
+    } else if c.done == c.jobs && c.failed > 0 && retry {
+        format!("would run its {} failed jobs again", c.failed)
+    } else if c.done == c.jobs && c.failed > 0 {
+        format!("is complete, but {} of its jobs failed, which `--retry-failed` runs again", c.failed)
     } else if c.done == c.jobs {
         "is complete".to_string()
     } else {

@@ -254,15 +254,18 @@ fn an_output_that_disagrees_with_its_journal_is_rebuilt_with_a_warning() {
 #[test]
 fn sigterm_and_sigint_checkpoint_and_print_the_command_to_continue() {
     let d = dir("signals");
-    let grid = "[sweep]\nperiods = { from = 0.3, to = 3.0, count = 40 }\ndamping = [0.05]\n";
-    let cfg = config(&d, "c.toml", grid, 8.0);
+    let grid = "[sweep]\nperiods = { from = 0.3, to = 3.0, count = 12 }\ndamping = [0.05]\n";
+    let cfg = config(&d, "c.toml", grid, 4.0);
     let reference = d.join("reference.h5");
     ok(&sweep(&cfg, &reference, &["--threads", "2"]));
     for (signal, code) in [("TERM", 143), ("INT", 130)] {
         let out = d.join(format!("{signal}.h5"));
         let journal = d.join(format!("{signal}.h5.journal"));
+        // the last job is held until the signal: the sweep is still running
+        // when it comes, however fast the machine
         let mut child = bin()
             .args(["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap(), "--threads", "1"])
+            .env("QUAKEJOINT_TEST_HOLD", "all")
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -291,7 +294,7 @@ fn sigterm_and_sigint_checkpoint_and_print_the_command_to_continue() {
         let (_, journalled) = quakejoint_sweep::journal::read(&journal).unwrap();
         let file = read_sweep(&out).unwrap();
         assert_eq!(file.results.finished(), journalled.len(), "{signal}: checkpoint and journal agree");
-        assert!(journalled.len() < 40, "{signal}: interrupted part way");
+        assert!(journalled.len() < 12, "{signal}: interrupted part way");
         assert!(stdout(&res).contains("sweep interrupted"), "{}", stdout(&res));
         // the printed command, run by a shell, finishes the work to the same numbers
         let resumed = Command::new("sh").arg("-c").arg(command.trim()).current_dir(root()).output().unwrap();
@@ -301,36 +304,60 @@ fn sigterm_and_sigint_checkpoint_and_print_the_command_to_continue() {
     }
 }
 
+/// Neither half depends on the machine's speed: the sweep's last job is
+/// held (`QUAKEJOINT_TEST_HOLD`) until the test has seen progress lines, and
+/// the bar of `simulate` is asked for from the start
+/// (`QUAKEJOINT_BAR_AFTER=0`) of a run that takes a few hundredths of a
+/// second, far less than the second after which a bar is drawn by default.
 #[test]
 fn progress_goes_to_logs_as_lines_and_to_terminals_as_bars() {
     let d = dir("progress");
     let grid = "[sweep]\nperiods = { from = 0.3, to = 3.0, count = 12 }\ndamping = [0.05]\n";
-    let cfg = config(&d, "c.toml", grid, 8.0);
+    let cfg = config(&d, "c.toml", grid, 2.0);
     let out = d.join("out.h5");
-    // stderr is a pipe here, as in a SLURM log (the 12 jobs take about 0.3 s)
-    let res = sweep(&cfg, &out, &["--threads", "1", "--progress-interval", "0.02"]);
-    ok(&res);
-    let log = stderr(&res);
+    // stderr is a file here, as in a SLURM log
+    let log_file = d.join("sweep.log");
+    let mut child = bin()
+        .args(["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()])
+        .args(["--threads", "1", "--progress-interval", "0.02"])
+        .env("QUAKEJOINT_TEST_HOLD", "all")
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(&log_file).unwrap())
+        .spawn()
+        .unwrap();
+    // the held job: lines go on while nothing finishes
+    let held = || std::fs::read_to_string(&log_file).unwrap().contains("running: 11 of 12 jobs done");
+    let start = Instant::now();
+    while !held() {
+        assert!(child.try_wait().unwrap().is_none(), "the sweep ended while its last job was held");
+        assert!(start.elapsed() < Duration::from_secs(120), "no progress lines");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    std::fs::write(quakejoint_sweep::fault::release(&out), b"").unwrap();
+    assert!(child.wait().unwrap().success());
+    let log = std::fs::read_to_string(&log_file).unwrap();
     let lines: Vec<&str> = log.lines().filter(|l| l.contains("sweep out.h5")).collect();
-    assert!(lines.len() >= 4, "a line per interval: {log}");
+    assert!(lines.len() >= 3, "a line per interval: {log}");
     assert!(lines[0].starts_with('[') && lines[0].contains("started: 0 of 12 jobs done"), "{log}");
-    assert!(lines.iter().any(|l| l.contains("running:") && l.contains("ETA")), "{log}");
+    assert!(lines.iter().any(|l| l.contains("running: 11 of 12 jobs done") && l.contains("ETA")), "{log}");
     assert!(lines.last().unwrap().contains("finished: 12 of 12 jobs done (0 failed, 0 flagged)"), "{log}");
     assert!(!log.contains('\r') && !log.contains('\x1b'), "no terminal control characters in a log");
 
-    // `simulate` on a terminal (a pseudo-terminal from `script`), a run of
-    // more than a second: a progress bar
-    let mut sim_cfg = std::fs::read_to_string(root().join("configs/paper.toml")).unwrap();
-    sim_cfg = sim_cfg.replace("../ground_motions", root().join("ground_motions").to_str().unwrap());
-    sim_cfg = sim_cfg.replace("[simulation]\n", "[simulation]\nduration = 15.0\n");
-    let paper = d.join("paper.toml");
-    std::fs::write(&paper, sim_cfg).unwrap();
-    let command = format!("{} simulate {} --json", env!("CARGO_BIN_EXE_quakejoint"), paper.display());
-    let tty = Command::new("script").args(["-qec", &command, "/dev/null"]).output().unwrap();
+    // `simulate` on a terminal (a pseudo-terminal from `script`): a
+    // progress bar, drawn from the start, however short the run
+    let sim = config(&d, "sim.toml", "", 2.0);
+    let command = format!("{} simulate {} --json", env!("CARGO_BIN_EXE_quakejoint"), sim.display());
+    let on_tty = |after: &str| {
+        Command::new("script").args(["-qec", &command, "/dev/null"]).env("QUAKEJOINT_BAR_AFTER", after).output()
+    };
+    let tty = on_tty("0").unwrap();
     assert!(tty.status.success(), "{}", stdout(&tty));
     assert!(stdout(&tty).contains("simulate [") && stdout(&tty).contains("ETA"), "{}", stdout(&tty));
-    // and without a terminal, no bar
-    let plain = run(&["simulate", paper.to_str().unwrap(), "--json"]);
+    // a threshold never reached: no bar; and without a terminal, no bar
+    let late = on_tty("1e9").unwrap();
+    assert!(late.status.success() && !stdout(&late).contains("simulate ["), "{}", stdout(&late));
+    let plain =
+        bin().args(["simulate", sim.to_str().unwrap(), "--json"]).env("QUAKEJOINT_BAR_AFTER", "0").output().unwrap();
     ok(&plain);
     assert!(!stderr(&plain).contains("simulate ["), "{}", stderr(&plain));
 }
@@ -426,7 +453,7 @@ fn stale_shards_of_a_changed_config_are_refused() {
     let res = script(&[]);
     assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
     assert!(stderr(&res).contains("holds the results of a different sweep"), "{}", stderr(&res));
-    assert!(stderr(&res).contains("shard 1 cannot run"), "{}", stderr(&res));
+    assert!(stderr(&res).contains("shard(s) 1,2 of 2 cannot run"), "{}", stderr(&res));
     assert_eq!(std::fs::read(d.join("job.h5")).unwrap(), merged, "the merged file is untouched");
     // a merge told the current config refuses the old shards
     let shards = [d.join("shards/job-1-of-2.h5"), d.join("shards/job-2-of-2.h5")];
@@ -442,6 +469,29 @@ fn stale_shards_of_a_changed_config_are_refused() {
     assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
     assert!(stderr(&res).contains("computed from another version of the config"), "{}", stderr(&res));
     assert!(!d.join("new.h5").exists());
+
+    // shard 2 computed for the changed config (its old files deleted), shard
+    // 1 still of the old one: the script names only shard 1's files to
+    // delete, never the finished shard 2's
+    for f in ["shards/job-2-of-2.h5", "shards/job-2-of-2.h5.journal"] {
+        std::fs::remove_file(d.join(f)).unwrap();
+    }
+    let res = script(&["--tasks", "2"]);
+    assert_eq!(res.status.code(), Some(2), "the merge refuses the old shard 1: {}", stderr(&res));
+    let finished = std::fs::read(d.join("shards/job-2-of-2.h5.journal")).unwrap();
+    let res = script(&[]);
+    assert_eq!(res.status.code(), Some(2), "{}", stderr(&res));
+    let err = stderr(&res);
+    assert!(err.contains("shard(s) 1 of 2 cannot run") && !err.contains('*'), "{err}");
+    let rm = err.lines().map(str::trim).find(|l| l.starts_with("rm ")).unwrap_or_else(|| panic!("{err}"));
+    assert_eq!(rm, "rm -f shards/job-1-of-2.h5 shards/job-1-of-2.h5.journal shards/job-1-of-2.h5.json");
+    // done as told, the sweep goes on: shard 1 runs, shard 2 is kept
+    ok(&Command::new("sh").args(["-c", rm]).current_dir(&d).output().unwrap());
+    ok(&script(&[]));
+    assert_eq!(std::fs::read(d.join("shards/job-2-of-2.h5.journal")).unwrap(), finished, "shard 2 was kept");
+    let reference = d.join("reference.h5");
+    ok(&sweep(&cfg, &reference, &[]));
+    assert_identical(&read_sweep(&d.join("job.h5")).unwrap(), &read_sweep(&reference).unwrap(), "after the advice");
 }
 
 /// Small things a user ran into: `--threads 0`, an error in `--json` mode

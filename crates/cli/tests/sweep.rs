@@ -169,8 +169,13 @@ fn a_killed_sweep_resumes_to_the_same_numbers() {
     ok(&run(&["sweep", cfgs, "--output", reference.to_str().unwrap(), "--threads", "2", "--json"]));
     let out = d.join("killed.h5");
     let journal = d.join("killed.h5.journal");
-    let mut child =
-        bin().args(["sweep", cfgs, "--output", out.to_str().unwrap(), "--threads", "1", "--json"]).spawn().unwrap();
+    // the last job is held (QUAKEJOINT_TEST_HOLD): the sweep cannot finish
+    // before the kill, however fast the machine
+    let mut child = bin()
+        .args(["sweep", cfgs, "--output", out.to_str().unwrap(), "--threads", "1", "--json"])
+        .env("QUAKEJOINT_TEST_HOLD", "all")
+        .spawn()
+        .unwrap();
     // wait until some but not all jobs are journalled, then SIGKILL
     let start = Instant::now();
     loop {

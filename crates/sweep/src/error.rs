@@ -97,6 +97,20 @@ pub enum SweepError {
     /// Files to merge do not belong together.
     #[error("merge: {0}")]
     Merge(String),
+    /// The merged result would be incomplete (and a partial one was not
+    /// accepted): some jobs have no result.
+    #[error(
+        "merge: the result would be incomplete: {report}\nrun the missing shards (or continue them: `quakejoint \
+         sweep <config> --shard K/N --output <shard file>`), or accept a partial result with --allow-partial"
+    )]
+    Incomplete {
+        /// Which shards and jobs are missing, in words.
+        report: String,
+        /// The shards `(k, n)` to run or continue: those no input holds
+        /// (when the inputs are shards of one split) and those with jobs
+        /// not run.
+        shards: Vec<(usize, usize)>,
+    },
     /// Writing failed while jobs were running: the sweep stopped, the
     /// journal keeps every finished job.
     #[error(
@@ -116,9 +130,11 @@ impl SweepError {
     /// the machine (a full disk, say).
     pub fn is_input_error(&self) -> bool {
         match self {
-            SweepError::Config { .. } | SweepError::Record(_) | SweepError::Journal { .. } | SweepError::Merge(_) => {
-                true
-            }
+            SweepError::Config { .. }
+            | SweepError::Record(_)
+            | SweepError::Journal { .. }
+            | SweepError::Merge(_)
+            | SweepError::Incomplete { .. } => true,
             SweepError::Model(m) => m.is_input_error(),
             SweepError::Io { .. } | SweepError::Output(_) => false,
             SweepError::Stopped { cause, .. } => cause.is_input_error(),

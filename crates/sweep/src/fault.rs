@@ -10,9 +10,16 @@
 //! sleeps until it is killed. The
 //! tests (`crates/cli/tests/crash_safety.rs`) then send SIGKILL at exactly
 //! that moment. Without the variable the points cost one relaxed atomic load.
+//!
+//! With `QUAKEJOINT_TEST_HOLD=all` (any sweep) or `=K/N[,K/N..]` (only the
+//! sweeps of those shards), the last job of a sweep's to-do list does not
+//! start until the sweep is stopped (SIGINT, SIGTERM) or the file
+//! `<output>.release` appears: a sweep that is still running when a test
+//! signals, kills or watches it, however fast the machine
+//! (`crates/cli/tests/batch.rs`, `tests/slurm/test_array.sh`).
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::OnceLock;
 use std::time::Duration;
 
@@ -75,4 +82,33 @@ pub(crate) fn job_fails(index: usize) -> bool {
             .unwrap_or_default()
     })
     .contains(&index)
+}
+
+/// `<output>.release`: lets a held job start (`QUAKEJOINT_TEST_HOLD`).
+pub fn release(output: &Path) -> PathBuf {
+    let mut s = output.as_os_str().to_owned();
+    s.push(".release");
+    PathBuf::from(s)
+}
+
+/// Holds the last job of a sweep of `shard` into `output` if
+/// `QUAKEJOINT_TEST_HOLD` asks for it: waits until `stop` is set (then
+/// returns true: the job is abandoned, as a running one would be) or the
+/// release file appears (false: the job runs). Without the variable it
+/// returns false at once.
+pub(crate) fn hold(shard: Option<(usize, usize)>, output: &Path, stop: &AtomicBool) -> bool {
+    let Ok(text) = std::env::var("QUAKEJOINT_TEST_HOLD") else { return false };
+    let held =
+        text.split(',').map(str::trim).any(|s| s == "all" || shard.is_some_and(|(k, n)| s == format!("{k}/{n}")));
+    if !held {
+        return false;
+    }
+    let release = release(output);
+    while !stop.load(Ordering::Relaxed) {
+        if release.exists() {
+            return false;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    true
 }

@@ -63,6 +63,9 @@ pub struct MergeSummary {
     pub failed_jobs: Vec<String>,
     /// The flagged jobs, each in words with its findings.
     pub flagged_jobs: Vec<String>,
+    /// The shards `(k, n)` whose failed jobs the merged file holds (to run
+    /// them again with `--retry-failed`).
+    pub failed_shards: Vec<(usize, usize)>,
 }
 
 fn same_bits(a: f64, b: f64) -> bool {
@@ -211,11 +214,7 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
     if !missing.is_empty() {
         let report = incomplete(&merged, &files, &missing);
         if !options.allow_partial {
-            return Err(SweepError::Merge(format!(
-                "the result would be incomplete: {report}\nrun the missing shards (or continue them: \
-                 `quakejoint sweep <config> --shard K/N --output <shard file>`), or accept a partial result with \
-                 --allow-partial"
-            )));
+            return Err(SweepError::Incomplete { report, shards: unfinished(&files) });
         }
         notices.push(format!("partial result written (complete = 0): {report}"));
     }
@@ -235,7 +234,14 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         })
         .map(|j| format!("{}: {}", merged.describe_job(j), results.findings[j]))
         .collect();
+    // the input each failed job was taken from (the first that holds it)
+    let failed_shards: BTreeSet<(usize, usize)> = (0..n)
+        .filter(|&j| !matches!(results.status[j], status::OK | status::NOT_RUN))
+        .filter_map(|j| files.iter().find(|(_, f)| f.results.status[j] == results.status[j]))
+        .filter_map(|(_, f)| shard_of(&f.shard))
+        .collect();
     Ok(MergeSummary {
+        failed_shards: failed_shards.into_iter().collect(),
         failed_jobs,
         flagged_jobs,
         output: output.to_path_buf(),
@@ -246,6 +252,23 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         missing: missing.len(),
         notices,
     })
+}
+
+/// The shards `(k, n)` to run or continue: those of the split the inputs
+/// share that no input holds, and those with jobs not run.
+fn unfinished(files: &[(PathBuf, SweepFile)]) -> Vec<(usize, usize)> {
+    let shards: BTreeSet<(usize, usize)> = files.iter().filter_map(|(_, f)| shard_of(&f.shard)).collect();
+    let ns: BTreeSet<usize> = shards.iter().map(|&(_, n)| n).collect();
+    let mut out = BTreeSet::new();
+    if let (1, Some(&n)) = (ns.len(), ns.first()) {
+        out.extend((1..=n).filter(|k| !shards.contains(&(*k, n))).map(|k| (k, n)));
+    }
+    for (_, f) in files {
+        if f.scope.iter().any(|&j| f.results.status[j as usize] == status::NOT_RUN) {
+            out.extend(shard_of(&f.shard));
+        }
+    }
+    out.into_iter().collect()
 }
 
 /// Which shards and jobs are missing, in words.

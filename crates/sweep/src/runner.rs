@@ -592,6 +592,9 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
                 }
                 let i = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&index) = todo.get(i) else { break };
+                if i + 1 == todo.len() && crate::fault::hold(opts.shard, output, stop) {
+                    break;
+                }
                 let job = plan.job(index);
                 let label = format!(
                     "{} / {} / z {} / T {:.4} s",
