@@ -45,8 +45,8 @@ def read(src):
             "sa_without": s["without_joint/sa"][:],
             "reduction": s["reduction"][:],
             "complete": int(f.attrs.get("complete", 1)),
-            # a suite's statistics view needs statistics (two records or more)
-            "suite": "suite" in f and "statistics" in s,
+            # a suite's statistics view needs a spread (two records or more)
+            "suite": "suite" in f and "statistics" in s and s["record"].shape[0] >= 2,
         }
 
 

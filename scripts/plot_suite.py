@@ -28,8 +28,8 @@ from plotlib import accel_units, incomplete, period_axes, save, sweep_parser, te
 def load(src):
     with h5py.File(src, "r") as f:
         s = f["spectrum"]
-        if "statistics" not in s:
-            raise SystemExit(f"{src}: no statistics (a sweep of one record)")
+        if "statistics" not in s or s["record"].shape[0] < 2:
+            raise SystemExit(f"{src}: no statistics over records (a sweep of one record)")
         g = s["statistics"]
         d = {
             "periods": s["period"][()],

@@ -56,11 +56,11 @@ class Sweep:
     #: over the records, per (case, damping, period) ((damping, period)
     #: without the joint): {"with_joint": {"mean", "median", "dispersion"},
     #: "without_joint": {...}, "reduction": {"mean", "median", "std",
-    #: "of_mean"}, "count", "flagged"}. For a sweep of one record (whose
-    #: file stores none) the record's own values: count 1 where its job
-    #: finished (0 and NaN elsewhere), mean = median = the value,
-    #: dispersion and std NaN (undefined for one value). None only for a
-    #: file that has neither.
+    #: "of_mean"}, "count", "flagged"}. For a sweep of one record the
+    #: record's own values: count 1 where its job finished (0 and NaN
+    #: elsewhere), mean = median = the value, dispersion and std NaN
+    #: (undefined for one value). None for a file of an earlier version
+    #: of one record, which stored none.
     statistics: Optional[dict] = None
     #: the suite's target and scaling: target (in words), rule, range [s],
     #: factor (per record), rule_factor, min_ratio, min_ratio_period [s],
@@ -275,7 +275,7 @@ def read_sweep(path) -> Sweep:
             attrs={k: (v.item() if hasattr(v, "item") else v) for k, v in f.attrs.items()},
             suite=_suite(f),
         )
-        sweep.statistics = _statistics(s) if "statistics" in s else _one_record_statistics(sweep)
+        sweep.statistics = _statistics(s) if "statistics" in s else None
         return sweep
 
 
@@ -321,39 +321,6 @@ def _statistics(s) -> dict:
     out["count"] = g["count"][()]
     out["flagged"] = g["flagged"][()]
     return out
-
-
-def _one_record_statistics(sweep: Sweep) -> Optional[dict]:
-    """The statistics of a sweep of one record, which its file does not
-    store, by the definitions of the file's (crates/sweep/src/statistics.rs)
-    for one value: count 1 where the job finished, mean = median = the
-    value (NaN where the job did not finish, or for an Sa that is not a
-    positive number), dispersion and std NaN (a sample standard deviation
-    of one value is undefined), of_mean = 1 - mean with / mean without."""
-    if len(sweep.records) != 1:
-        return None
-
-    def positive(a):
-        return np.where(np.isfinite(a) & (a > 0), a, np.nan)
-
-    done = sweep.status[:, 0] == 0  # (case, damping, period)
-    nan = np.full(done.shape, np.nan)
-    with_joint = np.where(done, positive(sweep.with_joint["sa"][:, 0]), np.nan)
-    without = positive(sweep.without_joint["sa"][0])  # (damping, period)
-    reduction = np.where(done, sweep.reduction[:, 0], np.nan)
-    flagged = done & ((sweep.validity[:, 0].astype(np.int64) & ~NOT_CHECKED) != 0)
-    return {
-        "with_joint": {"mean": with_joint, "median": with_joint.copy(), "dispersion": nan.copy()},
-        "without_joint": {"mean": without, "median": without.copy(), "dispersion": np.full(without.shape, np.nan)},
-        "reduction": {
-            "mean": reduction,
-            "median": reduction.copy(),
-            "std": nan.copy(),
-            "of_mean": 1 - with_joint / without[None],
-        },
-        "count": done.astype(np.uint32),
-        "flagged": flagged.astype(np.uint32),
-    }
 
 
 def _suite(f) -> Optional[dict]:

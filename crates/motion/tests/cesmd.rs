@@ -197,3 +197,32 @@ fn every_channel_of_a_multi_channel_cosmos_file() {
     let e = load_record_from_str(&spec("three.V2", |s| s.column = Some(2)), &text).unwrap_err().to_string();
     assert!(e.contains("`channel = N` (`--channel N`)"), "{e}");
 }
+
+#[test]
+fn a_huge_point_count_is_an_error_not_an_allocation() {
+    let text = std::fs::read_to_string(cesmd().join("CE54730_CHAN001.V2")).unwrap();
+    for count in ["2305843009213693951", "99999999999"] {
+        let huge = text.replacen("  7808 points of accel data", &format!("{count} points of accel data"), 1);
+        assert_ne!(huge, text);
+        let e = load_record_from_str(&RecordSpec::new("huge.V2"), &huge).unwrap_err().to_string();
+        assert!(e.contains(&format!("announces {count} points")), "{e}");
+    }
+    // a channel cut inside its headers
+    let cut: String = text.lines().take(30).map(|l| format!("{l}\n")).collect();
+    let e = load_record_from_str(&RecordSpec::new("cut.V2"), &cut).unwrap_err().to_string();
+    assert!(e.contains("the channel ends inside the"), "{e}");
+}
+
+#[test]
+fn velocity_and_displacement_sections_are_not_channels() {
+    // a corrected COSMOS file may follow each channel's acceleration with
+    // its velocity and displacement, each with a header of its own
+    let acc = cosmos_channel(1, "90 deg", 1.0);
+    let vel = acc.replace("Corrected acceleration", "Velocity data").replace("acceleration pts", "velocity pts");
+    let dis = acc.replace("Corrected acceleration", "Displacement data").replace("acceleration pts", "displacement pts");
+    let text = format!("{acc}{vel}{dis}");
+    let loaded = load_record_from_str(&spec("one.V2", |s| s.azimuth = Some(90.0)), &text).unwrap();
+    let c = loaded.channel.as_ref().unwrap();
+    assert_eq!((c.number, c.of), (1, 1), "one channel, not three");
+    assert!(!loaded.warnings.iter().any(|w| w.contains("channels")), "{:?}", loaded.warnings);
+}

@@ -4,7 +4,7 @@
 //! numbers are datasets (scalar or arrays) with a `units` attribute (`1`
 //! for ratios and counts); attributes hold text and integer counts only.
 //!
-//! Nothing in a file can rot unnoticed (`docs/hdf5-layout.md`, "Checksums"):
+//! Every dataset is under a checksum (`docs/hdf5-layout.md`, "Checksums"):
 //! - every array dataset is chunked with HDF5's Fletcher32 checksum filter,
 //!   which libhdf5 (the command, h5py, h5dump) verifies on every read;
 //! - text datasets are arrays of fixed-length UTF-8 strings, so their bytes
@@ -148,12 +148,25 @@ pub fn strings(group: &hdf5::Group, name: &str, data: &[String], shape: &[usize]
     let (ds_id, type_id) = (ds.id(), dtype.id());
     // SAFETY: both identifiers are open; `bytes` holds exactly one element
     // of `dtype` (width bytes) for every element of the dataset's extent.
-    let rc =
-        hdf5::sync::sync(|| unsafe { H5Dwrite(ds_id, type_id, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.as_ptr().cast()) });
-    if rc < 0 {
-        return Err(hdf5::Error::from(format!("writing the text of {name} failed")));
-    }
+    hdf5::sync::sync(|| {
+        hdf5::h5check(unsafe { H5Dwrite(ds_id, type_id, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.as_ptr().cast()) })
+    })?;
     Ok(ds)
+}
+
+/// Most bytes a dataset of an output may hold when it is read back (2 GiB;
+/// the largest sweep arrays are tens of megabytes): a damaged or foreign
+/// file's extent is refused instead of allocated.
+pub const MAX_READ_BYTES: usize = 1 << 31;
+
+/// Refuses a dataset larger than [`MAX_READ_BYTES`] before it is read.
+pub fn check_extent(ds: &hdf5::Dataset) -> hdf5::Result<()> {
+    let n = ds.space()?.size();
+    let element = ds.dtype()?.size();
+    match n.checked_mul(element) {
+        Some(len) if len <= MAX_READ_BYTES => Ok(()),
+        _ => Err(hdf5::Error::from(format!("{}: {n} elements: not a dataset this program wrote", ds.name()))),
+    }
 }
 
 /// Reads a text dataset: fixed-length strings as [`strings`] writes them,
@@ -167,19 +180,26 @@ pub fn read_strings(ds: &hdf5::Dataset) -> hdf5::Result<Vec<String>> {
     match dtype.to_descriptor()? {
         TD::VarLenUnicode => ds.read_raw::<VarLenUnicode>()?.iter().map(|s| utf8(s.as_bytes(), &name)).collect(),
         TD::FixedUnicode(width) | TD::FixedAscii(width) => {
-            let mut bytes = vec![0u8; ds.size() * width];
-            if bytes.is_empty() {
-                return Ok(vec![String::new(); ds.size()]);
+            // the extent as the dataspace says it (0 for a null one), and a
+            // buffer of exactly extent x width bytes, refused when that
+            // overflows or exceeds what an output holds
+            let n = ds.space()?.size();
+            let len = n.checked_mul(width).filter(|&len| len <= MAX_READ_BYTES).ok_or_else(|| {
+                hdf5::Error::from(format!("{name}: {n} strings of {width} bytes: not a dataset this program wrote"))
+            })?;
+            if len == 0 {
+                return Ok(vec![String::new(); n]);
             }
+            let mut bytes = vec![0u8; len];
             let (ds_id, type_id) = (ds.id(), dtype.id());
             // SAFETY: `bytes` holds one element of the dataset's own type
-            // (width bytes) per element of its extent.
-            let rc = hdf5::sync::sync(|| unsafe {
-                H5Dread(ds_id, type_id, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.as_mut_ptr().cast())
-            });
-            if rc < 0 {
-                return Err(hdf5::Error::from(format!("{name}: the text cannot be read (its checksum fails?)")));
-            }
+            // (width bytes) for each of the n elements of its extent, and
+            // the whole extent is read (H5S_ALL).
+            hdf5::sync::sync(|| {
+                hdf5::h5check(unsafe {
+                    H5Dread(ds_id, type_id, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.as_mut_ptr().cast())
+                })
+            })?;
             bytes
                 .chunks_exact(width)
                 .map(|b| utf8(&b[..b.iter().rposition(|&c| c != 0).map_or(0, |i| i + 1)], &name))
@@ -205,11 +225,6 @@ pub fn scalar(group: &hdf5::Group, name: &str, value: f64, units: &str) -> hdf5:
 /// Writes a 1-D string dataset (see [`strings`]).
 pub fn strings_1d(group: &hdf5::Group, name: &str, data: &[String]) -> hdf5::Result<hdf5::Dataset> {
     strings(group, name, data, &[data.len()])
-}
-
-/// A string as an HDF5 variable-length UTF-8 value.
-pub fn vlu(s: &str) -> hdf5::Result<VarLenUnicode> {
-    s.parse().map_err(|e| hdf5::Error::from(format!("{e}")))
 }
 
 // HDF5 dimension scales (the high-level library, which Debian's

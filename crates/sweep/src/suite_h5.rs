@@ -125,7 +125,8 @@ pub fn read_suite(file: &hdf5::File) -> hdf5::Result<Option<StoredSuite>> {
     }))
 }
 
-/// Writes `/spectrum/statistics` (sweeps of two records or more); `scales`
+/// Writes `/spectrum/statistics` (every sweep; for one record its own
+/// values, with the spreads NaN); `scales`
 /// are the case, damping and period dimension scales.
 pub fn write_statistics(
     spec: &hdf5::Group,

@@ -159,7 +159,7 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         axes.text4(&with, "findings", &r.findings)?;
         let ds = axes.ds4(&spec, "reduction", &r.reduction())?;
         attr_str(&ds, "units", "1")?;
-        if r.dims[1] >= 2 {
+        {
             write_statistics(&spec, &Statistics::of(r), r.dims, [&case, &damping, &period])?;
         }
         if let Some(suite) = &f.suite {

@@ -6,7 +6,7 @@
 //! against the results, a history's period, damping, case, record and
 //! validity against the grid and the results, a stored record's PGA
 //! against its samples, the provenance of each record against the stored
-//! record. HDF5 checks each dataset's checksum on the way
+//! record, the root attributes that count the jobs against the results. HDF5 checks each dataset's checksum on the way
 //! ([`crate::h5`]). A file that fails any of this is refused with the
 //! dataset named: a damaged file is never taken for a good one.
 
@@ -50,7 +50,8 @@ pub(crate) fn group(g: &Group, name: &str) -> hdf5::Result<Group> {
 
 /// The values of a dataset, in row-major order.
 pub(crate) fn values<T: H5Type>(g: &Group, name: &str) -> hdf5::Result<Vec<T>> {
-    dataset(g, name)?.read_raw().map_err(|e| about(&path_of(g, name), e))
+    let ds = dataset(g, name)?;
+    crate::h5::check_extent(&ds).and_then(|_| ds.read_raw()).map_err(|e| about(&path_of(g, name), e))
 }
 
 /// A scalar dataset.
@@ -78,7 +79,9 @@ fn rows(g: &Group, name: &str) -> hdf5::Result<Vec<Vec<f64>>> {
     if !g.link_exists(name) {
         return Ok(Vec::new());
     }
-    let a: ndarray::Array2<f64> = dataset(g, name)?.read_2d().map_err(|e| about(&path_of(g, name), e))?;
+    let ds = dataset(g, name)?;
+    let a: ndarray::Array2<f64> =
+        crate::h5::check_extent(&ds).and_then(|_| ds.read_2d()).map_err(|e| about(&path_of(g, name), e))?;
     Ok(a.rows().into_iter().map(|r| r.to_vec()).collect())
 }
 
@@ -157,16 +160,8 @@ fn check_derived(spec: &Group, results: &Results) -> hdf5::Result<()> {
     if !same_bits(&values(spec, "reduction")?, &results.reduction()) {
         return Err(disagrees("/spectrum/reduction", "the spectra with and without the joint"));
     }
-    let has = spec.link_exists("statistics");
-    if has != (results.dims[1] >= 2) {
-        return Err(hdf5::Error::from(format!(
-            "/spectrum/statistics is {} for {} records",
-            if has { "present" } else { "missing" },
-            results.dims[1]
-        )));
-    }
-    if !has {
-        return Ok(());
+    if !spec.link_exists("statistics") {
+        return Err(hdf5::Error::from("/spectrum/statistics is missing"));
     }
     let st = Statistics::of(results);
     let g = group(spec, "statistics")?;
@@ -233,6 +228,27 @@ fn check_inputs(provenance: &Provenance, records: &[StoredRecord]) -> hdf5::Resu
         if !same {
             return Err(disagrees(&format!("/inputs/records/{}", r.name), "the stored record"));
         }
+    }
+    Ok(())
+}
+
+/// The root attributes that count the jobs, against the results.
+fn check_counts(file: &hdf5::File, f: &SweepFile) -> hdf5::Result<()> {
+    let r = &f.results;
+    let complete = f.scope.iter().all(|&j| r.status[j as usize] != crate::results::status::NOT_RUN);
+    for (name, expected) in [
+        ("jobs_total", r.status.len() as u64),
+        ("jobs_in_scope", f.scope.len() as u64),
+        ("jobs_finished", r.finished() as u64),
+        ("jobs_failed", r.failed() as u64),
+        ("jobs_flagged", r.flagged() as u64),
+    ] {
+        if attr_number::<u64>(file, name)? != expected {
+            return Err(disagrees(&format!("the root attribute {name}"), "the results"));
+        }
+    }
+    if attr_number::<u8>(file, "complete")? != u8::from(complete) {
+        return Err(disagrees("the root attribute complete", "the results"));
     }
     Ok(())
 }
@@ -323,6 +339,7 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
             results,
         };
         read_histories(&file, &mut f)?;
+        check_counts(&file, &f)?;
         Ok(f)
     };
     inner().map_err(|e| OutputError::hdf5(path, e))

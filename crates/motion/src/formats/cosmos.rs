@@ -144,9 +144,15 @@ pub fn parse_cosmos(text: &str, file: &str, choice: ChannelChoice) -> Result<Raw
     }
     let r = Reader { lines: text.lines().collect(), file };
     let first = r.lines.iter().position(|l| !l.trim().is_empty()).unwrap_or(0);
-    // each channel opens with its `(Format v01.20 ...)` line
-    let starts: Vec<usize> =
-        (first..r.lines.len()).filter(|&i| r.lines[i].to_ascii_lowercase().contains("(format v")).collect();
+    // each channel's acceleration opens with its `... acceleration (Format
+    // v01.20 ...)` line; a file of corrected data may follow it with the
+    // channel's velocity and displacement, which are not channels of their own
+    let starts: Vec<usize> = (first..r.lines.len())
+        .filter(|&i| {
+            let l = r.lines[i].to_ascii_lowercase();
+            l.find("(format v").is_some_and(|at| l[..at].contains("acceleration"))
+        })
+        .collect();
     if starts.first() != Some(&first) {
         return parse_channel(&r, first).map(|(raw, _)| raw);
     }

@@ -105,16 +105,22 @@ impl Reader<'_> {
         RecordError::Header { file: self.file.into(), line: index + 1, message }
     }
 
-    /// `count` numbers in fields of `width`, `per_line` to a line, from
-    /// line `at`; the numbers and the index after them.
-    fn block(&self, at: usize, count: usize, width: usize, what: &str) -> Result<(Vec<f64>, usize), RecordError> {
+    /// `count` numbers in fields of `width` from line `at`, before line
+    /// `end` (the channel's end); the numbers and the index after them.
+    fn block(
+        &self,
+        at: usize,
+        end: usize,
+        count: usize,
+        width: usize,
+        what: &str,
+    ) -> Result<(Vec<f64>, usize), RecordError> {
         let mut values = Vec::with_capacity(count);
         let mut i = at;
         while values.len() < count {
-            let line = self
-                .lines
-                .get(i)
-                .ok_or_else(|| self.err(self.lines.len(), format!("the file ends inside the {what}")))?;
+            let line = self.lines.get(i).filter(|_| i < end).ok_or_else(|| {
+                self.err(i.min(self.lines.len()).saturating_sub(1), format!("the channel ends inside the {what}"))
+            })?;
             for field in fixed_fields(line, width) {
                 if values.len() == count {
                     break;
@@ -146,8 +152,8 @@ impl Reader<'_> {
                 self.err(end.saturating_sub(1), format!("the channel ends inside its {n_text}-line text header"))
             );
         }
-        let (ints, next) = self.block(start + n_text, 100, 5, "integer header")?;
-        let (reals, data) = self.block(next, n_reals, 10, "real header")?;
+        let (ints, next) = self.block(start + n_text, end, 100, 5, "integer header")?;
+        let (reals, data) = self.block(next, end, n_reals, 10, "real header")?;
         let data_line = self.lines.get(data).copied().unwrap_or("");
         let count = data_line.split_whitespace().next().and_then(|t| t.parse::<usize>().ok());
         if count.is_none() || !data_line.to_ascii_lowercase().contains("accel") {
@@ -301,7 +307,8 @@ pub fn parse_csmip(text: &str, file: &str, choice: ChannelChoice) -> Result<RawR
             }
         }
     }
-    let mut values = Vec::with_capacity(n);
+    // the count is the file's word: reserve no more than the channel's lines hold
+    let mut values = Vec::with_capacity(n.min((h.end - h.data) * (80 / width.max(1) + 1)));
     let mut i = h.data + 1;
     while values.len() < n {
         let Some(&row) = r.lines.get(i).filter(|_| i < h.end) else {
@@ -310,7 +317,10 @@ pub fn parse_csmip(text: &str, file: &str, choice: ChannelChoice) -> Result<RawR
                 format!("line {} announces {n} points but the channel ends after {}", h.data + 1, values.len()),
             ));
         };
-        if row.trim_start().starts_with(|c: char| c.is_alphabetic() || c == '/') {
+        // the next section (`  7808 points of veloc data ...`) or the channel's end
+        if row.trim_start().starts_with(|c: char| c.is_alphabetic() || c == '/')
+            || row.to_ascii_lowercase().contains("points")
+        {
             return Err(r.err(
                 i,
                 format!(
