@@ -164,12 +164,12 @@ def figure(src, window=None, in_g=False):
                 # the largest opening inside the window shown (the whole run
                 # without a window); one beyond it is named in the title
                 shown = (t >= window[0]) & (t <= window[1]) if window else np.ones(len(t), bool)
-                j_all, i_all = np.unravel_index(np.argmax(wide), wide.shape)
+                j_all, i_all = np.unravel_index(np.nanargmax(wide) if np.isfinite(wide).any() else 0, wide.shape)
                 if wide[j_all, i_all] > cap and not shown[i_all]:
                     title += f"\nlargest opening {1e3 * wide[j_all, i_all]:.1f} mm at t = {t[i_all]:.2f} s, outside the window"
-                masked = np.where(shown[np.newaxis, :], wide, -np.inf)
+                masked = np.where(shown[np.newaxis, :] & np.isfinite(wide), wide, -np.inf)
                 j, i = np.unravel_index(np.argmax(masked), wide.shape)
-                if wide[j, i] > cap:
+                if shown.any() and wide[j, i] > cap:
                     axg.plot(t[i], 1e3 * wide[j, i], "o", color="tab:red", ms=6, zorder=5)
                     axg.annotate(
                         f"sub-gap {j + 1} opens to {1e3 * wide[j, i]:.1f} mm at t = {t[i]:.2f} s",
@@ -182,8 +182,10 @@ def figure(src, window=None, in_g=False):
                     )
                     title += " -- beyond the capacity" if shown[i_all] else ""
             # room above the largest opening for the legend and the label
-            top = 1e3 * max(np.nanmax(wide), cap if cap is not None else 0.0)
-            axg.set_ylim(min(-0.05 * top, 1e3 * np.nanmin(gaps)), 1.45 * top)
+            finite = np.isfinite(wide).any() and np.isfinite(gaps).any()
+            top = 1e3 * max(np.nanmax(wide) if finite else 0.0, cap if cap is not None else 0.0)
+            if finite and top > 0:
+                axg.set_ylim(min(-0.05 * top, 1e3 * np.nanmin(gaps)), 1.45 * top)
             axg.set_title(title, fontsize=8)
             axg.legend(fontsize=8, ncol=3, loc="upper right", framealpha=0.9)
         axg.set_ylabel("sub-gap [mm]")

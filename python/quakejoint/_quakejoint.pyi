@@ -82,7 +82,7 @@ class Record:
     @property
     def channel(self) -> Optional[dict]:
         """The channel read: {"number", "of", "orientation": {"kind", "degrees" or
-        "label"}, "description"}; None for AT2 and text."""
+        "label"}, "description"}; None for text."""
     @property
     def scale(self) -> float:
         """The user's scale factor [-]."""

@@ -284,7 +284,10 @@ def _verify(f, path: str) -> None:
     checksum (docs/hdf5-layout.md, "Checksums"), and checks the reduction
     against the spectra it is computed from: a damaged file is refused,
     naming the dataset, never read as a good one."""
-    again = " (run the sweep again: it rebuilds its output from its journal)"
+    again = (
+        " (a sweep's output: run the sweep again, which rebuilds it from its journal; a merged file: merge its "
+        "shards again)"
+    )
 
     def walk(group, prefix):
         # by the links' names, which live in the group: a damaged object

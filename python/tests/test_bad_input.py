@@ -192,3 +192,18 @@ def test_complex_arrays_are_refused_naming_the_argument():
         qj.Config({"sweep": {"periods": np.array([1.0, 2.0]) + 0j}})
     # real numbers of every numpy kind are numbers
     assert qj.spectrum(rec, np.array([1, 2], dtype=np.int32), np.float32(0.05)).sa.shape == (2,)
+
+
+def test_an_array_that_holds_itself_is_refused_naming_where():
+    code = (
+        "import numpy as np, quakejoint as qj\n"
+        "a = np.empty((), dtype=object)\n"
+        "a[()] = a\n"
+        "try:\n"
+        "    qj.Config({'bridge': {'mass': a}})\n"
+        "except qj.InputError as e:\n"
+        "    print('InputError', e)\n"
+    )
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, f"the interpreter died ({p.returncode}): {p.stderr}"
+    assert "InputError" in p.stdout and "bridge.mass" in p.stdout, p.stdout

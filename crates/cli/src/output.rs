@@ -737,11 +737,12 @@ pub fn sweep_check(c: &quakejoint_sweep::runner::Check, retry: bool, json: bool)
                 "journal": c.journal,
                 "cpu_seconds": c.cpu_seconds,
                 "notices": c.notices,
+                "output_problem": c.output_problem,
             })
         );
         return;
     }
-    for n in &c.notices {
+    for n in c.notices.iter().chain(&c.output_problem) {
         eprintln!("warning: {n}");
     }
     let what = if !c.journal {
@@ -755,7 +756,7 @@ pub fn sweep_check(c: &quakejoint_sweep::runner::Check, retry: bool, json: bool)
     } else {
         format!("would continue: {} of {} jobs done", c.done, c.jobs)
     };
-    let fine = if c.notices.is_empty() {
+    let fine = if c.output_problem.is_none() {
         "config, records and output are fine"
     } else {
         "config and records are fine, the output is not (above)"

@@ -245,3 +245,34 @@ fn a_sweep_of_ten_records_is_complete_when_run_again() {
     let check = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap(), "--check"]);
     assert!(stdout(&check).contains("output are fine"), "{}{}", stdout(&check), stderr(&check));
 }
+
+#[test]
+fn a_damaged_earlier_merge_is_replaced_by_the_next_merge() {
+    let d = dir("edges-remerge");
+    let cfg = config(&d, "c.toml", "[sweep]\nperiods = [0.5, 1.0]\ndamping = [0.05]\n", 1.0);
+    let shards: Vec<String> = (1..=2).map(|k| d.join(format!("s{k}.h5")).display().to_string()).collect();
+    for (k, shard) in shards.iter().enumerate() {
+        let spec = format!("{}/2", k + 1);
+        let out = run(&["sweep", cfg.to_str().unwrap(), "--shard", &spec, "--output", shard]);
+        assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    }
+    let merged = d.join("all.h5").display().to_string();
+    let merge = || run(&["merge", &shards[0], &shards[1], "--output", &merged]);
+    assert_eq!(merge().status.code(), Some(0));
+    // one bit of the merged file's reduction flipped on disk
+    let at = {
+        let f = hdf5::File::open(&merged).unwrap();
+        let info = f.dataset("spectrum/reduction").unwrap().chunk_info(0).unwrap();
+        (info.addr + info.size / 2) as usize
+    };
+    let mut bytes = std::fs::read(&merged).unwrap();
+    bytes[at] ^= 0x10;
+    std::fs::write(&merged, bytes).unwrap();
+    let out = run(&["compare", &merged, &merged]);
+    assert_ne!(out.status.code(), Some(0));
+    assert!(stderr(&out).contains("/spectrum/reduction is damaged"), "{}", stderr(&out));
+    let again = merge();
+    assert_eq!(again.status.code(), Some(0), "{}", stderr(&again));
+    assert!(stderr(&again).contains("the earlier merge there cannot be read") && stderr(&again).contains("replaced"));
+    assert_eq!(run(&["compare", &merged, &merged]).status.code(), Some(0));
+}

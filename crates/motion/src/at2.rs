@@ -14,8 +14,12 @@
 //!
 //! Windows (CRLF) and Unix line ends, a byte-order mark, trailing blank
 //! lines and values without a leading zero (`-.8338791E-03`) are accepted.
+//! The component is the last field of line 2 (`..., Corralitos, 90`): an
+//! azimuth, or `UP`/`DWN` (vertical, refused unless `allow_vertical`, as
+//! is any `.VT2` file).
 
 use crate::error::RecordError;
+use crate::formats::channel::{Channel, Orientation};
 use crate::record::RawRecord;
 use crate::spec::{HeaderUnits, Units};
 use crate::text::{number_at, parse_number};
@@ -169,7 +173,25 @@ pub fn parse_at2(text: &str, file: &str) -> Result<RawRecord, RecordError> {
             found: values.len(),
         });
     }
-    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings: Vec::new(), channel: None })
+    let channel = Some(Channel { number: 1, of: 1, orientation: component(&header[1], file) });
+    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings: Vec::new(), channel })
+}
+
+/// The component of header line 2 (`Loma Prieta, 10/18/1989, Corralitos,
+/// 90`: its last field, an azimuth or `UP`/`DWN`), vertical for a `.VT2`
+/// file (PEER's name for the vertical component) whatever it says.
+fn component(line2: &str, file: &str) -> Orientation {
+    if file.to_ascii_lowercase().ends_with(".vt2") {
+        return Orientation::Vertical { label: "VT2".into() };
+    }
+    let field = line2.rsplit(',').next().unwrap_or("").trim();
+    // a trailing word after the azimuth (`90 deg`) is fine; a station name
+    // in a line without commas is not a component
+    if line2.contains(',') {
+        Orientation::from_label(field)
+    } else {
+        Orientation::Unknown
+    }
 }
 
 #[cfg(test)]

@@ -61,6 +61,9 @@ pub struct Record {
     pub file_pga: f64,
     /// the file's header lines (AT2, ESM, K-NET, COSMOS), else empty
     pub header: Vec<String>,
+    /// the channel of the file read, where the format says which (None
+    /// for text and [`Record::new`])
+    pub channel: Option<Channel>,
 }
 
 impl Record {
@@ -81,6 +84,7 @@ impl Record {
             units: Units::MetersPerSecond2,
             file_pga,
             header: Vec::new(),
+            channel: None,
         })
     }
 
@@ -338,7 +342,11 @@ pub fn load_record_from_samples(spec: &RecordSpec, dt: f64, values: Vec<f64>) ->
 /// Unit conversion, scaling and warnings for a parsed record.
 fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -> Result<LoadedRecord, RecordError> {
     let file = spec.file.display().to_string();
-    let name = spec.label();
+    // the channels of one file named apart (`CICLC.ch2`) unless named
+    let name = match &raw.channel {
+        Some(c) if c.of > 1 && spec.name.is_none() => format!("{}.ch{}", spec.label(), c.number),
+        _ => spec.label(),
+    };
     let mut warnings = Vec::new();
     let units = units_of(spec, format, &raw, &mut warnings)?;
     warnings.extend(raw.warnings.iter().cloned());
@@ -437,6 +445,7 @@ fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -
         units,
         file_pga,
         header: raw.header.clone(),
+        channel: raw.channel.clone(),
     };
     validate(&file, record.dt, &record.acceleration)?;
     let pga = record.pga();

@@ -219,7 +219,8 @@ fn velocity_and_displacement_sections_are_not_channels() {
     // its velocity and displacement, each with a header of its own
     let acc = cosmos_channel(1, "90 deg", 1.0);
     let vel = acc.replace("Corrected acceleration", "Velocity data").replace("acceleration pts", "velocity pts");
-    let dis = acc.replace("Corrected acceleration", "Displacement data").replace("acceleration pts", "displacement pts");
+    let dis =
+        acc.replace("Corrected acceleration", "Displacement data").replace("acceleration pts", "displacement pts");
     let text = format!("{acc}{vel}{dis}");
     let loaded = load_record_from_str(&spec("one.V2", |s| s.azimuth = Some(90.0)), &text).unwrap();
     let c = loaded.channel.as_ref().unwrap();

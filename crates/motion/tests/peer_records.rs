@@ -111,3 +111,24 @@ fn corralitos_090_sa_at_6_3_rad_per_s() {
     assert!((5.3..=5.7).contains(&p.sa), "Sa = {}", p.sa);
     assert!(fine.sa >= p.sa && fine.sa - p.sa < 0.01 * p.sa);
 }
+
+/// A PEER file's component is the last field of its line 2: the shipped
+/// records are horizontal at the azimuths they name, and a vertical one
+/// (`UP`, `DWN`, or a `.VT2` file) is refused unless asked for.
+#[test]
+fn the_component_of_a_peer_file_is_read_and_a_vertical_one_refused() {
+    use quakejoint_motion::{load_record, load_record_from_str, Orientation, RecordSpec};
+    for (file, degrees) in [("RSN753_LOMAP_CLS090-hor2.AT2", 90.0), ("RSN753_LOMAP_CLS000-hor1.AT2", 0.0)] {
+        let loaded = load_record(&RecordSpec::new(file), &common::ground_motions()).unwrap();
+        assert_eq!(loaded.channel.unwrap().orientation, Orientation::Azimuth { degrees });
+    }
+    let text = std::fs::read_to_string(common::ground_motions().join("RSN753_LOMAP_CLS090-hor2.AT2")).unwrap();
+    for (name, body) in [("up.AT2", text.replacen("Corralitos, 90", "Corralitos, UP", 1)), ("v.VT2", text.clone())] {
+        let mut spec = RecordSpec::new(name);
+        spec.format = quakejoint_motion::Format::At2;
+        let e = load_record_from_str(&spec, &body).unwrap_err().to_string();
+        assert!(e.contains("field `allow_vertical`"), "{name}: {e}");
+        spec.allow_vertical = true;
+        assert!(load_record_from_str(&spec, &body).is_ok());
+    }
+}

@@ -294,7 +294,12 @@ impl Walk {
         }
         // numpy scalars and arrays: as the Python values they hold
         if obj.hasattr("dtype")? && obj.hasattr("tolist")? {
-            return self.value(&obj.call_method0("tolist")?, at, depth);
+            // one level deeper: an object whose tolist() gives itself back
+            // (a 0-d object array holding itself) ends at MAX_DEPTH
+            if depth > MAX_DEPTH {
+                return Err(InputError::new_err(too_deep(at)));
+            }
+            return self.value(&obj.call_method0("tolist")?, at, depth + 1);
         }
         // other real numbers (fractions, decimals)
         if let Ok(x) = obj.extract::<f64>() {

@@ -187,8 +187,7 @@ impl PyRecord {
     /// `number` (as the file gives it), `of` (channels in the file) and
     /// `orientation` ({"kind": "azimuth", "degrees": 90.0}, {"kind":
     /// "vertical", "label": "Up"}, {"kind": "axis", "label": "Long"} or
-    /// {"kind": "unknown"}); None for formats of one unnamed channel
-    /// (AT2, text).
+    /// {"kind": "unknown"}); None for text, which cannot say.
     #[getter]
     fn channel<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
         let Some(c) = &self.loaded.channel else { return Ok(None) };

@@ -36,8 +36,8 @@ fn inputs_equal(a: &[RecordSource], b: &[RecordSource]) -> bool {
     let (a, b) = (by_role(a), by_role(b));
     a.len() == b.len()
         && a.iter().zip(&b).all(|(x, y)| {
-            (&x.role, &x.name, &x.file, &x.sha256, &x.units, x.samples)
-                == (&y.role, &y.name, &y.file, &y.sha256, &y.units, y.samples)
+            (&x.role, &x.name, &x.file, &x.sha256, &x.units, x.samples, &x.channel)
+                == (&y.role, &y.name, &y.file, &y.sha256, &y.units, y.samples, &y.channel)
                 && bits_equal(&[x.dt, x.scale], &[y.dt, y.scale])
         })
 }

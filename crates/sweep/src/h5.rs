@@ -122,8 +122,8 @@ pub fn array<'d, T: hdf5::H5Type + Clone, D: ndarray::Dimension>(
 
 /// Writes an array dataset of text of the given `shape` (row-major `data`)
 /// as fixed-length UTF-8 strings (as long as the longest, padded with
-/// NULs), chunked with the Fletcher32 checksum: the text itself is under
-/// the checksum. h5py reads them as bytes (`.asstr()` gives `str`).
+/// NULs), chunked, deflated and with the Fletcher32 checksum: the text
+/// itself is under the checksum. h5py reads them as bytes (`.asstr()` gives `str`).
 pub fn strings(group: &hdf5::Group, name: &str, data: &[String], shape: &[usize]) -> hdf5::Result<hdf5::Dataset> {
     use hdf5_sys::{h5d::H5Dwrite, h5p::H5P_DEFAULT, h5s::H5S_ALL};
     if shape.is_empty() || shape.iter().product::<usize>() != data.len() {
@@ -137,7 +137,11 @@ pub fn strings(group: &hdf5::Group, name: &str, data: &[String], shape: &[usize]
     } else {
         hdf5::SimpleExtents::new(shape.to_vec())
     };
-    let ds = group.new_dataset_builder().empty_as(&dtype).shape(extents).chunk(chunk).fletcher32().create(name)?;
+    // padded to the longest, text compresses well: deflated (where the
+    // library has zlib, as Debian's and h5py's do), then checksummed
+    let builder = group.new_dataset_builder().empty_as(&dtype).shape(extents).chunk(chunk);
+    let builder = if hdf5::filters::deflate_available() { builder.deflate(4) } else { builder };
+    let ds = builder.fletcher32().create(name)?;
     if data.is_empty() {
         return Ok(ds);
     }

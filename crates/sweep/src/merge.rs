@@ -68,10 +68,6 @@ pub struct MergeSummary {
     pub failed_shards: Vec<(usize, usize)>,
 }
 
-fn same_bits(a: f64, b: f64) -> bool {
-    a.to_bits() == b.to_bits()
-}
-
 /// `(k, n)` of a shard name `"k/n"`.
 fn shard_of(name: &str) -> Option<(usize, usize)> {
     let (k, n) = name.split_once('/')?;
@@ -118,7 +114,9 @@ fn read_all(inputs: &[PathBuf], notices: &mut Vec<String>) -> Result<Vec<(PathBu
 
 /// The merged file may replace an earlier merge or nothing, never an input
 /// or the output of a sweep (which has a journal).
-fn check_output(output: &Path, inputs: &[PathBuf]) -> Result<(), SweepError> {
+/// An earlier merge that no longer reads (a damaged file) is replaced, with
+/// the notice returned.
+fn check_output(output: &Path, inputs: &[PathBuf]) -> Result<Option<String>, SweepError> {
     crate::files::check_name(output).map_err(SweepError::Merge)?;
     if let Some(i) = inputs.iter().find(|i| same_file(output, i)) {
         return Err(SweepError::Merge(format!(
@@ -133,14 +131,23 @@ fn check_output(output: &Path, inputs: &[PathBuf]) -> Result<(), SweepError> {
             output.display()
         )));
     }
-    if output.exists() && read_sweep(output).is_err() {
-        return Err(SweepError::Merge(format!(
+    if !output.exists() {
+        return Ok(None);
+    }
+    match read_sweep(output) {
+        Ok(_) => Ok(None),
+        // a quakejoint sweep file without a journal: an earlier merge
+        Err(e) if crate::files::kind_of(output).as_deref() == Some("sweep") => Ok(Some(format!(
+            "{}: the earlier merge there cannot be read ({}); it is replaced",
+            output.display(),
+            e.message
+        ))),
+        Err(_) => Err(SweepError::Merge(format!(
             "{} exists and is {}: it is not overwritten",
             output.display(),
             describe(output)
-        )));
+        ))),
     }
-    Ok(())
 }
 
 /// Merges shard files into `output`.
@@ -148,9 +155,9 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
     if inputs.is_empty() {
         return Err(SweepError::Merge("no input files".into()));
     }
-    check_output(output, inputs)?;
+    let replaced = check_output(output, inputs)?;
     let _lock = OutputLock::acquire(output)?;
-    let mut notices = Vec::new();
+    let mut notices: Vec<String> = replaced.into_iter().collect();
     let files = read_all(inputs, &mut notices)?;
     if let Some(expected) = &options.expected {
         let stale: Vec<String> =
@@ -169,29 +176,16 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
     let mut claimed: Vec<(String, &Path)> = Vec::new();
     let mut overlaps = 0;
     for (path, other) in &files {
-        let what = |field: &str| {
-            SweepError::Merge(format!(
-                "{} and {} are not shards of one sweep: their {field} differ",
+        // the same config, grids, records, provenance, suite and spectra
+        // without the joint, bit for bit, as `compare` checks them
+        let diffs = crate::compare::sweep_differences(&merged, other);
+        if !diffs.is_empty() {
+            return Err(SweepError::Merge(format!(
+                "{} and {} are not shards of one sweep: {}",
                 first_path.display(),
-                path.display()
-            ))
-        };
-        if other.config_sha256 != merged.config_sha256 {
-            return Err(what("configs"));
-        }
-        if other.periods != merged.periods || other.damping != merged.damping {
-            return Err(what("periods or damping ratios"));
-        }
-        if other.cases != merged.cases {
-            return Err(what("cases"));
-        }
-        if other.records != merged.records {
-            return Err(what("records"));
-        }
-        for (k, (a, b)) in merged.results.without.iter().zip(&other.results.without).enumerate() {
-            if a.iter().zip(b).any(|(x, y)| !same_bits(*x, *y)) {
-                return Err(what(&format!("spectra without the joint ({})", ["sa", "psa", "sd", "sv"][k])));
-            }
+                path.display(),
+                diffs.join("; ")
+            )));
         }
         if other.shard != "all" && other.shard != "merged" {
             if let Some((_, p)) = claimed.iter().find(|(s, _)| *s == other.shard) {
@@ -318,7 +312,7 @@ fn combine(into: &mut Results, from: &Results, source: &str) -> Result<usize, Sw
                 .iter()
                 .enumerate()
                 .filter(|(_, name)| !MACHINE_DEPENDENT.contains(name))
-                .any(|(k, _)| !same_bits(into.values[k][j], from.values[k][j]));
+                .any(|(k, _)| into.values[k][j].to_bits() != from.values[k][j].to_bits());
             if differs || into.status[j] != from.status[j] || into.validity[j] != from.validity[j] {
                 return Err(SweepError::Merge(format!("job {j} was run twice with different results ({source})")));
             }

@@ -32,6 +32,9 @@ pub struct RecordSource {
     pub dt: f64,
     /// Samples.
     pub samples: usize,
+    /// The channel of the file read (`channel 2 of 3 (360°)`), empty for
+    /// formats that do not say.
+    pub channel: String,
 }
 
 impl RecordSource {
@@ -46,6 +49,7 @@ impl RecordSource {
             scale: record.scale,
             dt: record.dt,
             samples: record.acceleration.len(),
+            channel: record.channel.as_ref().map(|c| c.describe()).unwrap_or_default(),
         }
     }
 }
@@ -89,6 +93,7 @@ pub fn write_provenance(file: &hdf5::File, kind: &str, p: &Provenance) -> hdf5::
         attr_str(&g, "file", &r.file)?;
         attr_str(&g, "sha256", &r.sha256)?;
         attr_str(&g, "file_units", &r.units)?;
+        attr_str(&g, "channel", &r.channel)?;
         g.new_attr::<u64>().create("samples")?.write_scalar(&(r.samples as u64))?;
         scalar(&g, "dt", r.dt, "s")?;
         scalar(&g, "scale", r.scale, "m/s^2 per file unit")?;

@@ -189,6 +189,15 @@ pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>, provenance: Proven
     }
 }
 
+/// The file a run writes before any job: the plan's grids, records and
+/// provenance with the spectra without the joint (the journal's results
+/// are inserted into it).
+fn expected_file(plan: &Plan, opts: &SweepOptions) -> Result<SweepFile, SweepError> {
+    let mut file = sweep_file(plan, opts.shard, provenance(plan, &opts.command, &opts.config_path));
+    without_joint(plan, &mut file.results)?;
+    Ok(file)
+}
+
 /// The exact linear spectra of every record, damping and period.
 pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepError> {
     let [_, _, nz, nt] = plan.dims();
@@ -419,10 +428,12 @@ pub struct Check {
     pub journal: bool,
     /// Estimated CPU time of the jobs to run [s] (cost model).
     pub cpu_seconds: f64,
-    /// What is wrong with the output on disk (damaged, missing, behind
-    /// nothing: a run rebuilds it from the journal), or what the journal's
-    /// reading noticed; empty when nothing is.
+    /// What the journal's reading noticed (damaged entries that a run
+    /// skips); empty when nothing.
     pub notices: Vec<String>,
+    /// What is wrong with the output on disk (damaged, missing,
+    /// disagreeing with its journal): a run rebuilds it from the journal.
+    pub output_problem: Option<String>,
 }
 
 /// Checks a sweep as [`run_sweep`] would before its first job: the config,
@@ -435,6 +446,7 @@ pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError
     let scope = scope(plan, opts.shard);
     let mut status_of = std::collections::BTreeMap::new();
     let mut notices = Vec::new();
+    let mut output_problem = None;
     let journal = jpath.exists();
     if journal {
         // a journal cut while it was being created holds nothing: a run
@@ -445,22 +457,22 @@ pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError
                 return Err(crate::journal::another_sweep(&jpath, &diffs));
             }
             notices.extend(contents.notices(&jpath));
-            let mut file = sweep_file(plan, opts.shard, provenance(plan, &opts.command, &opts.config_path));
-            without_joint(plan, &mut file.results)?;
+            let mut file = expected_file(plan, opts)?;
             for r in contents.latest() {
+                if r.job as usize >= file.results.status.len() {
+                    // as a run refuses it (Journal::continue_or_restart)
+                    return Err(SweepError::Journal {
+                        path: jpath.display().to_string(),
+                        message: format!("job {} does not exist in this sweep", r.job),
+                    });
+                }
                 let flagged = quakejoint_model::validity::Flags(r.validity).is_flagged();
                 status_of.insert(r.job as usize, (r.status, flagged));
-                if (r.job as usize) < file.results.status.len() {
-                    file.results.insert(r);
-                }
+                file.results.insert(r);
             }
-            if let Err(problem) = output_state(&opts.output, &file) {
-                notices.push(format!(
-                    "{}: {problem}; a run rebuilds it from the journal {}",
-                    opts.output.display(),
-                    jpath.display()
-                ));
-            }
+            output_problem = output_state(&opts.output, &file).err().map(|problem| {
+                format!("{}: {problem}; a run rebuilds it from the journal {}", opts.output.display(), jpath.display())
+            });
         }
     } else if opts.resume {
         return Err(SweepError::Journal {
@@ -477,7 +489,17 @@ pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError
         .filter(|j| !status_of.contains_key(j) || (opts.retry_failed && status_of[j].0 != status::OK))
         .map(|&j| plan.cost(plan.job(j)))
         .fold(0.0, |a, c| a + c);
-    Ok(Check { output: opts.output.clone(), jobs: scope.len(), done, failed, flagged, journal, cpu_seconds, notices })
+    Ok(Check {
+        output: opts.output.clone(),
+        jobs: scope.len(),
+        done,
+        failed,
+        flagged,
+        journal,
+        cpu_seconds,
+        notices,
+        output_problem,
+    })
 }
 
 /// Runs a sweep: starts it, or continues the one its journal records.
@@ -491,8 +513,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let mut notices: Vec<String> = lock.unsupported.iter().cloned().collect();
     let jpath = journal_path(output);
     let head = header(plan, opts.shard);
-    let mut file = sweep_file(plan, opts.shard, provenance(plan, &opts.command, &opts.config_path));
-    without_joint(plan, &mut file.results)?;
+    let mut file = expected_file(plan, opts)?;
     let (journal, done) = if jpath.exists() {
         let c = Journal::continue_or_restart(&jpath, &head)?;
         notices.extend(c.notices);

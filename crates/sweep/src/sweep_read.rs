@@ -110,6 +110,8 @@ fn read_provenance(file: &hdf5::File) -> hdf5::Result<Provenance> {
                 sha256: attr(&g, "sha256")?,
                 units: attr(&g, "file_units")?,
                 samples: attr_number::<u64>(&g, "samples")? as usize,
+                // absent in files written before channels were read
+                channel: if g.attr("channel").is_ok() { attr(&g, "channel")? } else { String::new() },
                 dt: number(&g, "dt")?,
                 scale: number(&g, "scale")?,
                 role,

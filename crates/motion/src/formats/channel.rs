@@ -58,7 +58,7 @@ impl Orientation {
             return if (0.0..=360.0).contains(&d) { Orientation::Azimuth { degrees: d } } else { Orientation::Unknown };
         }
         let lower = first.to_ascii_lowercase();
-        if ["up", "down", "vert", "vertical", "u-d", "ud", "z"].contains(&lower.as_str()) {
+        if ["up", "down", "dwn", "dn", "vert", "vertical", "u-d", "ud", "z"].contains(&lower.as_str()) {
             Orientation::Vertical { label: (*first).to_string() }
         } else if lower.starts_with("long") || lower.starts_with("tran") || lower.starts_with("rad") {
             Orientation::Axis { label: (*first).to_string() }
