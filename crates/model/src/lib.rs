@@ -14,6 +14,7 @@ pub mod config;
 pub mod error;
 pub mod generator;
 pub mod geometry;
+pub mod history;
 pub mod limits;
 pub mod linear;
 pub mod pounding;

@@ -717,10 +717,10 @@ impl Plan {
         let longest = self.records.iter().map(samples).fold(0.0, f64::max);
         let result_bytes = self.job_count() as f64 * ((crate::results::FIELDS.len() as f64 + 4.0) * 8.0) * 3.0;
         let histories = self.history_periods.len() * self.job_count() / self.periods.len().max(1);
-        // seven series, the clear sub-gaps and their contact forces, Nc + 1
-        // of each
+        // seven series, the clear sub-gaps at both ends and their contact
+        // forces, Nc + 1 of each
         let gaps = self.cases.iter().filter(|c| c.config.joint.enabled).map(|c| c.config.joint.center_beams + 1).max();
-        let history_bytes = histories as f64 * longest * (7 + 2 * gaps.unwrap_or(0)) as f64 * 8.0 * 3.0;
+        let history_bytes = histories as f64 * longest * (7 + 3 * gaps.unwrap_or(0)) as f64 * 8.0 * 3.0;
         let bodies = self.cases.iter().map(|c| c.bodies).max().unwrap_or(0) as f64;
         let worker_mb = MEMORY_PER_WORKER_MB + MEMORY_PER_BODY_MB * bodies + longest * 8.0 * 6.0 * MB;
         let memory_mb = MEMORY_BASE_MB
