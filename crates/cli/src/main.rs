@@ -1,8 +1,11 @@
 //! `quakejoint`: the command-line interface.
 //!
 //! Thin by design: every command parses its arguments, calls the library
-//! crates and prints. Exit codes: 0 success, 1 a run failed, 2 bad input
-//! (the message names the file, field or value).
+//! crates and prints. Exit codes: 0 success; 1 a run failed (or the
+//! machine did: a full disk); 2 bad input (the message names the file,
+//! field or value); 3 some jobs of a sweep or merge failed; 4 a run or a
+//! job finished outside what the model can stand behind (flagged); 130
+//! and 143 a sweep interrupted by SIGINT or SIGTERM (README, "Commands").
 
 mod args;
 mod commands;

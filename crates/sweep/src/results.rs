@@ -109,8 +109,9 @@ pub struct JobResult {
     pub message: String,
     /// Values in [`FIELDS`] order (NaN when failed).
     pub values: Vec<f64>,
-    /// Validity flags of a finished run (`quakejoint_model::validity::Flags`
-    /// bits; 0 when valid or not run).
+    /// Validity flags of the run (`quakejoint_model::validity::Flags` bits):
+    /// 0 when it finished valid, `NOT_CHECKED` when it failed (the arrays
+    /// hold `NOT_CHECKED` for a job not run either).
     pub validity: u32,
     /// What the flags found, when and where (empty when valid).
     pub findings: String,
