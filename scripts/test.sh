@@ -10,7 +10,10 @@
 # 2. A Python virtual environment `.venv` with scripts/requirements.txt
 #    (h5py, numpy, matplotlib): the tests call `python3` for the plotting
 #    scripts and to open outputs with h5py. It comes first on PATH.
-# 3. `cargo test --workspace`.
+# 3. `cargo fmt --check`, `cargo clippy` and `cargo doc` with warnings
+#    denied, then `cargo test --workspace` (which, run by hand without the
+#    Python packages, skips the parts that need h5py or matplotlib and says
+#    what to install; here they must run).
 # 4. The Python package (pip install ".[test]" into .venv, which builds the
 #    engine with maturin) and its tests, python/tests: values against the
 #    command line and closed forms, every plot script, the examples.
@@ -25,8 +28,15 @@ cd "$(dirname "$0")/.."
 system_packages
 python_env
 
+echo "== cargo fmt --check, clippy and rustdoc with warnings denied"
+cargo fmt --all --check
+cargo clippy --workspace --all-targets -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
+
 echo "== cargo test --workspace"
-cargo test --workspace
+# the tests that need h5py and matplotlib fail here if they are missing,
+# rather than skip as they do in a plain `cargo test` without them
+QJ_REQUIRE_PYTHON=1 cargo test --workspace
 
 python_package
 echo "== pytest python/tests"

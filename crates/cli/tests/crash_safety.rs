@@ -186,6 +186,9 @@ fn twenty_kills_lose_nothing_and_change_nothing() {
     }
     let snaps: Vec<PathBuf> = std::fs::read_dir(&snapshots).unwrap().map(|e| e.unwrap().path()).collect();
     assert!(snaps.len() >= 10, "only {} kills left an output to check", snaps.len());
+    if !common::python_with(&["h5py"]) {
+        return;
+    }
     let opened = Command::new("python3")
         .arg("-c")
         .arg(

@@ -318,6 +318,9 @@ fn bad_sweep_tables_name_the_key() {
 
 #[test]
 fn plotting_scripts_write_png_files() {
+    if !common::python_with(&["h5py", "matplotlib"]) {
+        return;
+    }
     let d = dir("plots");
     let cfg = config(&d, "c.toml", "[sweep]\nperiods = [0.5, 1.0]\ndamping = [0.05]\nhistories = [1.0]\n", 2.0);
     let out = d.join("out.h5");

@@ -82,3 +82,26 @@ pub fn stderr(out: &Output) -> String {
 pub fn stdout(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
+
+/// Whether `python3` can import `modules` (h5py, matplotlib: the plotting
+/// scripts' and the HDF5 checks' needs). Without them a test skips what
+/// needs them, saying what to install; `scripts/test.sh` (the README's test
+/// command, which installs them) sets `QJ_REQUIRE_PYTHON=1`, and then a
+/// missing module fails the test instead.
+pub fn python_with(modules: &[&str]) -> bool {
+    let found = Command::new("python3")
+        .arg("-c")
+        .arg(format!("import {}", modules.join(", ")))
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        let what = format!(
+            "python3 with {} (python3 -m pip install -r scripts/requirements.txt, or run scripts/test.sh, which \
+             installs them)",
+            modules.join(" and ")
+        );
+        assert!(std::env::var_os("QJ_REQUIRE_PYTHON").is_none(), "this test needs {what}");
+        eprintln!("SKIPPED: the part of this test that needs {what}");
+    }
+    found
+}
