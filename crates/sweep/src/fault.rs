@@ -17,10 +17,20 @@
 //! `<output>.release` appears: a sweep that is still running when a test
 //! signals, kills or watches it, however fast the machine
 //! (`crates/cli/tests/batch.rs`, `tests/slurm/test_array.sh`).
+//!
+//! The hooks are compiled only with the feature `fault-injection`, which
+//! the command's tests turn on (a dev-dependency of `crates/cli`): a
+//! program built for use (`cargo build`, `cargo install`, the Python
+//! package) has none, and the variables do nothing there. The file names
+//! ([`marker`], [`release`]) are always there, for the tests.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::AtomicBool;
+#[cfg(feature = "fault-injection")]
+use std::sync::atomic::{AtomicUsize, Ordering};
+#[cfg(feature = "fault-injection")]
 use std::sync::OnceLock;
+#[cfg(feature = "fault-injection")]
 use std::time::Duration;
 
 /// Where a pause can be requested.
@@ -35,6 +45,7 @@ pub(crate) enum Point {
 }
 
 /// The requested pause, parsed once.
+#[cfg(feature = "fault-injection")]
 fn requested() -> Option<(Point, usize)> {
     static REQUEST: OnceLock<Option<(Point, usize)>> = OnceLock::new();
     *REQUEST.get_or_init(|| {
@@ -59,6 +70,7 @@ pub fn marker(file: &Path) -> PathBuf {
 
 /// Counts the passes through `point`; at the requested one, creates the
 /// marker beside `file` and sleeps for ever.
+#[cfg(feature = "fault-injection")]
 pub(crate) fn point(point: Point, file: &Path) {
     static COUNTS: [AtomicUsize; 3] = [AtomicUsize::new(0), AtomicUsize::new(0), AtomicUsize::new(0)];
     let Some((wanted, n)) = requested() else { return };
@@ -74,6 +86,7 @@ pub(crate) fn point(point: Point, file: &Path) {
 /// Whether job `index` is to fail (`QUAKEJOINT_TEST_FAIL_JOBS=3,7`): the
 /// tests' way to make a job fail as the solver can (a typed error, status
 /// failed) without hunting for physics that breaks it.
+#[cfg(feature = "fault-injection")]
 pub(crate) fn job_fails(index: usize) -> bool {
     static JOBS: OnceLock<Vec<usize>> = OnceLock::new();
     JOBS.get_or_init(|| {
@@ -96,6 +109,7 @@ pub fn release(output: &Path) -> PathBuf {
 /// returns true: the job is abandoned, as a running one would be) or the
 /// release file appears (false: the job runs). Without the variable it
 /// returns false at once.
+#[cfg(feature = "fault-injection")]
 pub(crate) fn hold(shard: Option<(usize, usize)>, output: &Path, stop: &AtomicBool) -> bool {
     let Ok(text) = std::env::var("QUAKEJOINT_TEST_HOLD") else { return false };
     let held =
@@ -111,4 +125,23 @@ pub(crate) fn hold(shard: Option<(usize, usize)>, output: &Path, stop: &AtomicBo
         std::thread::sleep(Duration::from_millis(10));
     }
     true
+}
+
+/// Without the feature: no pause.
+#[cfg(not(feature = "fault-injection"))]
+#[inline(always)]
+pub(crate) fn point(_point: Point, _file: &Path) {}
+
+/// Without the feature: no job fails on purpose.
+#[cfg(not(feature = "fault-injection"))]
+#[inline(always)]
+pub(crate) fn job_fails(_index: usize) -> bool {
+    false
+}
+
+/// Without the feature: no job is held.
+#[cfg(not(feature = "fault-injection"))]
+#[inline(always)]
+pub(crate) fn hold(_shard: Option<(usize, usize)>, _output: &Path, _stop: &AtomicBool) -> bool {
+    false
 }
