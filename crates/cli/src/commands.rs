@@ -7,7 +7,8 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use quakejoint_model::config::base_dir;
 use quakejoint_model::generator::{build, Drive};
-use quakejoint_model::run::{load_records, simulate_or_alone, RunOptions};
+use quakejoint_model::run::{load_records, RunOptions};
+use quakejoint_model::runspec::{Named, Overrides, RunSpec};
 use quakejoint_model::service::service;
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{load_record, period_range, spectrum, LoadedRecord, RecordStats, SpectrumOptions};
@@ -284,16 +285,6 @@ fn model(a: ModelArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn period_to_omega(period: Option<f64>) -> Result<Option<f64>> {
-    match period {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            Err(InputError(format!("--period {t}: the period must be positive")).into())
-        }
-        Some(t) => Ok(Some(2.0 * std::f64::consts::PI / t)),
-        None => Ok(None),
-    }
-}
-
 /// Words joined into a command a POSIX shell reads back as the same words
 /// (see [`shell_word`]).
 pub fn shell_words(words: &[std::ffi::OsString]) -> String {
@@ -364,7 +355,9 @@ fn print_warnings(records: &[&LoadedRecord]) {
 const FLAGGED: u8 = 4;
 
 fn simulate(a: SimulateArgs) -> Result<ExitCode> {
-    let (mut config, text) = read_config(&a.config)?;
+    let (config, text) = read_config(&a.config)?;
+    let mut overrides =
+        Overrides { period: a.period.map(|t| Named::new(t, "--period")), alone: a.no_joint, ..Overrides::default() };
     let base = if let Some(path) = &a.record {
         // the override is relative to the current directory and replaces the
         // whole [record] table: its units, scale and columns described
@@ -378,24 +371,21 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
                 path.display()
             );
         }
-        config.record = Some(a.read.spec(&file));
+        overrides.record = Some(a.read.spec(&file));
         PathBuf::new()
     } else if a.read.any() {
         return Err(InputError(
             "--format, --units, --dt, --column, --channel, --azimuth, --allow-vertical, --scale and --target-pga-g \
-             describe the file of --record; without \
-             --record, set them in the config's [record]"
+             describe the file of --record; without --record, set them in the config's [record]"
                 .into(),
         )
         .into());
     } else {
         base_dir(&a.config)
     };
-    let omega = period_to_omega(a.period)?;
-    if let Some(t) = a.period {
-        (config.bridge.period, config.bridge.w0) = (Some(t), None);
-    }
-    let (lx, ly) = load_records(&config, &base)?;
+    let spec = RunSpec::new(config, &overrides)?;
+    let config = &spec.config;
+    let (lx, ly) = load_records(config, &base)?;
     print_warnings(&[Some(&lx), ly.as_ref()].into_iter().flatten().collect::<Vec<_>>());
     let (rx, ry) = (&lx.record, ly.as_ref().map(|l| &l.record));
     if let Some(out) = &a.output {
@@ -405,33 +395,30 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         inputs.push(&a.config);
         quakejoint_sweep::files::check_overwrite(out, "simulate", &inputs).map_err(InputError)?;
     }
-    if a.no_joint {
-        config.joint.enabled = false;
-        if config.bridge.transverse_period.is_some() {
-            eprintln!(
-                "note: --no-joint solves the bridge along x only; across, the run with the joint reports the bridge \
-                 alone as sa_y_without_joint"
-            );
-        }
+    if a.no_joint && config.bridge.transverse_period.is_some() {
+        eprintln!(
+            "note: --no-joint solves the bridge along x only; across, the run with the joint reports the bridge alone \
+             as sa_y_without_joint"
+        );
     }
     let histories = a.output.is_some();
-    let bar = if a.no_joint { None } else { TerminalProgress::new(quakejoint_model::run::run_duration(&config, rx)) };
-    let options = RunOptions { omega, histories, progress: bar.as_ref().map(|b| b.callback()), ..Default::default() };
-    // the bridge alone over the same window as a run with the joint
-    let outcome = simulate_or_alone(&config, rx, ry, a.no_joint, &options);
+    let bar = if a.no_joint { None } else { TerminalProgress::new(quakejoint_model::run::run_duration(config, rx)) };
+    let options = RunOptions { histories, progress: bar.as_ref().map(|b| b.callback()), ..Default::default() };
+    let outcome = spec.run(rx, ry, &options);
     if let Some(b) = &bar {
         b.bar.finish_and_clear();
     }
-    let (result, without) = outcome?;
+    let run = outcome?;
+    let result = &run.result;
     if let Some(path) = &a.output {
         let mut records = vec![RecordSource::of("x", rx, &lx.sha256)];
         records.extend(ly.as_ref().map(|l| RecordSource::of("y", &l.record, &l.sha256)));
         let warnings = lx.warnings.iter().chain(ly.iter().flat_map(|l| &l.warnings)).cloned().collect();
-        let provenance = provenance_of(&a.config, &text, &config, records, warnings);
-        quakejoint_sweep::run_h5::write_run(path, &provenance, &result, without.as_deref())
+        let provenance = provenance_of(&a.config, &text, config, records, warnings);
+        quakejoint_sweep::run_h5::write_run(path, &provenance, result, run.reference_a_abs.as_deref())
             .context("writing the time histories")?;
     }
-    output::run_result(&a.config, &lx, &result, a.print.json);
+    output::run_result(&a.config, &lx, result, a.print.json);
     Ok(if result.validity.flags.is_flagged() { ExitCode::from(FLAGGED) } else { ExitCode::SUCCESS })
 }
 

@@ -83,13 +83,22 @@ pub fn model_summary(path: &Path, config: &Config, model: &JointModel, asm: &Ass
 }
 
 /// The residuals of a run as JSON (each in its unit).
-fn residuals_json(r: &quakejoint_solver::ConstraintResiduals) -> serde_json::Value {
-    json!({
-        "max_position_residual": r.position,
-        "max_angle_residual": r.angle,
-        "max_velocity_residual": r.velocity,
-        "max_angular_velocity_residual": r.angular_velocity,
-    })
+/// Every scalar result of a run ([`quakejoint_model::fields::FIELDS`]):
+/// counts as whole numbers, what the run did not compute (NaN) as null.
+fn fields_json(r: &RunResult) -> serde_json::Value {
+    let map = quakejoint_model::fields::FIELDS
+        .iter()
+        .map(|f| {
+            let x = (f.value)(r);
+            let value = match (x.is_finite(), f.count) {
+                (false, _) => serde_json::Value::Null,
+                (true, true) => json!(x as u64),
+                (true, false) => json!(x),
+            };
+            (f.name.to_string(), value)
+        })
+        .collect();
+    serde_json::Value::Object(map)
 }
 
 /// Merges the fields of `more` into the object `v`.
@@ -115,72 +124,13 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
             "record_pga_g": record.pga() / quakejoint_motion::G,
             "joint": !r.exact_linear,
             "method": if r.exact_linear { "exact linear" } else { "multibody" },
-            "omega": r.omega,
-            "period": 2.0 * std::f64::consts::PI / r.omega,
-            "sa": r.sa, "psa": r.psa, "sd": r.sd, "sv": r.sv,
-            "t_sa": r.t_sa, "t_sd": r.t_sd, "t_sv": r.t_sv,
             "validity": v.flags.0,
             "validity_label": v.flags.label(),
             "flags": v.flags.names(),
             "findings": v.findings,
-            "wall_time_s": r.wall_time_s,
-            "cpu_time_s": r.cpu_time_s,
+            "peak_contact_place": r.pounding.peak_contact_place.map(|p| json!({"gap": p.gap, "end": p.end})),
         });
-        if !r.exact_linear {
-            extend(
-                &mut out,
-                json!({
-                    "peak_joint_force": r.peak_joint_force,
-                    "peak_bushing_force": r.peak_bushing_force,
-                    "peak_friction_force": r.peak_friction_force,
-                    "friction_energy": r.friction_energy,
-                    "damping_energy": r.damping_energy,
-                    "earthquake_work": r.earthquake_work,
-                    "min_subgap": r.min_subgap,
-                    "max_subgap": r.max_subgap,
-                    "max_subgap_deviation": r.max_subgap_deviation,
-                    "impacts": r.pounding.impacts,
-                    "peak_contact_force": r.pounding.peak_contact_force,
-                    "peak_contact_time": r.pounding.peak_contact_time,
-                    "peak_contact_place": r.pounding.peak_contact_place.map(|p| json!({"gap": p.gap, "end": p.end})),
-                    "contact_energy": r.pounding.contact_energy,
-                    "peak_deck_contact_force": r.pounding.peak_deck_contact_force,
-                    "max_penetration": r.pounding.max_penetration,
-                    "energy_error": r.energy_error,
-                    "steps": r.stats.steps,
-                    "rejected_steps": r.stats.rejected,
-                    "failed_attempts": r.stats.failed_attempts,
-                    "newton_iterations": r.stats.newton_iterations,
-                    "jacobian_evaluations": r.stats.jacobian_evaluations,
-                    "factorizations": r.stats.factorizations,
-                    "residual_evaluations": r.stats.residual_evaluations,
-                }),
-            );
-            extend(&mut out, residuals_json(&r.residuals));
-            if let Some(f) = &r.far {
-                extend(
-                    &mut out,
-                    json!({
-                        "period_far": 2.0 * std::f64::consts::PI / f.omega,
-                        "sa_far": f.sa, "t_sa_far": f.t_sa, "sd_far": f.sd,
-                        "peak_joint_force_far": f.peak_joint_force,
-                        "sa_far_without_joint": f.sa_without,
-                        "max_relative_displacement": f.max_relative_displacement,
-                    }),
-                );
-            }
-            if let Some(y) = &r.transverse {
-                extend(
-                    &mut out,
-                    json!({
-                        "period_y": 2.0 * std::f64::consts::PI / y.omega,
-                        "sa_y": y.sa, "t_sa_y": y.t_sa, "sd_y": y.sd, "sv_y": y.sv,
-                        "peak_joint_force_y": y.peak_joint_force,
-                        "sa_y_without_joint": y.sa_without,
-                    }),
-                );
-            }
-        }
+        extend(&mut out, fields_json(r));
         out!("{out}");
         return;
     }
@@ -334,7 +284,16 @@ pub fn service_result(path: &Path, r: &ServiceResult, json: bool) {
             "steps": r.stats.steps,
             "wall_time_s": r.wall_time_s,
         });
-        extend(&mut v, residuals_json(&r.residuals));
+        let res = &r.residuals;
+        extend(
+            &mut v,
+            json!({
+                "max_position_residual": res.position,
+                "max_angle_residual": res.angle,
+                "max_velocity_residual": res.velocity,
+                "max_angular_velocity_residual": res.angular_velocity,
+            }),
+        );
         out!("{v}");
         return;
     }

@@ -52,8 +52,11 @@ fn paper() -> Config {
 
 fn run(config: &Config, omega: Option<f64>) -> RunResult {
     let (x, y) = load_records(config, &configs()).expect("record");
-    simulate_records(config, &x.record, y.as_ref().map(|y| &y.record), &RunOptions { omega, ..RunOptions::default() })
-        .expect("run")
+    let mut config = config.clone();
+    if let Some(w) = omega {
+        (config.bridge.w0, config.bridge.period) = (Some(w), None);
+    }
+    simulate_records(&config, &x.record, y.as_ref().map(|y| &y.record), &RunOptions::default()).expect("run")
 }
 
 fn write_json(name: &str, value: &serde_json::Value) {

@@ -699,7 +699,7 @@ fn check(key: &str, v: f64) -> Result<(), ModelError> {
 }
 
 /// As [`check`], naming the value `field` (a support beam's index, say).
-fn check_as(key: &str, field: &str, v: f64) -> Result<(), ModelError> {
+pub(crate) fn check_as(key: &str, field: &str, v: f64) -> Result<(), ModelError> {
     let Some((unit, bound)) = crate::limits::limit(key) else { return Ok(()) };
     if bound.contains(v) {
         return Ok(());

@@ -33,6 +33,18 @@ pub enum ModelError {
         /// What is wrong.
         reason: String,
     },
+    /// A value a front end sets for one run (`--period`, Python's `period`,
+    /// a sweep's grid) is out of range: named as the front end names it
+    /// (`--period 100000: ...`, `period = 100000: ...`).
+    #[error("{}: {reason}", if name.starts_with("--") { format!("{name} {value}") } else { format!("{name} = {value}") })]
+    Override {
+        /// How the front end names it.
+        name: String,
+        /// The offending value.
+        value: String,
+        /// What is wrong (the same words whatever the front end).
+        reason: String,
+    },
     /// The geometry cannot work (a bearing outside its center beam, crossing joists...).
     #[error("geometry: {0}")]
     Geometry(String),

@@ -12,6 +12,7 @@
 
 pub mod config;
 pub mod error;
+pub mod fields;
 pub mod generator;
 pub mod geometry;
 pub mod history;
@@ -20,6 +21,7 @@ pub mod linear;
 pub mod pounding;
 pub mod resources;
 pub mod run;
+pub mod runspec;
 pub mod service;
 pub mod validity;
 mod watch;

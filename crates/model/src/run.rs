@@ -33,8 +33,6 @@ pub type ProgressFn = Arc<dyn Fn(f64) + Send + Sync>;
 /// Options of one run.
 #[derive(Clone, Default)]
 pub struct RunOptions {
-    /// Bridge circular frequency [rad/s] (the config's if None).
-    pub omega: Option<f64>,
     /// Record time histories at every output time.
     pub histories: bool,
     /// Reports the simulated time about every 0.1 s of it.
@@ -50,7 +48,6 @@ pub struct RunOptions {
 impl std::fmt::Debug for RunOptions {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("RunOptions")
-            .field("omega", &self.omega)
             .field("histories", &self.histories)
             .field("progress", &self.progress.is_some())
             .field("cancel", &self.cancel.is_some())
@@ -172,69 +169,12 @@ pub struct RunResult {
 }
 
 impl RunResult {
-    /// Scalar results of a run: name, value, unit. Quantities a run did not
-    /// compute are NaN (the joint's, the energy balance and the solver counters
-    /// of the exact linear solution without the joint).
+    /// Scalar results of a run: name, value, unit, in the order of
+    /// [`crate::fields::FIELDS`]. Quantities a run did not compute are NaN
+    /// (the joint's, the energy balance and the solver counters of the
+    /// exact linear solution without the joint).
     pub fn scalars(&self) -> Vec<(&'static str, f64, &'static str)> {
-        let r = self;
-        let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
-        let count = |n: u64| if r.exact_linear { f64::NAN } else { n as f64 };
-        let s = &r.stats;
-        let y = r.transverse.as_ref();
-        let f = r.far.as_ref();
-        vec![
-            ("omega", r.omega, "rad/s"),
-            ("period", 2.0 * std::f64::consts::PI / r.omega, "s"),
-            ("sa", r.sa, "m/s^2"),
-            ("t_sa", r.t_sa, "s"),
-            ("psa", r.psa, "m/s^2"),
-            ("sd", r.sd, "m"),
-            ("t_sd", r.t_sd, "s"),
-            ("sv", r.sv, "m/s"),
-            ("t_sv", r.t_sv, "s"),
-            ("peak_joint_force", r.peak_joint_force, "N"),
-            ("peak_bushing_force", r.peak_bushing_force, "N"),
-            ("peak_friction_force", r.peak_friction_force, "N"),
-            ("friction_energy", r.friction_energy, "J"),
-            ("damping_energy", r.damping_energy, "J"),
-            ("earthquake_work", r.earthquake_work, "J"),
-            ("min_subgap", opt(r.min_subgap), "m"),
-            ("max_subgap", opt(r.max_subgap), "m"),
-            ("max_subgap_deviation", opt(r.max_subgap_deviation), "m"),
-            ("impacts", count(r.pounding.impacts), "1"),
-            ("peak_contact_force", r.pounding.peak_contact_force, "N"),
-            ("peak_contact_time", r.pounding.peak_contact_time, "s"),
-            ("contact_energy", r.pounding.contact_energy, "J"),
-            ("peak_deck_contact_force", r.pounding.peak_deck_contact_force, "N"),
-            ("max_penetration", r.pounding.max_penetration, "m"),
-            ("energy_error", r.energy_error, "1"),
-            ("max_position_residual", r.residuals.position, "m"),
-            ("max_angle_residual", r.residuals.angle, "rad"),
-            ("max_velocity_residual", r.residuals.velocity, "m/s"),
-            ("max_angular_velocity_residual", r.residuals.angular_velocity, "rad/s"),
-            ("steps", count(s.steps), "1"),
-            ("rejected_steps", count(s.rejected), "1"),
-            ("failed_attempts", count(s.failed_attempts), "1"),
-            ("newton_iterations", count(s.newton_iterations), "1"),
-            ("factorizations", count(s.factorizations), "1"),
-            ("wall_time_s", r.wall_time_s, "s"),
-            ("cpu_time_s", r.cpu_time_s, "s"),
-            ("duration", r.duration, "s"),
-            ("period_y", y.map_or(f64::NAN, |y| 2.0 * std::f64::consts::PI / y.omega), "s"),
-            ("sa_y", y.map_or(f64::NAN, |y| y.sa), "m/s^2"),
-            ("t_sa_y", y.map_or(f64::NAN, |y| y.t_sa), "s"),
-            ("sd_y", y.map_or(f64::NAN, |y| y.sd), "m"),
-            ("sv_y", y.map_or(f64::NAN, |y| y.sv), "m/s"),
-            ("peak_joint_force_y", y.map_or(f64::NAN, |y| y.peak_joint_force), "N"),
-            ("sa_y_without_joint", y.map_or(f64::NAN, |y| y.sa_without), "m/s^2"),
-            ("period_far", f.map_or(f64::NAN, |f| 2.0 * std::f64::consts::PI / f.omega), "s"),
-            ("sa_far", f.map_or(f64::NAN, |f| f.sa), "m/s^2"),
-            ("t_sa_far", f.map_or(f64::NAN, |f| f.t_sa), "s"),
-            ("sd_far", f.map_or(f64::NAN, |f| f.sd), "m"),
-            ("peak_joint_force_far", f.map_or(f64::NAN, |f| f.peak_joint_force), "N"),
-            ("sa_far_without_joint", f.map_or(f64::NAN, |f| f.sa_without), "m/s^2"),
-            ("max_relative_displacement", f.map_or(f64::NAN, |f| f.max_relative_displacement), "m"),
-        ]
+        crate::fields::FIELDS.iter().map(|f| (f.name, (f.value)(self), f.units)).collect()
     }
 }
 
@@ -314,7 +254,7 @@ pub fn run_window(config: &Config, record: &Record) -> Record {
 
 /// `record` over `[0, duration]` [s]: cut at the last sample inside, or
 /// followed by zeros.
-fn window_to(record: &Record, duration: f64) -> Record {
+pub(crate) fn window_to(record: &Record, duration: f64) -> Record {
     let samples = (duration / record.dt * (1.0 + 1e-12)).floor() as usize + 1;
     let mut acceleration = record.acceleration.clone();
     acceleration.resize(samples.max(2), 0.0);
@@ -347,31 +287,6 @@ pub fn check_run_length(config: &Config, record_x: &Record) -> Result<(), ModelE
     Ok(())
 }
 
-/// One run as `quakejoint simulate` makes it: the coupled model under the
-/// records, or, with `alone`, the exact linear solution of the bridge alone
-/// over the same window ([`run_window`]). With histories, also the bridge
-/// alone's absolute acceleration at the output times, to compare with.
-pub fn simulate_or_alone(
-    config: &Config,
-    record_x: &Record,
-    record_y: Option<&Record>,
-    alone: bool,
-    options: &RunOptions,
-) -> Result<(RunResult, Option<Vec<f64>>), ModelError> {
-    let window = run_window(config, record_x);
-    let result = if alone {
-        let omega = options.omega.unwrap_or_else(|| config.bridge.omega());
-        crate::linear::linear_response(&window, omega, config.bridge.damping, options.histories)
-    } else {
-        simulate_records(config, record_x, record_y, options)?
-    };
-    let without = result.histories.as_ref().map(|_| {
-        let period = 2.0 * std::f64::consts::PI / result.omega;
-        quakejoint_motion::history(&window.acceleration, record_x.dt, period, config.bridge.damping).a_abs
-    });
-    Ok((result, without))
-}
-
 /// Runs the coupled model under given records.
 pub fn simulate_records(
     config: &Config,
@@ -382,7 +297,7 @@ pub fn simulate_records(
     check_run_length(config, record_x)?;
     let gx = series(record_x)?;
     let gy = record_y.map(series).transpose()?;
-    let model = build_with(config, options.omega, Drive::Earthquake { x: gx.clone(), y: gy }, options.bearing_joint)?;
+    let model = build_with(config, None, Drive::Earthquake { x: gx.clone(), y: gy }, options.bearing_joint)?;
     let duration = run_duration(config, record_x);
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
     let start = Instant::now();
@@ -414,9 +329,8 @@ pub fn simulate_records(
     let transverse = model.bridge.transverse.map(|(wy, zeta)| {
         let [sa, sd, sv, f] = obs.across;
         let sa_without = record_y.map_or(0.0, |r| {
-            let window = window_to(r, duration);
             let period = 2.0 * std::f64::consts::PI / wy;
-            quakejoint_motion::peaks(&window.acceleration, r.dt, period, zeta, Default::default()).sa
+            crate::runspec::Reference::for_run(config, record_x, r).peaks(period, zeta).sa
         });
         Transverse {
             omega: wy,
@@ -430,9 +344,8 @@ pub fn simulate_records(
     });
     let far = model.bridge.far.map(|(_, wf, zeta)| {
         let [sa, sd, f, rel] = obs.far_peaks;
-        let window = run_window(config, record_x);
         let period = 2.0 * std::f64::consts::PI / wf;
-        let exact = quakejoint_motion::peaks(&window.acceleration, record_x.dt, period, zeta, Default::default()).sa;
+        let exact = crate::runspec::Reference::for_run(config, record_x, record_x).peaks(period, zeta).sa;
         FarSegment {
             omega: wf,
             sa: sa.value,

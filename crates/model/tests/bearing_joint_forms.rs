@@ -34,9 +34,8 @@ fn translational_bearings_move_as_the_prismatic_joint_of_the_spec() {
     config.simulation.atol_rotation = 1e-9;
     for period in [0.5, 2.0] {
         let run = |bearing_joint| {
-            let omega = Some(2.0 * std::f64::consts::PI / period);
-            simulate(&config, &common::configs_dir(), &RunOptions { omega, bearing_joint, ..RunOptions::default() })
-                .unwrap()
+            let config = common::at_omega(config.clone(), 2.0 * std::f64::consts::PI / period);
+            simulate(&config, &common::configs_dir(), &RunOptions { bearing_joint, ..RunOptions::default() }).unwrap()
         };
         let (t, p) = (run(BearingJoint::Translational), run(BearingJoint::Prismatic));
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs();

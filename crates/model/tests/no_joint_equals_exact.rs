@@ -18,7 +18,7 @@ fn deck_alone_matches_the_exact_linear_solution() {
     let rx = load_records(&config, &common::configs_dir()).unwrap().0.record;
     for period in [0.3, 0.9973, 2.5] {
         let w = 2.0 * std::f64::consts::PI / period;
-        let mb = simulate_records(&config, &rx, None, &RunOptions { omega: Some(w), ..Default::default() }).unwrap();
+        let mb = simulate_records(&common::at_omega(config.clone(), w), &rx, None, &RunOptions::default()).unwrap();
         let exact = linear_response(&rx, w, config.bridge.damping, false);
         let rel = (mb.sa - exact.sa).abs() / exact.sa;
         eprintln!("T = {period}: Sa {:.7} vs exact {:.7} ({rel:.1e}), {} steps", mb.sa, exact.sa, mb.stats.steps);

@@ -28,9 +28,9 @@ fn a_pounding_run_converges_with_the_tolerances() {
     tight.simulation.atol = 1e-8;
     tight.simulation.atol_rotation = 1e-8;
     tight.simulation.bearing_atol_factor = 1.0;
-    let options = RunOptions { omega: Some(2.0 * std::f64::consts::PI), ..RunOptions::default() };
-    let d = simulate(&base, &common::configs_dir(), &options).unwrap();
-    let t = simulate(&tight, &common::configs_dir(), &options).unwrap();
+    let (options, w) = (RunOptions::default(), 2.0 * std::f64::consts::PI);
+    let d = simulate(&common::at_omega(base.clone(), w), &common::configs_dir(), &options).unwrap();
+    let t = simulate(&common::at_omega(tight.clone(), w), &common::configs_dir(), &options).unwrap();
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
     let (p, q) = (d.pounding, t.pounding);
     eprintln!(

@@ -38,9 +38,9 @@ fn small_joint_results_converge_with_tolerance_and_reversals_cost_no_failures() 
     tight.simulation.atol_rotation = 1e-8;
     tight.simulation.bearing_atol_factor = 1.0;
     for period in [0.3, 1.0, 3.0] {
-        let options = RunOptions { omega: Some(2.0 * std::f64::consts::PI / period), ..RunOptions::default() };
-        let d = simulate(&base, &common::configs_dir(), &options).unwrap();
-        let t = simulate(&tight, &common::configs_dir(), &options).unwrap();
+        let (options, w) = (RunOptions::default(), 2.0 * std::f64::consts::PI / period);
+        let d = simulate(&common::at_omega(base.clone(), w), &common::configs_dir(), &options).unwrap();
+        let t = simulate(&common::at_omega(tight.clone(), w), &common::configs_dir(), &options).unwrap();
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
         let (sa, ef, fj) =
             (rel(d.sa, t.sa), rel(d.friction_energy, t.friction_energy), rel(d.peak_joint_force, t.peak_joint_force));

@@ -46,7 +46,7 @@ fn a_collision_is_flagged_exactly_when_a_sub_gap_closes() {
     let finding = &full.validity.findings[0];
     assert!(finding.contains(&format!("{:.1} mm", min * 1e3)), "{finding}");
     let scaled = common::shipped("quick.toml");
-    let r = simulate(&scaled, &common::configs_dir(), &RunOptions { omega: Some(6.3), ..Default::default() }).unwrap();
+    let r = simulate(&common::at_omega(scaled, 6.3), &common::configs_dir(), &RunOptions::default()).unwrap();
     assert!(r.min_subgap.unwrap() > 0.0 && r.validity.flags.is_ok(), "{:?} {:?}", r.min_subgap, r.validity);
 }
 

@@ -229,15 +229,17 @@ pub struct RecordSpec {
     /// The channel to read from a file of several (COSMOS, CSMIP): its
     /// number as the file gives it (`Chan  2:`); without it (and without
     /// `azimuth`) the first is read, with a warning naming the others.
-    #[serde(default)]
+    // (left out of a config written back when not set, so that the hash of
+    // a config that does not use them is what it was before they existed)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub channel: Option<u32>,
     /// The channel to read from a file of several, by the direction it
     /// points \[degrees clockwise from north, 0 to 360\].
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub azimuth: Option<f64>,
     /// Read a vertical component as the excitation (refused otherwise: the
     /// joint model's excitation is horizontal).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub allow_vertical: bool,
     /// Label of the record (default: the file stem).
     #[serde(default)]

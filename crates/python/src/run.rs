@@ -12,7 +12,8 @@ use std::time::Duration;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use quakejoint_model::run::{load_records, simulate_or_alone, Histories, RunOptions, RunResult};
+use quakejoint_model::run::{load_records, Histories, RunOptions, RunResult};
+use quakejoint_model::runspec::{Named, Overrides, Run, RunSpec};
 use quakejoint_model::service::{service as run_service, ServiceResult};
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{LoadedRecord, G};
@@ -20,7 +21,7 @@ use quakejoint_motion::{LoadedRecord, G};
 use crate::config::PyConfig;
 use crate::convert::real_opt;
 use crate::record::PyRecord;
-use crate::{config_error, model_error, InputError};
+use crate::{config_error, model_error};
 
 /// How often the waiting thread looks for a pending Python signal.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
@@ -211,32 +212,32 @@ fn simulate(
     joint: bool,
     history: bool,
 ) -> PyResult<PyRunResult> {
-    let (mut cfg, base, source) = match config {
+    let (cfg, base, source) = match config {
         Some(c) => (c.config.clone(), c.base_dir.clone(), c.source.clone()),
         None => (Config::default(), std::path::PathBuf::from("."), "config (defaults)".to_string()),
     };
     let named = |e: ModelError| config_error(e, &source);
-    if let Some(t) = real_opt(period, "simulate", "period")? {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(InputError::new_err(format!("period = {t} s: must be finite and > 0")));
-        }
-        (cfg.bridge.period, cfg.bridge.w0) = (Some(t), None);
-        cfg.validate().map_err(named)?;
-    }
-    if !joint {
-        cfg.joint.enabled = false;
-    }
+    let overrides = Overrides {
+        period: real_opt(period, "simulate", "period")?.map(|t| Named::new(t, "period")),
+        alone: !joint,
+        ..Overrides::default()
+    };
+    // an error about the period argument is not the config's
+    let spec = RunSpec::new(cfg, &overrides).map_err(|e| match &e {
+        ModelError::Override { .. } => model_error(e),
+        _ => named(e),
+    })?;
     let (lx, ly) = match record {
         Some(r) => {
-            let ly = cfg.record_y.as_ref().map(|spec| quakejoint_motion::load_record(spec, &base)).transpose();
+            let ly = spec.config.record_y.as_ref().map(|s| quakejoint_motion::load_record(s, &base)).transpose();
             (r.loaded.clone(), ly.map_err(crate::input_error)?)
         }
-        None => load_records(&cfg, &base).map_err(named)?,
+        None => load_records(&spec.config, &base).map_err(named)?,
     };
     let cancel = Arc::new(AtomicBool::new(false));
     let options = RunOptions { histories: history, cancel: Some(cancel.clone()), ..Default::default() };
-    let (cfg_ref, rx, ry) = (&cfg, &lx.record, ly.as_ref().map(|l| &l.record));
-    let (result, without) = run_detached(py, &cancel, || simulate_or_alone(cfg_ref, rx, ry, !joint, &options))?;
+    let (rx, ry) = (&lx.record, ly.as_ref().map(|l| &l.record));
+    let Run { result, reference_a_abs: without } = run_detached(py, &cancel, || spec.run(rx, ry, &options))?;
     let history = match (&result.histories, without) {
         (Some(h), Some(without)) => Some(history_dict(py, h, without, joint)?.unbind()),
         _ => None,

@@ -192,23 +192,16 @@ fn periods_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
     if periods.is_empty() {
         return Err(sweep_err(field, "no periods"));
     }
-    check_swept(&periods, field, "bridge.period", "a bridge period")?;
+    check_swept(&periods, field, "bridge.period")?;
     Ok(periods)
 }
 
 /// Checks swept values (`field`, a list) against the range of the config
-/// key `key` they stand for, each once; `what` names one in messages.
-fn check_swept(values: &[f64], field: &str, key: &str, what: &str) -> Result<(), SweepError> {
+/// key `key` they stand for (as an override of it), each once.
+fn check_swept(values: &[f64], field: &str, key: &str) -> Result<(), SweepError> {
     for (i, &x) in values.iter().enumerate() {
-        if let Some((unit, range)) = quakejoint_model::limits::limit(key) {
-            if !range.contains(x) {
-                let unit = if unit == "1" { String::new() } else { format!(" {unit}") };
-                return Err(sweep_err(
-                    &format!("{field}[{i}]"),
-                    format!("{}: {what} must be within {}{unit}", quakejoint_motion::number(x), range.describe()),
-                ));
-            }
-        }
+        // as every front end's override of the key is checked, in the same words
+        quakejoint_model::runspec::check_override(key, &format!("{field}[{i}]"), x)?;
         if let Some(k) = values[..i].iter().position(|&y| y == x) {
             return Err(sweep_err(
                 &format!("{field}[{i}]"),
@@ -418,7 +411,7 @@ impl Plan {
         if damping.is_empty() {
             return Err(sweep_err("sweep.damping", "no damping ratio"));
         }
-        check_swept(&damping, "sweep.damping", "bridge.damping", "a damping ratio")?;
+        check_swept(&damping, "sweep.damping", "bridge.damping")?;
         // each requested period picks the nearest swept one (within 5 %)
         let history_periods = match sweep.get("histories") {
             Some(v) => {

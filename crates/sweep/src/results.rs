@@ -1,60 +1,25 @@
 //! Results of a sweep: one record per job and the arrays they fill.
 
+use std::sync::LazyLock;
+
 use quakejoint_model::validity::Flags;
 use serde::{Deserialize, Serialize};
 
-/// Per-job values stored in `/spectrum/with_joint/<name>`, in this order.
-pub const FIELDS: [&str; 39] = [
-    "sa",
-    "psa",
-    "sd",
-    "sv",
-    "t_sa",
-    "t_sd",
-    "t_sv",
-    "peak_joint_force",
-    "peak_bushing_force",
-    "peak_friction_force",
-    "friction_energy",
-    "damping_energy",
-    "earthquake_work",
-    "min_subgap",
-    "max_subgap",
-    "max_subgap_deviation",
-    "impacts",
-    "peak_contact_force",
-    "contact_energy",
-    "peak_deck_contact_force",
-    "max_penetration",
-    "energy_error",
-    "max_position_residual",
-    "max_angle_residual",
-    "max_velocity_residual",
-    "max_angular_velocity_residual",
-    "steps",
-    "rejected_steps",
-    "failed_attempts",
-    "newton_iterations",
-    "factorizations",
-    "wall_time_s",
-    "cpu_time_s",
-    "sa_y",
-    "sd_y",
-    "sa_y_without_joint",
-    "sa_far",
-    "sa_far_without_joint",
-    "max_relative_displacement",
-];
+/// Per-job values stored in `/spectrum/with_joint/<name>`, in this order:
+/// the fields of a run marked `per_job` (`quakejoint_model::fields`).
+pub static FIELDS: LazyLock<Vec<&'static str>> = LazyLock::new(|| per_job().map(|f| f.name).collect());
 
 /// Units of [`FIELDS`] (`1` for counts and ratios).
-pub const UNITS: [&str; 39] = [
-    "m/s^2", "m/s^2", "m", "m/s", "s", "s", "s", "N", "N", "N", "J", "J", "J", "m", "m", "m", "1", "N", "J", "N", "m",
-    "1", "m", "rad", "m/s", "rad/s", "1", "1", "1", "1", "1", "s", "s", "m/s^2", "m", "m/s^2", "m/s^2", "m/s^2", "m",
-];
+pub static UNITS: LazyLock<Vec<&'static str>> = LazyLock::new(|| per_job().map(|f| f.units).collect());
 
 /// Fields that depend on the machine, not on the inputs (left out of
 /// determinism comparisons).
-pub const MACHINE_DEPENDENT: [&str; 2] = ["wall_time_s", "cpu_time_s"];
+pub static MACHINE_DEPENDENT: LazyLock<Vec<&'static str>> =
+    LazyLock::new(|| per_job().filter(|f| f.machine_dependent).map(|f| f.name).collect());
+
+fn per_job() -> impl Iterator<Item = &'static quakejoint_model::fields::Field> {
+    quakejoint_model::fields::FIELDS.iter().filter(|f| f.per_job)
+}
 
 /// Job status codes in `/spectrum/with_joint/status`.
 pub mod status {

@@ -21,9 +21,9 @@ use std::time::{Duration, Instant};
 
 use crossbeam_channel::{unbounded, Receiver, RecvTimeoutError};
 use indicatif::ProgressBar;
-use quakejoint_model::run::{simulate_records, RunOptions, RunResult};
+use quakejoint_model::run::{RunOptions, RunResult};
+use quakejoint_model::runspec::{Named, Overrides, Reference, Run, RunSpec};
 use quakejoint_model::ModelError;
-use quakejoint_motion::{history, spectrum, SpectrumOptions};
 use quakejoint_solver::SolverError;
 
 use crate::error::SweepError;
@@ -41,7 +41,7 @@ use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
 /// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
 /// and contact-force histories; 6: each job's CPU time).
-const JOURNAL_SCHEMA: u32 = 9;
+const JOURNAL_SCHEMA: u32 = 10;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
@@ -203,8 +203,9 @@ pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepErro
     let [_, _, nz, nt] = plan.dims();
     for (r, rec) in plan.records.iter().enumerate() {
         // over the runs' window, which every case shares (Plan::new)
-        let window = quakejoint_model::run::run_window(&plan.cases[0].config, &rec.record);
-        let rows = spectrum(&window, &plan.periods, &plan.damping, SpectrumOptions::default())
+        let reference = Reference::for_run(&plan.cases[0].config, &rec.record, &rec.record);
+        let rows = reference
+            .spectrum(&plan.periods, &plan.damping)
             .map_err(|e| SweepError::Config { field: "sweep".into(), message: e.to_string() })?;
         for (i, row) in rows.iter().enumerate() {
             let (z, t) = (i / nt, i % nt);
@@ -218,11 +219,9 @@ pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepErro
     Ok(())
 }
 
-/// The job's values in [`FIELDS`] order, taken by name from the run's
-/// scalars (the list a run file's `/result` holds).
+/// The job's values in [`FIELDS`] order: the run's fields marked `per_job`.
 fn values_of(r: &RunResult) -> Vec<f64> {
-    let all = r.scalars();
-    FIELDS.iter().map(|f| all.iter().find(|(name, ..)| name == f).map_or(f64::NAN, |&(_, v, _)| v)).collect()
+    quakejoint_model::fields::FIELDS.iter().filter(|f| f.per_job).map(|f| (f.value)(r)).collect()
 }
 
 /// Runs one job; `None` if `cancel` stopped it.
@@ -234,13 +233,16 @@ pub fn run_job(
 ) -> Option<JobResult> {
     let job = plan.job(index);
     let Job { case, record, damping, period } = job;
-    let mut config = plan.cases[case].config.clone();
-    config.bridge.damping = plan.damping[damping];
-    let t = plan.periods[period];
-    let omega = 2.0 * std::f64::consts::PI / t;
+    // the job's period and damping from the grid, applied and checked as
+    // every front end's overrides are
+    let overrides = Overrides {
+        period: Some(Named::new(plan.periods[period], format!("sweep.periods[{period}]"))),
+        damping: Some(Named::new(plan.damping[damping], format!("sweep.damping[{damping}]"))),
+        ..Overrides::default()
+    };
     let want_history = plan.history_periods.contains(&period);
     let rec = &plan.records[record].record;
-    let options = RunOptions { omega: Some(omega), histories: want_history, progress, cancel, ..RunOptions::default() };
+    let options = RunOptions { histories: want_history, progress, cancel, ..RunOptions::default() };
     let outcome = if crate::fault::job_fails(index) {
         Err(ModelError::Solver(SolverError::StepFailed {
             time: 0.0,
@@ -249,27 +251,22 @@ pub fn run_job(
             cause: quakejoint_solver::StepFailure::NonFinite,
         }))
     } else {
-        simulate_records(&config, rec, plan.record_y.as_ref().map(|r| &r.record), &options)
+        RunSpec::new(plan.cases[case].config.clone(), &overrides)
+            .and_then(|spec| spec.run(rec, plan.record_y.as_ref().map(|r| &r.record), &options))
     };
     match outcome {
-        Ok(r) => {
-            let history = r.histories.as_ref().map(|h| {
-                let window = quakejoint_model::run::run_window(&config, rec);
-                let exact = history(&window.acceleration, window.dt, t, plan.damping[damping]).a_abs;
-                let mut without: Vec<f64> = exact.into_iter().take(h.t.len()).collect();
-                without.resize(h.t.len(), f64::NAN);
-                JobHistory {
-                    t: h.t.clone(),
-                    ag: h.ag.clone(),
-                    u: h.u.clone(),
-                    a_abs: h.a_abs.clone(),
-                    a_abs_without_joint: without,
-                    joint_force: h.joint_force.clone(),
-                    friction_power: h.friction_power.clone(),
-                    subgaps: h.subgaps.clone(),
-                    subgaps_wide: h.subgaps_wide.clone(),
-                    contact_force: h.contact_force.clone(),
-                }
+        Ok(Run { result: r, reference_a_abs }) => {
+            let history = r.histories.as_ref().zip(reference_a_abs).map(|(h, without)| JobHistory {
+                t: h.t.clone(),
+                ag: h.ag.clone(),
+                u: h.u.clone(),
+                a_abs: h.a_abs.clone(),
+                a_abs_without_joint: without,
+                joint_force: h.joint_force.clone(),
+                friction_power: h.friction_power.clone(),
+                subgaps: h.subgaps.clone(),
+                subgaps_wide: h.subgaps_wide.clone(),
+                contact_force: h.contact_force.clone(),
             });
             Some(JobResult {
                 job: index as u32,
@@ -759,22 +756,5 @@ impl Writer {
             write_sweep(&self.output, &self.file)?;
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::results::UNITS;
-
-    /// Every job field is a run's scalar of the same name and unit, so
-    /// that `values_of` never leaves one NaN for want of a name.
-    #[test]
-    fn every_field_is_a_run_scalar_with_its_unit() {
-        let scalars = RunResult::default().scalars();
-        for (field, unit) in FIELDS.iter().zip(UNITS) {
-            let found = scalars.iter().find(|(name, ..)| name == field);
-            assert_eq!(found.map(|s| s.2), Some(unit), "{field}");
-        }
     }
 }

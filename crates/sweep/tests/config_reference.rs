@@ -121,7 +121,7 @@ fn every_key_is_documented_with_its_default() {
     let mut spec = RecordSpec::new("x.txt");
     (spec.units, spec.dt, spec.column, spec.target_pga_g, spec.name) =
         (Some(quakejoint_motion::Units::G), Some(0.01), Some(2), Some(0.3), Some("x".into()));
-    (spec.channel, spec.azimuth) = (Some(2), Some(90.0));
+    (spec.channel, spec.azimuth, spec.allow_vertical) = (Some(2), Some(90.0), true);
     let spec: toml::Table = toml::from_str(&toml::to_string(&spec).unwrap()).unwrap();
     let record_keys: Vec<String> = spec.keys().map(|k| format!("record.{k}")).collect();
     for key in &record_keys {

@@ -20,3 +20,10 @@ pub fn shipped_with(name: &str, extra: &str) -> Config {
     let text = std::fs::read_to_string(configs_dir().join(name)).unwrap();
     Config::from_toml(&format!("{text}\n{extra}"), name).expect("config")
 }
+
+/// `config` with the bridge's circular frequency `omega` [rad/s] (as a
+/// front end's period override sets it: the frequency replaces the period).
+pub fn at_omega(mut config: Config, omega: f64) -> Config {
+    (config.bridge.w0, config.bridge.period) = (Some(omega), None);
+    config
+}

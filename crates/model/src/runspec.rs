@@ -1,0 +1,172 @@
+//! One run, defined once: the config with every override a front end
+//! applies (the command line's `--period`, Python's `period=`, a sweep
+//! job's period and damping from its grid), checked by the same code
+//! wherever it comes from ([`RunSpec`]), and the bridge alone that every
+//! run with the joint is compared with ([`Reference`]).
+//!
+//! An override names itself in its errors as its front end names it:
+//! `--period 100000: must be within 0.01 <= x <= 10 s` on the command
+//! line, `period = 100000: ...` in Python, `sweep.periods[0] = 100000:
+//! ...` in a sweep; the reason is the same text.
+
+use quakejoint_motion::{Peaks, Record, RecordSpec, SpectrumError, SpectrumOptions, SpectrumRow};
+
+use crate::config::Config;
+use crate::error::ModelError;
+use crate::run::{run_duration, simulate_records, RunOptions, RunResult};
+
+/// A value a front end sets for one run, with the name it gives it
+/// (`--period`, `period`, `sweep.periods[3]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Named<T> {
+    /// The value.
+    pub value: T,
+    /// How the front end names it, for its errors.
+    pub name: String,
+}
+
+impl<T> Named<T> {
+    /// `value` named `name`.
+    pub fn new(value: T, name: impl Into<String>) -> Self {
+        Named { value, name: name.into() }
+    }
+}
+
+/// What a front end changes in a config for one run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Overrides {
+    /// The bridge's natural period \[s\] (replaces `bridge.period` and
+    /// `bridge.w0`).
+    pub period: Option<Named<f64>>,
+    /// The bridge's damping ratio \[-\] (replaces `bridge.damping`).
+    pub damping: Option<Named<f64>>,
+    /// A record replacing the config's whole `[record]` (the command
+    /// line's `--record`).
+    pub record: Option<RecordSpec>,
+    /// Run the bridge alone, exactly (no joint).
+    pub alone: bool,
+}
+
+/// A run: the config with every override applied and checked.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSpec {
+    /// The config as the run uses it.
+    pub config: Config,
+    /// The bridge alone, exactly, instead of the coupled model.
+    pub alone: bool,
+    /// The bridge's natural period \[s\]: the override as given, else the
+    /// config's (2π/ω).
+    pub period: f64,
+}
+
+/// Checks an override of the config key `key` (its range in
+/// [`crate::limits::LIMITS`]), naming it `name` in the error.
+pub fn check_override(key: &str, name: &str, value: f64) -> Result<(), ModelError> {
+    crate::config::check_as(key, name, value).map_err(|e| match e {
+        ModelError::Invalid { value, reason, .. } => ModelError::Override { name: name.to_string(), value, reason },
+        other => other,
+    })
+}
+
+impl RunSpec {
+    /// `config` with `overrides` applied, then checked as a whole; an error
+    /// about an overridden value names the override.
+    pub fn new(mut config: Config, overrides: &Overrides) -> Result<Self, ModelError> {
+        if let Some(p) = &overrides.period {
+            check_override("bridge.period", &p.name, p.value)?;
+            (config.bridge.period, config.bridge.w0) = (Some(p.value), None);
+        }
+        if let Some(z) = &overrides.damping {
+            check_override("bridge.damping", &z.name, z.value)?;
+            config.bridge.damping = z.value;
+        }
+        if let Some(r) = &overrides.record {
+            config.record = Some(r.clone());
+        }
+        if overrides.alone {
+            config.joint.enabled = false;
+        }
+        config.validate()?;
+        let period = overrides.period.as_ref().map_or_else(|| config.bridge.natural_period(), |p| p.value);
+        Ok(RunSpec { config, alone: overrides.alone, period })
+    }
+
+    /// The bridge's circular frequency \[rad/s\].
+    pub fn omega(&self) -> f64 {
+        self.config.bridge.omega()
+    }
+
+    /// Runs it under `record_x` (and `record_y` across, if the deck moves
+    /// across): the coupled model, or the bridge alone exactly; with
+    /// histories also the bridge alone's absolute acceleration at the same
+    /// output times ([`Run::reference_a_abs`]).
+    pub fn run(&self, record_x: &Record, record_y: Option<&Record>, options: &RunOptions) -> Result<Run, ModelError> {
+        let reference = Reference::for_run(&self.config, record_x, record_x);
+        let result = if self.alone {
+            crate::linear::linear_response(
+                reference.window(),
+                self.omega(),
+                self.config.bridge.damping,
+                options.histories,
+            )
+        } else {
+            simulate_records(&self.config, record_x, record_y, options)?
+        };
+        let reference_a_abs =
+            result.histories.as_ref().map(|h| reference.a_abs(self.period, self.config.bridge.damping, h.t.len()));
+        Ok(Run { result, reference_a_abs })
+    }
+}
+
+/// A run's results.
+#[derive(Debug, Clone)]
+pub struct Run {
+    /// The results (with histories if asked for).
+    pub result: RunResult,
+    /// With histories: the bridge alone's absolute acceleration \[m/s^2\]
+    /// at the run's output times, over the same window, exactly.
+    pub reference_a_abs: Option<Vec<f64>>,
+}
+
+/// The bridge without the joint, solved exactly (a damped linear
+/// oscillator under ground acceleration linear between samples) over a
+/// run's window: what every run with the joint is compared with, and the
+/// spectra without the joint of a sweep.
+#[derive(Debug, Clone)]
+pub struct Reference {
+    window: Record,
+}
+
+impl Reference {
+    /// `record` over the window of a run of `config` under `record_x` (the
+    /// run's duration: `simulation.duration`, or `record_x` plus
+    /// `extra_time`), cut at the last sample inside or followed by zeros.
+    /// `record` is `record_x`, or the record across the bridge.
+    pub fn for_run(config: &Config, record_x: &Record, record: &Record) -> Self {
+        Reference { window: crate::run::window_to(record, run_duration(config, record_x)) }
+    }
+
+    /// The ground motion over the window.
+    pub fn window(&self) -> &Record {
+        &self.window
+    }
+
+    /// Peaks of the bridge of `period` \[s\] and `damping` \[-\].
+    pub fn peaks(&self, period: f64, damping: f64) -> Peaks {
+        quakejoint_motion::peaks(&self.window.acceleration, self.window.dt, period, damping, Default::default())
+    }
+
+    /// The bridge's absolute acceleration \[m/s^2\] at the first `samples`
+    /// sample times (NaN past the window).
+    pub fn a_abs(&self, period: f64, damping: f64, samples: usize) -> Vec<f64> {
+        let exact = quakejoint_motion::history(&self.window.acceleration, self.window.dt, period, damping).a_abs;
+        let mut a: Vec<f64> = exact.into_iter().take(samples).collect();
+        a.resize(samples, f64::NAN);
+        a
+    }
+
+    /// The spectrum over `periods` \[s\] and `damping` ratios \[-\].
+    pub fn spectrum(&self, periods: &[f64], damping: &[f64]) -> Result<Vec<SpectrumRow>, SpectrumError> {
+        quakejoint_motion::spectrum(&self.window, periods, damping, SpectrumOptions::default())
+    }
+}

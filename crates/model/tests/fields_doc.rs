@@ -1,0 +1,31 @@
+//! The lists of results in `docs/hdf5-layout.md` are made from the one list
+//! in the code (`quakejoint_model::fields::FIELDS`): a run file's `/result`
+//! table and a sweep's per-job fields. This test fails when they differ;
+//! `QJ_UPDATE_DOCS=1 cargo test -p quakejoint-model --test fields_doc`
+//! rewrites them.
+
+use quakejoint_model::fields::markdown_tables;
+
+/// `text` with the block after the marker `<!-- generated from ...: name -->`
+/// (up to `<!-- end -->`) replaced by `body`, and the block found there.
+fn replace_block(text: &str, name: &str, body: &str) -> (String, String) {
+    let marker = format!("<!-- generated from crates/model/src/fields.rs: {name} -->\n");
+    let start = text.find(&marker).unwrap_or_else(|| panic!("no marker `{marker}` in the doc")) + marker.len();
+    let end = start + text[start..].find("<!-- end -->").expect("an end marker");
+    (format!("{}{body}{}", &text[..start], &text[end..]), text[start..end].to_string())
+}
+
+#[test]
+fn the_docs_list_every_result_as_the_code_does() {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/hdf5-layout.md");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (result, per_job) = markdown_tables();
+    let (text2, old_result) = replace_block(&text, "result", &result);
+    let (text3, old_per_job) = replace_block(&text2, "per_job", &per_job);
+    if std::env::var_os("QJ_UPDATE_DOCS").is_some() {
+        std::fs::write(&path, text3).unwrap();
+        return;
+    }
+    assert_eq!(old_result, result, "docs/hdf5-layout.md's /result table is not the code's: QJ_UPDATE_DOCS=1");
+    assert_eq!(old_per_job, per_job, "docs/hdf5-layout.md's per-job fields are not the code's: QJ_UPDATE_DOCS=1");
+}

@@ -1,0 +1,61 @@
+"""One run, defined once: the same overridden run through the command line,
+Python and a sweep job gives the same numbers, and the same bad override
+the same reason, each naming the override as its front end names it.
+
+A run is the config with every override applied and checked by one piece
+of code (`quakejoint_model::runspec::RunSpec`): the command line's
+`--period`, Python's `period=`, a sweep job's period and damping from its
+grid. Before, the command line put `--period` into the config and into a
+separate frequency without checking it again (`--period 1e5 --no-joint`
+ran), and a sweep job overrode the damping through the config but the
+period through the run's options.
+"""
+import h5py
+import numpy as np
+import pytest
+
+import quakejoint as qj
+
+from conftest import SHORT_SMALL, cli_json, run_cli
+
+#: results a sweep stores per job that a run reports too
+COMPARED = ("sa", "psa", "sd", "sv", "t_sa", "peak_joint_force", "friction_energy", "earthquake_work", "steps")
+
+
+@pytest.fixture(scope="module")
+def configs(tmp_path_factory):
+    d = tmp_path_factory.mktemp("runspec")
+    run = d / "run.toml"
+    run.write_text(SHORT_SMALL)
+    sweep = d / "sweep.toml"
+    sweep.write_text(SHORT_SMALL + "[sweep]\nperiods = [1.2]\ndamping = [0.03]\n")
+    bad = d / "bad.toml"
+    bad.write_text(SHORT_SMALL + "[sweep]\nperiods = [100000.0]\ndamping = [0.03]\n")
+    return d, run, sweep, bad
+
+
+def test_the_same_overridden_run_gives_the_same_numbers_everywhere(cli, configs):
+    d, run, sweep, _ = configs
+    damped = run.read_text().replace("[record]", "[bridge]\ndamping = 0.03\n[record]")
+    run.write_text(damped)
+    by_cli = cli_json(cli, "simulate", run, "--period", "1.2")
+    by_python = qj.simulate(qj.Config.from_file(run), period=1.2, history=False)
+    out = d / "sweep.h5"
+    run_cli(cli, "sweep", sweep, "--output", out, "--progress", "none")
+    with h5py.File(out) as f:
+        by_sweep = {k: f[f"spectrum/with_joint/{k}"][()].ravel()[0] for k in COMPARED}
+    for k in COMPARED:
+        values = [np.float64(by_cli[k]), np.float64(getattr(by_python, k)), np.float64(by_sweep[k])]
+        assert len({v.tobytes() for v in values}) == 1, (k, values)
+
+
+def test_the_same_bad_override_gives_the_same_reason_everywhere(cli, configs):
+    _, run, _, bad = configs
+    reason = ": must be within 0.01 <= x <= 10 s"
+    code, _, err = run_cli(cli, "simulate", run, "--period", "1e5", "--no-joint", check=False)
+    assert code == 2 and f"--period 100000{reason}" in err, err
+    with pytest.raises(qj.InputError) as python_error:
+        qj.simulate(qj.Config.from_file(run), period=1e5, joint=False)
+    assert str(python_error.value).startswith(f"period = 100000{reason}"), python_error.value
+    code, _, err = run_cli(cli, "sweep", bad, "--check", check=False)
+    assert code == 2 and f"sweep.periods[0] = 100000{reason}" in err, err
