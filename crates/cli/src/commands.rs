@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
+use quakejoint_io::run_h5::{Provenance, RecordSource};
 use quakejoint_model::config::base_dir;
 use quakejoint_model::generator::{build, Drive};
 use quakejoint_model::run::{load_records, RunOptions};
@@ -13,7 +14,6 @@ use quakejoint_model::service::service;
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{load_record, period_range, spectrum, LoadedRecord, RecordStats, SpectrumOptions};
 use quakejoint_solver::{Assembly, AssemblyOptions};
-use quakejoint_sweep::run_h5::{Provenance, RecordSource};
 use quakejoint_sweep::{run_sweep, Plan, SweepOptions};
 
 use crate::args::*;
@@ -275,10 +275,10 @@ fn model(a: ModelArgs) -> Result<ExitCode> {
     let model = build(&config, None, Drive::None)?;
     let asm = Assembly::new(&model.system, &AssemblyOptions::default()).map_err(ModelError::from)?;
     if let Some(path) = &a.sparsity {
-        quakejoint_sweep::files::check_overwrite(path, "sparsity", &[&a.config]).map_err(InputError)?;
+        quakejoint_io::files::check_overwrite(path, "sparsity", &[&a.config]).map_err(InputError)?;
         let names: Vec<String> = model.system.bodies().iter().map(|b| b.name.clone()).collect();
         let provenance = provenance_of(&a.config, &text, &config, Vec::new(), Vec::new());
-        quakejoint_sweep::run_h5::write_sparsity(path, &provenance, &asm, &names)
+        quakejoint_io::run_h5::write_sparsity(path, &provenance, &asm, &names)
             .context("writing the sparsity pattern")?;
     }
     output::model_summary(&a.config, &config, &model, &asm, a.print.json);
@@ -393,7 +393,7 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
             config.record.iter().chain(&config.record_y).map(|r| r.resolve_path(&base)).collect();
         let mut inputs: Vec<&Path> = record_paths.iter().map(PathBuf::as_path).collect();
         inputs.push(&a.config);
-        quakejoint_sweep::files::check_overwrite(out, "simulate", &inputs).map_err(InputError)?;
+        quakejoint_io::files::check_overwrite(out, "simulate", &inputs).map_err(InputError)?;
     }
     if a.no_joint && config.bridge.transverse_period.is_some() {
         eprintln!(
@@ -415,7 +415,7 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         records.extend(ly.as_ref().map(|l| RecordSource::of("y", &l.record, &l.sha256)));
         let warnings = lx.warnings.iter().chain(ly.iter().flat_map(|l| &l.warnings)).cloned().collect();
         let provenance = provenance_of(&a.config, &text, config, records, warnings);
-        quakejoint_sweep::run_h5::write_run(path, &provenance, result, run.reference_a_abs.as_deref())
+        quakejoint_io::run_h5::write_run(path, &provenance, result, run.reference_a_abs.as_deref())
             .context("writing the time histories")?;
     }
     output::run_result(&a.config, &lx, result, a.print.json);
@@ -435,7 +435,7 @@ fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
     }
     config.validate()?;
     if let Some(out) = &a.output {
-        quakejoint_sweep::files::check_overwrite(out, "service", &[&a.config]).map_err(InputError)?;
+        quakejoint_io::files::check_overwrite(out, "service", &[&a.config]).map_err(InputError)?;
     }
     let result = service(&config)?;
     for w in &result.warnings {
@@ -443,7 +443,7 @@ fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
     }
     if let Some(path) = &a.output {
         let provenance = provenance_of(&a.config, &text, &config, Vec::new(), result.warnings.clone());
-        quakejoint_sweep::run_h5::write_service(path, &provenance, &result).context("writing the hysteresis loop")?;
+        quakejoint_io::run_h5::write_service(path, &provenance, &result).context("writing the hysteresis loop")?;
     }
     output::service_result(&a.config, &result, a.print.json);
     Ok(if result.validity.flags.is_flagged() { ExitCode::from(FLAGGED) } else { ExitCode::SUCCESS })

@@ -7,10 +7,10 @@
 //! parameters are compared through the config's hash).
 
 use crate::results::{JobHistory, FIELDS, MACHINE_DEPENDENT};
-use crate::run_h5::RecordSource;
 use crate::suite_h5::StoredSuite;
 use crate::sweep_h5::{StoredRecord, SweepFile};
 use crate::sweep_read::same_bits as bits_equal;
+use quakejoint_io::run_h5::RecordSource;
 
 /// How many differences of one kind are listed before the rest is counted.
 const SHOWN: usize = 5;

@@ -8,21 +8,17 @@
 pub mod compare;
 pub mod error;
 pub mod fault;
-pub mod files;
-pub mod h5;
 pub mod journal;
 pub mod lock;
 pub mod merge;
 pub mod plan;
 pub mod progress;
 pub mod results;
-pub mod run_h5;
 pub mod runner;
 pub mod statistics;
 pub mod suite_h5;
 pub mod sweep_h5;
 pub mod sweep_read;
-pub mod time;
 
 pub use error::{OutputError, SweepError};
 pub use merge::{merge, MergeOptions, MergeSummary};

@@ -22,11 +22,11 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use crate::error::SweepError;
-use crate::files::{describe, same_file};
 use crate::lock::OutputLock;
 use crate::results::{status, Results, FIELDS, MACHINE_DEPENDENT};
 use crate::runner::journal_path;
 use crate::sweep_h5::{read_sweep, write_sweep, SweepFile};
+use quakejoint_io::files::{describe, same_file};
 
 /// How to merge.
 #[derive(Debug, Clone, Default)]
@@ -117,7 +117,7 @@ fn read_all(inputs: &[PathBuf], notices: &mut Vec<String>) -> Result<Vec<(PathBu
 /// An earlier merge that no longer reads (a damaged file) is replaced, with
 /// the notice returned.
 fn check_output(output: &Path, inputs: &[PathBuf]) -> Result<Option<String>, SweepError> {
-    crate::files::check_name(output).map_err(SweepError::Merge)?;
+    quakejoint_io::files::check_name(output).map_err(SweepError::Merge)?;
     if let Some(i) = inputs.iter().find(|i| same_file(output, i)) {
         return Err(SweepError::Merge(format!(
             "the output {} is one of the inputs ({})",
@@ -137,7 +137,7 @@ fn check_output(output: &Path, inputs: &[PathBuf]) -> Result<Option<String>, Swe
     match read_sweep(output) {
         Ok(_) => Ok(None),
         // a quakejoint sweep file without a journal: an earlier merge
-        Err(e) if crate::files::kind_of(output).as_deref() == Some("sweep") => Ok(Some(format!(
+        Err(e) if quakejoint_io::files::kind_of(output).as_deref() == Some("sweep") => Ok(Some(format!(
             "{}: the earlier merge there cannot be read ({}); it is replaced",
             output.display(),
             e.message

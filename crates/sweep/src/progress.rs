@@ -173,7 +173,7 @@ impl Reporter {
         let eta = if self.done >= self.scope { "done".into() } else { eta };
         format!(
             "[{}] sweep {} {state}: {} of {} jobs done ({} failed, {} flagged), {} elapsed, {}",
-            crate::time::utc_now(),
+            quakejoint_io::time::utc_now(),
             self.label,
             self.done,
             self.scope,

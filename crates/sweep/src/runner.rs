@@ -27,15 +27,15 @@ use quakejoint_model::ModelError;
 use quakejoint_solver::SolverError;
 
 use crate::error::SweepError;
-use crate::files::{describe, same_file};
-use crate::h5::temporary_name;
 use crate::journal::{Header, Journal};
 use crate::lock::{lock_path, OutputLock};
 use crate::plan::{Job, Plan};
 use crate::progress::{Progress, Reporter};
 use crate::results::{status, JobHistory, JobResult, Results, FIELDS};
-use crate::run_h5::{Provenance, RecordSource};
 use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
+use quakejoint_io::files::{describe, same_file};
+use quakejoint_io::h5::temporary_name;
+use quakejoint_io::run_h5::{Provenance, RecordSource};
 
 /// Version of the journal format (2: the config's hash leaves out the
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
@@ -121,7 +121,7 @@ pub fn journal_path(output: &Path) -> PathBuf {
 pub fn header(plan: &Plan, shard: Option<(usize, usize)>) -> Header {
     Header {
         schema: JOURNAL_SCHEMA,
-        program_version: crate::h5::VERSION.to_string(),
+        program_version: quakejoint_io::h5::VERSION.to_string(),
         config_sha256: plan.config_sha256.clone(),
         records: plan.records.iter().chain(&plan.record_y).map(|r| (r.record.name.clone(), r.sha256.clone())).collect(),
         jobs: plan.job_count() as u64,
@@ -390,7 +390,8 @@ fn check_output(plan: &Plan, opts: &SweepOptions) -> Result<(), SweepError> {
         }
     }
     let output = &opts.output;
-    crate::files::check_name(output).map_err(|message| SweepError::Config { field: "--output".into(), message })?;
+    quakejoint_io::files::check_name(output)
+        .map_err(|message| SweepError::Config { field: "--output".into(), message })?;
     let mut inputs = vec![opts.config_path.clone()];
     inputs.extend(plan.records.iter().chain(&plan.record_y).map(|r| r.path.clone()));
     check_not_an_input(output, &inputs)?;

@@ -3,9 +3,9 @@
 
 use ndarray::{ArrayView2, ArrayView3};
 
-use crate::h5::{array, attach_scales, attr_str, scalar};
 use crate::plan::Suite;
 use crate::statistics::Statistics;
+use quakejoint_io::h5::{array, attach_scales, attr_str, scalar};
 
 /// A suite as stored in `/suite`: the target, the factors and the
 /// Eurocode 8 check.
@@ -101,7 +101,7 @@ pub fn write_suite(
 
 /// Reads `/suite` (None when the sweep has no suite).
 pub fn read_suite(file: &hdf5::File) -> hdf5::Result<Option<StoredSuite>> {
-    use crate::sweep_read::{attr, attr_number, group, number, values};
+    use quakejoint_io::read::{attr, attr_number, group, number, values};
     if !file.link_exists("suite") {
         return Ok(None);
     }

@@ -5,13 +5,13 @@ use std::path::Path;
 
 use ndarray::{ArrayView3, ArrayView4};
 
-use crate::error::OutputError;
-use crate::h5::{array, attach_scales, attr_str, scalar, set_scale, strings, strings_1d, write_atomically};
 use crate::results::{JobHistory, Results, FIELDS, UNITS};
-use crate::run_h5::{write_provenance, Provenance};
 use crate::statistics::Statistics;
 use crate::suite_h5::{write_statistics, write_suite, StoredSuite};
 pub use crate::sweep_read::read_sweep;
+use quakejoint_io::h5::{array, attach_scales, attr_str, scalar, set_scale, strings, strings_1d, write_atomically};
+use quakejoint_io::run_h5::{write_provenance, Provenance};
+use quakejoint_io::OutputError;
 
 /// Version of the sweep file layout.
 pub const SCHEMA_VERSION: u32 = 9;
@@ -202,19 +202,19 @@ fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: 
     g.new_attr::<u32>().create("validity")?.write_scalar(&flags.0)?;
     attr_str(&g, "validity_label", &flags.label())?;
     attr_str(&g, "findings", &f.results.findings[j])?;
-    crate::h5::dataset_1d(&g, "t", &h.t, "s")?;
-    crate::h5::dataset_1d(&g, "ag", &h.ag, "m/s^2")?;
-    crate::h5::dataset_1d(&g, "u", &h.u, "m")?;
-    crate::h5::dataset_1d(&g, "a_abs", &h.a_abs, "m/s^2")?;
-    crate::h5::dataset_1d(&g, "a_abs_without_joint", &h.a_abs_without_joint, "m/s^2")?;
-    crate::h5::dataset_1d(&g, "joint_force", &h.joint_force, "N")?;
-    crate::h5::dataset_1d(&g, "friction_power", &h.friction_power, "W")?;
+    quakejoint_io::h5::dataset_1d(&g, "t", &h.t, "s")?;
+    quakejoint_io::h5::dataset_1d(&g, "ag", &h.ag, "m/s^2")?;
+    quakejoint_io::h5::dataset_1d(&g, "u", &h.u, "m")?;
+    quakejoint_io::h5::dataset_1d(&g, "a_abs", &h.a_abs, "m/s^2")?;
+    quakejoint_io::h5::dataset_1d(&g, "a_abs_without_joint", &h.a_abs_without_joint, "m/s^2")?;
+    quakejoint_io::h5::dataset_1d(&g, "joint_force", &h.joint_force, "N")?;
+    quakejoint_io::h5::dataset_1d(&g, "friction_power", &h.friction_power, "W")?;
     if !h.subgaps.is_empty() {
-        crate::h5::dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
-        crate::h5::dataset_2d(&g, "subgaps_wide", &h.subgaps_wide, "m")?;
+        quakejoint_io::h5::dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
+        quakejoint_io::h5::dataset_2d(&g, "subgaps_wide", &h.subgaps_wide, "m")?;
     }
     if !h.contact_force.is_empty() {
-        crate::h5::dataset_2d(&g, "contact_force", &h.contact_force, "N")?;
+        quakejoint_io::h5::dataset_2d(&g, "contact_force", &h.contact_force, "N")?;
     }
     Ok(())
 }

@@ -7,83 +7,21 @@
 //! validity against the grid and the results, a stored record's PGA
 //! against its samples, the provenance of each record against the stored
 //! record, the root attributes that count the jobs against the results. HDF5 checks each dataset's checksum on the way
-//! ([`crate::h5`]). A file that fails any of this is refused with the
+//! ([`quakejoint_io::h5`]). A file that fails any of this is refused with the
 //! dataset named: a damaged file is never taken for a good one.
 
 use std::path::Path;
 
-use hdf5::{Dataset, Group, H5Type};
+use hdf5::Group;
 
-use crate::error::OutputError;
-use crate::h5::{read_attr_str, read_strings};
 use crate::results::{JobHistory, Results, FIELDS};
-use crate::run_h5::{Provenance, RecordSource};
 use crate::statistics::Statistics;
 use crate::suite_h5::read_suite;
 use crate::sweep_h5::{StoredRecord, SweepFile};
-
-/// An error about one object of the file, in words: a failed checksum
-/// says the file is damaged.
-fn about(what: &str, e: hdf5::Error) -> hdf5::Error {
-    let text = e.to_string();
-    if text.contains("checksum") || text.contains("filter returned failure") {
-        hdf5::Error::from(format!("{what} is damaged: its checksum fails"))
-    } else if text.starts_with(what) {
-        e
-    } else {
-        hdf5::Error::from(format!("{what}: {text}"))
-    }
-}
-
-/// `group/name`, as HDF5 names it.
-fn path_of(g: &Group, name: &str) -> String {
-    format!("{}/{name}", g.name().trim_end_matches('/'))
-}
-
-pub(crate) fn dataset(g: &Group, name: &str) -> hdf5::Result<Dataset> {
-    g.dataset(name).map_err(|e| about(&path_of(g, name), e))
-}
-
-pub(crate) fn group(g: &Group, name: &str) -> hdf5::Result<Group> {
-    g.group(name).map_err(|e| about(&path_of(g, name), e))
-}
-
-/// The values of a dataset, in row-major order.
-pub(crate) fn values<T: H5Type>(g: &Group, name: &str) -> hdf5::Result<Vec<T>> {
-    let ds = dataset(g, name)?;
-    crate::h5::check_extent(&ds).and_then(|_| ds.read_raw()).map_err(|e| about(&path_of(g, name), e))
-}
-
-/// A scalar dataset.
-pub(crate) fn number(g: &Group, name: &str) -> hdf5::Result<f64> {
-    dataset(g, name)?.read_scalar().map_err(|e| about(&path_of(g, name), e))
-}
-
-/// A text dataset.
-pub(crate) fn text(g: &Group, name: &str) -> hdf5::Result<Vec<String>> {
-    read_strings(&dataset(g, name)?).map_err(|e| about(&path_of(g, name), e))
-}
-
-/// A string attribute.
-pub(crate) fn attr(g: &hdf5::Location, name: &str) -> hdf5::Result<String> {
-    read_attr_str(g, name).map_err(|e| about(&format!("{} attribute {name}", g.name()), e))
-}
-
-/// A numeric attribute.
-pub(crate) fn attr_number<T: H5Type>(g: &hdf5::Location, name: &str) -> hdf5::Result<T> {
-    g.attr(name).and_then(|a| a.read_scalar()).map_err(|e| about(&format!("{} attribute {name}", g.name()), e))
-}
-
-/// The rows of a 2-D dataset (empty if it is absent).
-fn rows(g: &Group, name: &str) -> hdf5::Result<Vec<Vec<f64>>> {
-    if !g.link_exists(name) {
-        return Ok(Vec::new());
-    }
-    let ds = dataset(g, name)?;
-    let a: ndarray::Array2<f64> =
-        crate::h5::check_extent(&ds).and_then(|_| ds.read_2d()).map_err(|e| about(&path_of(g, name), e))?;
-    Ok(a.rows().into_iter().map(|r| r.to_vec()).collect())
-}
+use quakejoint_io::h5::read_attr_str;
+use quakejoint_io::read::{attr, attr_number, group, number, rows, text, values};
+use quakejoint_io::run_h5::{Provenance, RecordSource};
+use quakejoint_io::OutputError;
 
 /// Whether two arrays hold the same bits.
 pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
@@ -97,7 +35,7 @@ fn disagrees(what: &str, from: &str) -> hdf5::Error {
     ))
 }
 
-/// Reads what [`crate::run_h5::write_provenance`] wrote.
+/// Reads what [`quakejoint_io::run_h5::write_provenance`] wrote.
 fn read_provenance(file: &hdf5::File) -> hdf5::Result<Provenance> {
     let mut records = Vec::new();
     if file.link_exists("inputs") {
