@@ -408,15 +408,13 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     if let Some(b) = &bar {
         b.bar.finish_and_clear();
     }
-    let run = outcome?;
-    let result = &run.result;
+    let result = &outcome?;
     if let Some(path) = &a.output {
         let mut records = vec![RecordSource::of("x", rx, &lx.sha256)];
         records.extend(ly.as_ref().map(|l| RecordSource::of("y", &l.record, &l.sha256)));
         let warnings = lx.warnings.iter().chain(ly.iter().flat_map(|l| &l.warnings)).cloned().collect();
         let provenance = provenance_of(&a.config, &text, config, records, warnings);
-        quakejoint_io::run_h5::write_run(path, &provenance, result, run.reference_a_abs.as_deref())
-            .context("writing the time histories")?;
+        quakejoint_io::run_h5::write_run(path, &provenance, result).context("writing the time histories")?;
     }
     output::run_result(&a.config, &lx, result, a.print.json);
     Ok(if result.validity.flags.is_flagged() { ExitCode::from(FLAGGED) } else { ExitCode::SUCCESS })

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use quakejoint_model::run::RunResult;
+use quakejoint_model::run::{Histories, RunResult};
 use quakejoint_model::service::ServiceResult;
 use quakejoint_motion::Record;
 
@@ -110,14 +110,8 @@ fn write_validity(file: &hdf5::File, v: &quakejoint_model::validity::Validity) -
 }
 
 /// Writes the time histories and scalar results of one earthquake run
-/// (`quakejoint simulate --output`), with the exact response of the bridge
-/// alone at the same times (`without`, if given).
-pub fn write_run(
-    path: &Path,
-    provenance: &Provenance,
-    result: &RunResult,
-    without: Option<&[f64]>,
-) -> Result<(), OutputError> {
+/// (`quakejoint simulate --output`).
+pub fn write_run(path: &Path, provenance: &Provenance, result: &RunResult) -> Result<(), OutputError> {
     write_atomically(path, |file| {
         write_provenance(file, "simulate", provenance)?;
         attr_str(file, "method", if result.exact_linear { "exact linear, without the joint" } else { "multibody" })?;
@@ -130,33 +124,8 @@ pub fn write_run(
             scalar(&res, name, value, units)?;
         }
         if let Some(h) = &result.histories {
-            let g = file.create_group("history")?;
-            dataset_1d(&g, "t", &h.t, "s")?;
-            dataset_1d(&g, "ag", &h.ag, "m/s^2")?;
-            dataset_1d(&g, "u", &h.u, "m")?;
-            dataset_1d(&g, "v", &h.v, "m/s")?;
-            dataset_1d(&g, "a_abs", &h.a_abs, "m/s^2")?;
-            dataset_1d(&g, "joint_force", &h.joint_force, "N")?;
-            dataset_1d(&g, "friction_power", &h.friction_power, "W")?;
-            if let Some(w) = without {
-                let mut w = w[..w.len().min(h.t.len())].to_vec();
-                w.resize(h.t.len(), f64::NAN);
-                dataset_1d(&g, "a_abs_without_joint", &w, "m/s^2")?;
-            }
-            if !h.uy.is_empty() {
-                dataset_1d(&g, "uy", &h.uy, "m")?;
-                dataset_1d(&g, "a_abs_y", &h.a_abs_y, "m/s^2")?;
-                dataset_1d(&g, "joint_force_y", &h.joint_force_y, "N")?;
-            }
-            if !h.center_beam_dx.is_empty() {
-                dataset_2d(&g, "center_beam_dx", &h.center_beam_dx, "m")?;
-            }
-            if !h.subgaps.is_empty() {
-                dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
-                dataset_2d(&g, "subgaps_wide", &h.subgaps_wide, "m")?;
-            }
+            write_history(&file.create_group("history")?, h)?;
             if !h.contact_force.is_empty() {
-                dataset_2d(&g, "contact_force", &h.contact_force, "N")?;
                 let imp = file.create_group("impacts")?;
                 let col =
                     |f: fn(&quakejoint_model::pounding::Impact) -> f64| h.impacts.iter().map(f).collect::<Vec<_>>();
@@ -167,6 +136,72 @@ pub fn write_run(
             }
         }
         Ok(())
+    })
+}
+
+/// Writes the series of `h` into `g`, each with its units: those a run did
+/// not compute (empty) are left out. A run's `/history` and a sweep's
+/// `/histories/job_<j>` are written by it.
+pub fn write_history(g: &hdf5::Group, h: &Histories) -> hdf5::Result<()> {
+    let series: [(&str, &[f64], &str); 11] = [
+        ("t", &h.t, "s"),
+        ("ag", &h.ag, "m/s^2"),
+        ("u", &h.u, "m"),
+        ("v", &h.v, "m/s"),
+        ("a_abs", &h.a_abs, "m/s^2"),
+        ("a_abs_without_joint", &h.a_abs_without_joint, "m/s^2"),
+        ("joint_force", &h.joint_force, "N"),
+        ("friction_power", &h.friction_power, "W"),
+        ("uy", &h.uy, "m"),
+        ("a_abs_y", &h.a_abs_y, "m/s^2"),
+        ("joint_force_y", &h.joint_force_y, "N"),
+    ];
+    for (name, data, units) in series {
+        if !data.is_empty() {
+            dataset_1d(g, name, data, units)?;
+        }
+    }
+    let tables: [(&str, &[Vec<f64>], &str); 4] = [
+        ("center_beam_dx", &h.center_beam_dx, "m"),
+        ("subgaps", &h.subgaps, "m"),
+        ("subgaps_wide", &h.subgaps_wide, "m"),
+        ("contact_force", &h.contact_force, "N"),
+    ];
+    for (name, rows, units) in tables {
+        if !rows.is_empty() {
+            dataset_2d(g, name, rows, units)?;
+        }
+    }
+    Ok(())
+}
+
+/// Reads what [`write_history`] wrote (a series that is absent is empty).
+pub fn read_history(g: &hdf5::Group) -> hdf5::Result<Histories> {
+    use crate::read::{rows, values};
+    let series = |name: &str| -> hdf5::Result<Vec<f64>> {
+        if g.link_exists(name) {
+            values(g, name)
+        } else {
+            Ok(Vec::new())
+        }
+    };
+    Ok(Histories {
+        t: series("t")?,
+        ag: series("ag")?,
+        u: series("u")?,
+        v: series("v")?,
+        a_abs: series("a_abs")?,
+        a_abs_without_joint: series("a_abs_without_joint")?,
+        joint_force: series("joint_force")?,
+        friction_power: series("friction_power")?,
+        center_beam_dx: rows(g, "center_beam_dx")?,
+        subgaps: rows(g, "subgaps")?,
+        subgaps_wide: rows(g, "subgaps_wide")?,
+        contact_force: rows(g, "contact_force")?,
+        impacts: Vec::new(),
+        uy: series("uy")?,
+        a_abs_y: series("a_abs_y")?,
+        joint_force_y: series("joint_force_y")?,
     })
 }
 

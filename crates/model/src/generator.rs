@@ -88,7 +88,7 @@ impl Bridge {
 }
 
 /// Where a contact of the joint sits.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct ContactPlace {
     /// The sub-gap, 0 (abutment's edge beam and center beam 1) to Nc
     /// (center beam Nc and the deck's edge beam).

@@ -1,7 +1,11 @@
-//! The time histories of a run at its output times ([`Histories`]).
+//! The time histories of a run at its output times ([`Histories`]): one
+//! type for a run's file, a sweep's stored histories and Python.
 
-/// Time histories at the output times (the record's sample times).
-#[derive(Debug, Clone, Default, PartialEq)]
+use serde::{Deserialize, Serialize};
+
+/// Time histories at the output times (the record's sample times). A
+/// series a run does not compute is empty.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Histories {
     /// Time [s].
     pub t: Vec<f64>,
@@ -13,6 +17,10 @@ pub struct Histories {
     pub v: Vec<f64>,
     /// Deck absolute acceleration [m/s^2].
     pub a_abs: Vec<f64>,
+    /// The bridge alone's absolute acceleration at the same times, over
+    /// the same window, exactly [m/s^2] (NaN past the window;
+    /// [`crate::runspec::Reference`]).
+    pub a_abs_without_joint: Vec<f64>,
     /// Force of the joint on the deck, x [N].
     pub joint_force: Vec<f64>,
     /// Power dissipated by friction [W].
@@ -42,4 +50,22 @@ pub struct Histories {
     /// Force of the joint on the deck across the bridge, y [N] (empty when
     /// the deck does not move across).
     pub joint_force_y: Vec<f64>,
+}
+
+impl Histories {
+    /// The series a sweep keeps of a job, in its journal and its file: the
+    /// deck's and the joint's along the bridge and the sub-gaps, not the
+    /// deck's velocity, the center beams' motion, the log of impacts or the
+    /// series across the bridge (a run's own file holds those).
+    pub fn for_sweep(self) -> Histories {
+        Histories {
+            v: Vec::new(),
+            center_beam_dx: Vec::new(),
+            impacts: Vec::new(),
+            uy: Vec::new(),
+            a_abs_y: Vec::new(),
+            joint_force_y: Vec::new(),
+            ..self
+        }
+    }
 }

@@ -68,7 +68,7 @@ impl Pounding {
 }
 
 /// One impact: a contact's onset.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Impact {
     /// When [s].
     pub time: f64,

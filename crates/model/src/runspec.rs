@@ -99,10 +99,15 @@ impl RunSpec {
     /// Runs it under `record_x` (and `record_y` across, if the deck moves
     /// across): the coupled model, or the bridge alone exactly; with
     /// histories also the bridge alone's absolute acceleration at the same
-    /// output times ([`Run::reference_a_abs`]).
-    pub fn run(&self, record_x: &Record, record_y: Option<&Record>, options: &RunOptions) -> Result<Run, ModelError> {
+    /// output times (`a_abs_without_joint` of the histories).
+    pub fn run(
+        &self,
+        record_x: &Record,
+        record_y: Option<&Record>,
+        options: &RunOptions,
+    ) -> Result<RunResult, ModelError> {
         let reference = Reference::for_run(&self.config, record_x, record_x);
-        let result = if self.alone {
+        let mut result = if self.alone {
             crate::linear::linear_response(
                 reference.window(),
                 self.omega(),
@@ -112,20 +117,11 @@ impl RunSpec {
         } else {
             simulate_records(&self.config, record_x, record_y, options)?
         };
-        let reference_a_abs =
-            result.histories.as_ref().map(|h| reference.a_abs(self.period, self.config.bridge.damping, h.t.len()));
-        Ok(Run { result, reference_a_abs })
+        if let Some(h) = &mut result.histories {
+            h.a_abs_without_joint = reference.a_abs(self.period, self.config.bridge.damping, h.t.len());
+        }
+        Ok(result)
     }
-}
-
-/// A run's results.
-#[derive(Debug, Clone)]
-pub struct Run {
-    /// The results (with histories if asked for).
-    pub result: RunResult,
-    /// With histories: the bridge alone's absolute acceleration \[m/s^2\]
-    /// at the run's output times, over the same window, exactly.
-    pub reference_a_abs: Option<Vec<f64>>,
 }
 
 /// The bridge without the joint, solved exactly (a damped linear

@@ -13,7 +13,7 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use quakejoint_model::run::{load_records, Histories, RunOptions, RunResult};
-use quakejoint_model::runspec::{Named, Overrides, Run, RunSpec};
+use quakejoint_model::runspec::{Named, Overrides, RunSpec};
 use quakejoint_model::service::{service as run_service, ServiceResult};
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{LoadedRecord, G};
@@ -141,9 +141,8 @@ fn scalars<'py>(py: Python<'py>, r: &RunResult, record: &LoadedRecord) -> PyResu
     Ok(d)
 }
 
-/// The histories as a dict of arrays; `without` is the bridge alone's
-/// absolute acceleration over the same window.
-fn history_dict<'py>(py: Python<'py>, h: &Histories, without: Vec<f64>, joint: bool) -> PyResult<Bound<'py, PyDict>> {
+/// The histories as a dict of arrays.
+fn history_dict<'py>(py: Python<'py>, h: &Histories, joint: bool) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let arr = |v: &[f64]| PyArray1::from_slice(py, v);
     d.set_item("t", arr(&h.t))?;
@@ -151,7 +150,7 @@ fn history_dict<'py>(py: Python<'py>, h: &Histories, without: Vec<f64>, joint: b
     d.set_item("u", arr(&h.u))?;
     d.set_item("v", arr(&h.v))?;
     d.set_item("a_abs", arr(&h.a_abs))?;
-    d.set_item("a_abs_without_joint", PyArray1::from_vec(py, without))?;
+    d.set_item("a_abs_without_joint", arr(&h.a_abs_without_joint))?;
     if joint {
         d.set_item("joint_force", arr(&h.joint_force))?;
         d.set_item("friction_power", arr(&h.friction_power))?;
@@ -237,9 +236,9 @@ fn simulate(
     let cancel = Arc::new(AtomicBool::new(false));
     let options = RunOptions { histories: history, cancel: Some(cancel.clone()), ..Default::default() };
     let (rx, ry) = (&lx.record, ly.as_ref().map(|l| &l.record));
-    let Run { result, reference_a_abs: without } = run_detached(py, &cancel, || spec.run(rx, ry, &options))?;
-    let history = match (&result.histories, without) {
-        (Some(h), Some(without)) => Some(history_dict(py, h, without, joint)?.unbind()),
+    let result = run_detached(py, &cancel, || spec.run(rx, ry, &options))?;
+    let history = match &result.histories {
+        Some(h) => Some(history_dict(py, h, joint)?.unbind()),
         _ => None,
     };
     let impacts = PyList::empty(py);

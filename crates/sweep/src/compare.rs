@@ -6,7 +6,9 @@
 //! command, the shard and the config's text and each case's (their
 //! parameters are compared through the config's hash).
 
-use crate::results::{JobHistory, FIELDS, MACHINE_DEPENDENT};
+use quakejoint_model::run::Histories;
+
+use crate::results::{FIELDS, MACHINE_DEPENDENT};
 use crate::suite_h5::StoredSuite;
 use crate::sweep_h5::{StoredRecord, SweepFile};
 use crate::sweep_read::same_bits as bits_equal;
@@ -66,10 +68,10 @@ fn suites_equal(a: &Option<StoredSuite>, b: &Option<StoredSuite>) -> bool {
 /// Whether two jobs' histories are the same; the wider ends of the
 /// sub-gaps only where both files hold them (files written before they were
 /// stored do not).
-pub(crate) fn histories_equal(a: Option<&JobHistory>, b: Option<&JobHistory>) -> bool {
+pub(crate) fn histories_equal(a: Option<&Histories>, b: Option<&Histories>) -> bool {
     match (a, b) {
         (Some(x), Some(y)) if x.subgaps_wide.is_empty() != y.subgaps_wide.is_empty() => {
-            let strip = |h: &JobHistory| JobHistory { subgaps_wide: Vec::new(), ..h.clone() };
+            let strip = |h: &Histories| Histories { subgaps_wide: Vec::new(), ..h.clone() };
             strip(x) == strip(y)
         }
         _ => a == b,

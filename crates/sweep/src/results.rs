@@ -2,6 +2,7 @@
 
 use std::sync::LazyLock;
 
+use quakejoint_model::run::Histories;
 use quakejoint_model::validity::Flags;
 use serde::{Deserialize, Serialize};
 
@@ -35,34 +36,6 @@ pub mod status {
     pub const NOT_RUN: i32 = -1;
 }
 
-/// Time histories of one job (periods listed in `sweep.histories`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct JobHistory {
-    /// Time [s].
-    pub t: Vec<f64>,
-    /// Ground acceleration [m/s^2].
-    pub ag: Vec<f64>,
-    /// Deck displacement [m].
-    pub u: Vec<f64>,
-    /// Deck absolute acceleration with the joint [m/s^2].
-    pub a_abs: Vec<f64>,
-    /// Deck absolute acceleration without the joint (exact) [m/s^2].
-    pub a_abs_without_joint: Vec<f64>,
-    /// Force of the joint on the deck [N].
-    pub joint_force: Vec<f64>,
-    /// Friction power [W].
-    pub friction_power: Vec<f64>,
-    /// Clear sub-gaps at the narrower of the two beam ends (pounding),
-    /// `[gap][time]`, abutment side first [m].
-    pub subgaps: Vec<Vec<f64>>,
-    /// Clear sub-gaps at the wider of the two beam ends (the capacity),
-    /// `[gap][time]` [m].
-    pub subgaps_wide: Vec<Vec<f64>>,
-    /// Contact force across each sub-gap, `[gap][time]` [N] (empty
-    /// without contacts).
-    pub contact_force: Vec<Vec<f64>>,
-}
-
 /// The outcome of one job, as journalled.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct JobResult {
@@ -81,7 +54,8 @@ pub struct JobResult {
     /// What the flags found, when and where (empty when valid).
     pub findings: String,
     /// Histories, if requested for this period.
-    pub history: Option<JobHistory>,
+    /// (the series of [`Histories::for_sweep`]).
+    pub history: Option<Histories>,
 }
 
 /// The arrays of a sweep.
@@ -100,7 +74,7 @@ pub struct Results {
     /// What the flags of each job found.
     pub findings: Vec<String>,
     /// Histories by job.
-    pub histories: std::collections::BTreeMap<u32, JobHistory>,
+    pub histories: std::collections::BTreeMap<u32, Histories>,
     /// Without the joint: `[sa, psa, sd, sv][(record, damping, period)]`.
     pub without: [Vec<f64>; 4],
 }

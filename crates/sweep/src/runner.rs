@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 use crossbeam_channel::{unbounded, Receiver, RecvTimeoutError};
 use indicatif::ProgressBar;
 use quakejoint_model::run::{RunOptions, RunResult};
-use quakejoint_model::runspec::{Named, Overrides, Reference, Run, RunSpec};
+use quakejoint_model::runspec::{Named, Overrides, Reference, RunSpec};
 use quakejoint_model::ModelError;
 use quakejoint_solver::SolverError;
 
@@ -31,7 +31,7 @@ use crate::journal::{Header, Journal};
 use crate::lock::{lock_path, OutputLock};
 use crate::plan::{Job, Plan};
 use crate::progress::{Progress, Reporter};
-use crate::results::{status, JobHistory, JobResult, Results, FIELDS};
+use crate::results::{status, JobResult, Results, FIELDS};
 use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 use quakejoint_io::files::{describe, same_file};
 use quakejoint_io::h5::temporary_name;
@@ -255,19 +255,8 @@ pub fn run_job(
             .and_then(|spec| spec.run(rec, plan.record_y.as_ref().map(|r| &r.record), &options))
     };
     match outcome {
-        Ok(Run { result: r, reference_a_abs }) => {
-            let history = r.histories.as_ref().zip(reference_a_abs).map(|(h, without)| JobHistory {
-                t: h.t.clone(),
-                ag: h.ag.clone(),
-                u: h.u.clone(),
-                a_abs: h.a_abs.clone(),
-                a_abs_without_joint: without,
-                joint_force: h.joint_force.clone(),
-                friction_power: h.friction_power.clone(),
-                subgaps: h.subgaps.clone(),
-                subgaps_wide: h.subgaps_wide.clone(),
-                contact_force: h.contact_force.clone(),
-            });
+        Ok(mut r) => {
+            let history = r.histories.take().map(|h| h.for_sweep());
             Some(JobResult {
                 job: index as u32,
                 status: status::OK,

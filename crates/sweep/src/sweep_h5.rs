@@ -5,7 +5,9 @@ use std::path::Path;
 
 use ndarray::{ArrayView3, ArrayView4};
 
-use crate::results::{JobHistory, Results, FIELDS, UNITS};
+use quakejoint_model::run::Histories;
+
+use crate::results::{Results, FIELDS, UNITS};
 use crate::statistics::Statistics;
 use crate::suite_h5::{write_statistics, write_suite, StoredSuite};
 pub use crate::sweep_read::read_sweep;
@@ -189,7 +191,7 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
     })
 }
 
-fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: &JobHistory) -> hdf5::Result<()> {
+fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: &Histories) -> hdf5::Result<()> {
     let j = job as usize;
     let (c, rr, z, t) = (j / (d[1] * d[2] * d[3]), j / (d[2] * d[3]) % d[1], j / d[3] % d[2], j % d[3]);
     let g = hist.create_group(&format!("job_{job}"))?;
@@ -202,21 +204,7 @@ fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: 
     g.new_attr::<u32>().create("validity")?.write_scalar(&flags.0)?;
     attr_str(&g, "validity_label", &flags.label())?;
     attr_str(&g, "findings", &f.results.findings[j])?;
-    quakejoint_io::h5::dataset_1d(&g, "t", &h.t, "s")?;
-    quakejoint_io::h5::dataset_1d(&g, "ag", &h.ag, "m/s^2")?;
-    quakejoint_io::h5::dataset_1d(&g, "u", &h.u, "m")?;
-    quakejoint_io::h5::dataset_1d(&g, "a_abs", &h.a_abs, "m/s^2")?;
-    quakejoint_io::h5::dataset_1d(&g, "a_abs_without_joint", &h.a_abs_without_joint, "m/s^2")?;
-    quakejoint_io::h5::dataset_1d(&g, "joint_force", &h.joint_force, "N")?;
-    quakejoint_io::h5::dataset_1d(&g, "friction_power", &h.friction_power, "W")?;
-    if !h.subgaps.is_empty() {
-        quakejoint_io::h5::dataset_2d(&g, "subgaps", &h.subgaps, "m")?;
-        quakejoint_io::h5::dataset_2d(&g, "subgaps_wide", &h.subgaps_wide, "m")?;
-    }
-    if !h.contact_force.is_empty() {
-        quakejoint_io::h5::dataset_2d(&g, "contact_force", &h.contact_force, "N")?;
-    }
-    Ok(())
+    quakejoint_io::run_h5::write_history(&g, h)
 }
 
 impl SweepFile {

@@ -14,12 +14,12 @@ use std::path::Path;
 
 use hdf5::Group;
 
-use crate::results::{JobHistory, Results, FIELDS};
+use crate::results::{Results, FIELDS};
 use crate::statistics::Statistics;
 use crate::suite_h5::read_suite;
 use crate::sweep_h5::{StoredRecord, SweepFile};
 use quakejoint_io::h5::read_attr_str;
-use quakejoint_io::read::{attr, attr_number, group, number, rows, text, values};
+use quakejoint_io::read::{attr, attr_number, group, number, text, values};
 use quakejoint_io::run_h5::{Provenance, RecordSource};
 use quakejoint_io::OutputError;
 
@@ -223,18 +223,7 @@ fn read_histories(file: &hdf5::File, f: &mut SweepFile) -> hdf5::Result<()> {
         if !meta_ok {
             return Err(disagrees(&format!("/histories/{name}"), "the grid and the job's results"));
         }
-        let h = JobHistory {
-            t: values(&g, "t")?,
-            ag: values(&g, "ag")?,
-            u: values(&g, "u")?,
-            a_abs: values(&g, "a_abs")?,
-            a_abs_without_joint: values(&g, "a_abs_without_joint")?,
-            joint_force: values(&g, "joint_force")?,
-            friction_power: values(&g, "friction_power")?,
-            subgaps: rows(&g, "subgaps")?,
-            subgaps_wide: rows(&g, "subgaps_wide")?,
-            contact_force: rows(&g, "contact_force")?,
-        };
+        let h = quakejoint_io::run_h5::read_history(&g)?;
         f.results.histories.insert(job as u32, h);
     }
     Ok(())
