@@ -28,7 +28,7 @@ pub struct RecordSource {
     pub units: String,
     /// Total factor from the file's numbers to m/s^2 [m/s^2 per file unit].
     pub scale: f64,
-    /// Time step [s].
+    /// Time step \[s\].
     pub dt: f64,
     /// Samples.
     pub samples: usize,

@@ -42,7 +42,7 @@ pub struct JointConfig {
     pub enabled: bool,
     /// Number of center beams `Nc` [-].
     pub center_beams: usize,
-    /// Reference pitch of the center beams `s0` [m]; the gap is `(Nc + 1) s0`.
+    /// Reference pitch of the center beams `s0` \[m\]; the gap is `(Nc + 1) s0`.
     pub pitch: f64,
     /// Center beams.
     pub center_beam: CenterBeamConfig,
@@ -91,11 +91,11 @@ impl Default for JointConfig {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct CenterBeamConfig {
-    /// Length along y, centred on y = 0 [m].
+    /// Length along y, centred on y = 0 \[m\].
     pub length: f64,
-    /// Width in x, used only for the clear sub-gaps [m].
+    /// Width in x, used only for the clear sub-gaps \[m\].
     pub width: f64,
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
     /// Moment of inertia about z [kg m^2]; default `mass * length^2 / 12`.
     pub inertia: Option<f64>,
@@ -118,9 +118,9 @@ impl Default for CenterBeamConfig {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SupportBeamConfig {
-    /// Length, for the default inertia only [m].
+    /// Length, for the default inertia only \[m\].
     pub length: f64,
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
     /// Moment of inertia about z [kg m^2]; default `mass * length^2 / 12`.
     pub inertia: Option<f64>,
@@ -143,7 +143,7 @@ impl Default for SupportBeamConfig {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct BearingConfig {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
     /// Moment of inertia about z [kg m^2].
     pub inertia: f64,
@@ -171,9 +171,9 @@ pub enum SupportKind {
 pub struct SupportBeam {
     /// Guide or joist.
     pub kind: SupportKind,
-    /// Transverse position: of the guide's axis, or of a joist's pivot on the abutment [m].
+    /// Transverse position: of the guide's axis, or of a joist's pivot on the abutment \[m\].
     pub y: f64,
-    /// Angle of the axis to the x axis, counter-clockwise [deg].
+    /// Angle of the axis to the x axis, counter-clockwise \[deg\].
     #[serde(default)]
     pub angle_deg: f64,
 }
@@ -215,7 +215,7 @@ pub enum LawConfig {
 pub struct FrictionConfig {
     /// Friction coefficient [-].
     pub mu: f64,
-    /// Normal force per sliding surface (preload) [N].
+    /// Normal force per sliding surface (preload) \[N\].
     pub normal_force: f64,
     /// Sliding surfaces per bearing [-].
     pub surfaces: f64,
@@ -280,7 +280,7 @@ pub struct ContactConfig {
     pub restitution: f64,
     /// How the Hertz law's damping follows from the restitution.
     pub damping: HertzDampingConfig,
-    /// Deepest penetration the contact stands for [m]: deeper, the beams
+    /// Deepest penetration the contact stands for \[m\]: deeper, the beams
     /// would be crushed, not touching, and the run is flagged.
     pub max_penetration: f64,
 }
@@ -303,7 +303,7 @@ impl Default for ContactConfig {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct CapacityConfig {
-    /// Largest clear opening of one sub-gap [m] (80 mm: the usual limit per
+    /// Largest clear opening of one sub-gap \[m\] (80 mm: the usual limit per
     /// cell of modular joints); the joint's range of opening is `(Nc + 1)`
     /// times it, less the clear sub-gaps at rest.
     pub max_subgap: f64,
@@ -319,15 +319,15 @@ impl Default for CapacityConfig {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct BridgeConfig {
-    /// Deck mass [kg].
+    /// Deck mass \[kg\].
     pub mass: f64,
     /// Natural circular frequency [rad/s] (give this or `period`; default 6.3).
     pub w0: Option<f64>,
-    /// Natural period [s] (give this or `w0`).
+    /// Natural period \[s\] (give this or `w0`).
     pub period: Option<f64>,
     /// Damping ratio [-].
     pub damping: f64,
-    /// Natural period across the bridge (y) [s]: the deck then has a
+    /// Natural period across the bridge (y) \[s\]: the deck then has a
     /// transverse degree of freedom of its own; none: the deck does not
     /// move across.
     pub transverse_period: Option<f64>,
@@ -344,9 +344,9 @@ pub struct BridgeConfig {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FarSegmentConfig {
-    /// Deck mass [kg] (default the near deck's `bridge.mass`).
+    /// Deck mass \[kg\] (default the near deck's `bridge.mass`).
     pub mass: Option<f64>,
-    /// Natural period [s] (give this or `period_ratio`).
+    /// Natural period \[s\] (give this or `period_ratio`).
     pub period: Option<f64>,
     /// Natural period as a multiple of the near deck's [-] (follows the
     /// swept period in a sweep).
@@ -379,12 +379,12 @@ impl BridgeConfig {
         }
     }
 
-    /// Natural period [s].
+    /// Natural period \[s\].
     pub fn natural_period(&self) -> f64 {
         2.0 * std::f64::consts::PI / self.omega()
     }
 
-    /// Mass [kg], circular frequency [rad/s] and damping ratio [-] of the
+    /// Mass \[kg\], circular frequency [rad/s] and damping ratio [-] of the
     /// adjacent segment, for the near deck at `omega` [rad/s].
     pub fn far_segment(&self, omega: f64) -> Option<(f64, f64, f64)> {
         self.far.as_ref().map(|f| {
@@ -420,24 +420,24 @@ pub enum LinearSolverConfig {
 #[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SimulationConfig {
-    /// Free vibration after the end of the record [s].
+    /// Free vibration after the end of the record \[s\].
     pub extra_time: f64,
-    /// Simulated duration [s]; default: the record's duration plus `extra_time`.
+    /// Simulated duration \[s\]; default: the record's duration plus `extra_time`.
     pub duration: Option<f64>,
     /// Relative tolerance of the local error [-].
     pub rtol: f64,
-    /// Absolute tolerance of translations [m] and translational velocities [m/s].
+    /// Absolute tolerance of translations \[m\] and translational velocities [m/s].
     pub atol: f64,
-    /// Absolute tolerance of rotations [rad] and angular velocities [rad/s].
+    /// Absolute tolerance of rotations \[rad\] and angular velocities [rad/s].
     pub atol_rotation: f64,
     /// Factor on `atol` for the bearings' positions and velocities [-]: the
     /// 20 kg sliders are most of the coordinates, so they set the step size
     /// by their number, while their own errors hardly reach the deck
     /// (docs/performance.md, "The bearings' tolerance").
     pub bearing_atol_factor: f64,
-    /// Largest step [s].
+    /// Largest step \[s\].
     pub h_max: Option<f64>,
-    /// Wall-clock limit of one run [s].
+    /// Wall-clock limit of one run \[s\].
     pub max_wall_time: Option<f64>,
     /// Step limit of one run.
     pub max_steps: Option<u64>,
@@ -471,11 +471,11 @@ impl Default for SimulationConfig {
 pub struct ServiceConfig {
     /// Opening speed [m/s].
     pub speed: f64,
-    /// Amplitude of the triangle wave (peak opening and closing) [m].
+    /// Amplitude of the triangle wave (peak opening and closing) \[m\].
     pub amplitude: f64,
     /// Number of cycles [-].
     pub cycles: u32,
-    /// Time over which each reversal is rounded (constant deceleration) [s].
+    /// Time over which each reversal is rounded (constant deceleration) \[s\].
     pub blend: f64,
 }
 
@@ -669,7 +669,7 @@ impl Config {
     }
 }
 
-/// Smallest inclination of a swivel joist to the bridge axis [deg]; built
+/// Smallest inclination of a swivel joist to the bridge axis \[deg\]; built
 /// joints incline them by 10 to 30 degrees.
 pub const MIN_JOIST_ANGLE_DEG: f64 = 1.0;
 

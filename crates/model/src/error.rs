@@ -60,7 +60,7 @@ pub enum ModelError {
     /// The run was stopped from outside ([`crate::run::RunOptions::cancel`]).
     #[error("interrupted at t = {time} s")]
     Interrupted {
-        /// Simulated time reached [s].
+        /// Simulated time reached \[s\].
         time: f64,
     },
 }

@@ -55,14 +55,14 @@ pub enum Drive {
         /// Ground acceleration across the bridge, on the joint bodies.
         y: Option<TimeSeries>,
     },
-    /// The deck opening prescribed as a function of time [m].
+    /// The deck opening prescribed as a function of time \[m\].
     Service(SmoothTriangle),
 }
 
 /// The bridge as a single-DOF oscillator.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bridge {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
     /// Circular frequency [rad/s].
     pub omega: f64,
@@ -71,7 +71,7 @@ pub struct Bridge {
     /// Circular frequency [rad/s] and damping ratio [-] across the bridge,
     /// when the deck moves across.
     pub transverse: Option<(f64, f64)>,
-    /// Mass [kg], circular frequency [rad/s] and damping ratio [-] of the
+    /// Mass \[kg\], circular frequency [rad/s] and damping ratio [-] of the
     /// adjacent segment on the abutment side, if there is one.
     pub far: Option<(f64, f64, f64)>,
 }

@@ -16,16 +16,16 @@ use crate::error::ModelError;
 pub struct SupportGeometry {
     /// Guide or joist.
     pub kind: SupportKind,
-    /// y of the axis at x = 0 (a joist's pivot) [m].
+    /// y of the axis at x = 0 (a joist's pivot) \[m\].
     pub y0: f64,
-    /// Angle of the axis [rad].
+    /// Angle of the axis \[rad\].
     pub theta: f64,
-    /// Transverse offset of the joist box from the pivot, `G0 tan theta` [m].
+    /// Transverse offset of the joist box from the pivot, `G0 tan theta` \[m\].
     pub box_dy: f64,
-    /// Centre of mass (x, y) [m]: the midpoint between pivot and box for a
+    /// Centre of mass (x, y) \[m\]: the midpoint between pivot and box for a
     /// joist, (G0/2, y0) for a guide.
     pub centre: [f64; 2],
-    /// Distance from the centre of mass to the pivot along the axis [m].
+    /// Distance from the centre of mass to the pivot along the axis \[m\].
     pub half_span: f64,
 }
 
@@ -34,19 +34,19 @@ pub struct SupportGeometry {
 pub struct Geometry {
     /// Number of center beams.
     pub center_beams: usize,
-    /// Reference pitch `s0` [m].
+    /// Reference pitch `s0` \[m\].
     pub pitch: f64,
-    /// Reference gap between the edge-beam lines, `G0 = (Nc + 1) s0` [m].
+    /// Reference gap between the edge-beam lines, `G0 = (Nc + 1) s0` \[m\].
     pub gap: f64,
-    /// Center beam width [m].
+    /// Center beam width \[m\].
     pub width: f64,
-    /// Half the center beam length [m]: the ends are at y = ±half_length.
+    /// Half the center beam length \[m\]: the ends are at y = ±half_length.
     pub half_length: f64,
-    /// x of each center beam's axis [m].
+    /// x of each center beam's axis \[m\].
     pub center_x: Vec<f64>,
     /// The support beams.
     pub supports: Vec<SupportGeometry>,
-    /// y of bearing (i, k) [m].
+    /// y of bearing (i, k) \[m\].
     pub bearing_y: Vec<Vec<f64>>,
 }
 
@@ -144,11 +144,11 @@ impl Geometry {
     }
 
     /// Clear sub-gaps at both ends of the center beams (y = ±L/2), for
-    /// center-beam axes at `x` turned by `phi` [rad], the deck displaced by
-    /// `u` and the abutment side (an adjacent segment) by `u0` [m]:
+    /// center-beam axes at `x` turned by `phi` \[rad\], the deck displaced by
+    /// `u` and the abutment side (an adjacent segment) by `u0` \[m\]:
     /// from the abutment's edge beam to the first beam, between beams, and
     /// from the last beam to the deck's edge beam, `[at y = -L/2, at y =
-    /// +L/2]` [m]. A beam turned by phi has its faces at `x ∓ y sin(phi) ±
+    /// +L/2]` \[m\]. A beam turned by phi has its faces at `x ∓ y sin(phi) ±
     /// (w/2) cos(phi)`; the edge beams do not turn. Turning makes one end
     /// of a sub-gap close before its middle: 1 mrad on a 15 m beam moves its
     /// ends by 7.5 mm.

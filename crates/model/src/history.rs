@@ -7,11 +7,11 @@ use serde::{Deserialize, Serialize};
 /// series a run does not compute is empty.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Histories {
-    /// Time [s].
+    /// Time \[s\].
     pub t: Vec<f64>,
     /// Ground acceleration [m/s^2].
     pub ag: Vec<f64>,
-    /// Deck displacement relative to the ground `u` [m].
+    /// Deck displacement relative to the ground `u` \[m\].
     pub u: Vec<f64>,
     /// Deck velocity relative to the ground [m/s].
     pub v: Vec<f64>,
@@ -21,33 +21,33 @@ pub struct Histories {
     /// the same window, exactly [m/s^2] (NaN past the window;
     /// [`crate::runspec::Reference`]).
     pub a_abs_without_joint: Vec<f64>,
-    /// Force of the joint on the deck, x [N].
+    /// Force of the joint on the deck, x \[N\].
     pub joint_force: Vec<f64>,
-    /// Power dissipated by friction [W].
+    /// Power dissipated by friction \[W\].
     pub friction_power: Vec<f64>,
     /// x displacement of each center beam from its reference position,
-    /// `[beam][time]` [m].
+    /// `[beam][time]` \[m\].
     pub center_beam_dx: Vec<Vec<f64>>,
     /// Clear sub-gaps at the narrower of the two beam ends (where the beams
-    /// close first: pounding), abutment side first, `[gap][time]` [m]
+    /// close first: pounding), abutment side first, `[gap][time]` \[m\]
     /// (Nc + 1 of them).
     pub subgaps: Vec<Vec<f64>>,
     /// Clear sub-gaps at the wider of the two beam ends (where a cell
-    /// opens most: the movement capacity), `[gap][time]` [m].
+    /// opens most: the movement capacity), `[gap][time]` \[m\].
     pub subgaps_wide: Vec<Vec<f64>>,
     /// Largest contact force across each sub-gap (both ends) since the
-    /// previous output time, `[gap][time]` [N] (empty without contacts): an
+    /// previous output time, `[gap][time]` \[N\] (empty without contacts): an
     /// impact is shorter than a record's time step.
     pub contact_force: Vec<Vec<f64>>,
     /// Every impact (contact onset), in time order.
     pub impacts: Vec<crate::pounding::Impact>,
-    /// Deck displacement across the bridge relative to the ground `u_y` [m]
+    /// Deck displacement across the bridge relative to the ground `u_y` \[m\]
     /// (empty when the deck does not move across).
     pub uy: Vec<f64>,
     /// Deck absolute acceleration across the bridge [m/s^2] (empty when
     /// the deck does not move across).
     pub a_abs_y: Vec<f64>,
-    /// Force of the joint on the deck across the bridge, y [N] (empty when
+    /// Force of the joint on the deck across the bridge, y \[N\] (empty when
     /// the deck does not move across).
     pub joint_force_y: Vec<f64>,
 }

@@ -61,7 +61,7 @@ impl Bound {
     }
 }
 
-/// Shortest and longest bridge period of the model [s]: the range of
+/// Shortest and longest bridge period of the model \[s\]: the range of
 /// design response spectra (Eurocode 8 to 4 s, ASCE 7 to 10 s) from a
 /// stiff pier to a base-isolated deck.
 pub const PERIOD_RANGE: (f64, f64) = (0.01, 10.0);

@@ -1,6 +1,6 @@
 //! What a process costs the machine, for reports and cluster job requests.
 
-/// Peak resident memory of this process so far [MB], from Linux's `VmHWM`
+/// Peak resident memory of this process so far \[MB\], from Linux's `VmHWM`
 /// (`None` where `/proc` is not available).
 pub fn peak_memory_mb() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -9,7 +9,7 @@ pub fn peak_memory_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
-/// CPU time the calling thread has used so far [s], from Linux's
+/// CPU time the calling thread has used so far \[s\], from Linux's
 /// `/proc/thread-self/schedstat` (nanoseconds on the CPU; `None` where it is
 /// not available). A sweep's job runs on one worker thread, so the
 /// difference across a run is that run's CPU time, whatever else the

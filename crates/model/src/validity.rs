@@ -231,7 +231,7 @@ impl Monitor {
         }))
     }
 
-    /// Checks a contact's penetration `depth` [m] at `t` (contact number
+    /// Checks a contact's penetration `depth` \[m\] at `t` (contact number
     /// `place` of [`JointModel::contacts`]).
     pub fn contact(&mut self, t: f64, depth: f64, place: usize) {
         if let Some(max) = self.max_penetration {

@@ -7,11 +7,11 @@
 use std::io::{Error, ErrorKind, Read};
 use std::path::Path;
 
-/// Largest record file read [bytes]: a day at 1000 samples/s written with
+/// Largest record file read \[bytes\]: a day at 1000 samples/s written with
 /// 12 characters a value is about 1 GB.
 pub const MAX_RECORD_BYTES: u64 = 1 << 30;
 
-/// Largest config file read [bytes]: configs are a few kilobytes.
+/// Largest config file read \[bytes\]: configs are a few kilobytes.
 pub const MAX_CONFIG_BYTES: u64 = 16 << 20;
 
 /// What a path that is not a regular file is, in words.

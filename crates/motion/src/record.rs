@@ -110,19 +110,19 @@ impl Record {
     }
 }
 
-/// Smallest admissible time step of a record [s]: recorded and synthetic
+/// Smallest admissible time step of a record \[s\]: recorded and synthetic
 /// accelerograms are sampled at 50 to 1000 Hz; 1e-5 s (100 kHz) leaves room.
 pub const MIN_DT: f64 = 1e-5;
-/// Largest admissible time step [s]: coarser sampling misses the motion a
+/// Largest admissible time step \[s\]: coarser sampling misses the motion a
 /// bridge responds to.
 pub const MAX_DT: f64 = 1.0;
-/// Largest admissible |acceleration| [g], of the file as read (after unit
+/// Largest admissible |acceleration| \[g\], of the file as read (after unit
 /// conversion) and of the scaled record: the strongest ground motions
 /// recorded peak at about 4 g (2008 Iwate-Miyagi, KiK-net IWTH25); a
 /// number beyond 5 g is a unit or scale error (m/s² read as g is 9.8 times
 /// too strong, cm/s² read as g 981 times).
 pub const MAX_ACCELERATION_G: f64 = 5.0;
-/// Longest admissible record [s]: one day.
+/// Longest admissible record \[s\]: one day.
 pub const MAX_DURATION: f64 = 86_400.0;
 
 fn validate(name: &str, dt: f64, acceleration: &[f64]) -> Result<(), RecordError> {
@@ -307,7 +307,7 @@ fn units_of(
 
 /// A record from samples held in memory (a numpy array, say): `values` in
 /// the spec's `units` (required: an array cannot say its units) at time
-/// step `dt` [s], converted, scaled (`scale`, `target_pga_g`) and checked
+/// step `dt` \[s\], converted, scaled (`scale`, `target_pga_g`) and checked
 /// exactly as a file's numbers are. `spec.file` names the samples in
 /// messages; `sha256` is that of the samples' little-endian bytes.
 pub fn load_record_from_samples(spec: &RecordSpec, dt: f64, values: Vec<f64>) -> Result<LoadedRecord, RecordError> {

@@ -46,14 +46,14 @@ pub struct SuiteScaling {
     pub factors: Vec<f64>,
     /// The rule's common factor [-] (1 when the fit alone satisfies it).
     pub rule_factor: f64,
-    /// Periods of the fit [s].
+    /// Periods of the fit \[s\].
     pub periods: Vec<f64>,
     /// The target at those periods [m/s^2].
     pub target: Vec<f64>,
     /// The mean of the scaled records' spectra there [m/s^2].
     pub mean: Vec<f64>,
     /// Lowest ratio of the mean to the target over the range [-], and the
-    /// period where it is [s].
+    /// period where it is \[s\].
     pub min_ratio: (f64, f64),
     /// Whether the mean stays at or above 90 % of the target.
     pub ec8_satisfied: bool,
@@ -66,7 +66,7 @@ pub struct SuiteScaling {
 }
 
 /// Scales `records` (each acting alone, in m/s^2) to `target` over the
-/// periods `range` [s].
+/// periods `range` \[s\].
 pub fn scale_suite(
     records: &[&Record],
     target: &TargetSpectrum,

@@ -15,7 +15,7 @@
 //!   `T_0 = 0.2 S_D1/S_DS`, `T_S = S_D1/S_DS`: `Sa = S_DS (0.4 + 0.6 T/T_0)`
 //!   up to `T_0`, `S_DS` up to `T_S`, `S_D1/T` up to `T_L`, `S_D1 T_L/T^2`
 //!   beyond; its damping is 5 %.
-//! - A table of (period [s], Sa [g]) points, interpolated linearly in log-log
+//! - A table of (period \[s\], Sa \[g\]) points, interpolated linearly in log-log
 //!   between them and refused outside them.
 
 use serde::{Deserialize, Serialize};
@@ -68,7 +68,7 @@ pub enum TargetSpectrum {
         kind: Ec8Type,
         /// Ground type: "A" to "E".
         ground: String,
-        /// Design ground acceleration on type A ground, `a_g = gamma_I a_gR` [g].
+        /// Design ground acceleration on type A ground, `a_g = gamma_I a_gR` \[g\].
         ag_g: f64,
         /// Viscous damping ratio of the spectrum [-] (default 0.05).
         #[serde(default = "five_percent")]
@@ -76,11 +76,11 @@ pub enum TargetSpectrum {
     },
     /// The ASCE 7 design response spectrum (5 % damping).
     Asce7 {
-        /// Design spectral acceleration at short periods `S_DS` [g].
+        /// Design spectral acceleration at short periods `S_DS` \[g\].
         sds_g: f64,
-        /// Design spectral acceleration at 1 s `S_D1` [g].
+        /// Design spectral acceleration at 1 s `S_D1` \[g\].
         sd1_g: f64,
-        /// Long-period transition period `T_L` [s].
+        /// Long-period transition period `T_L` \[s\].
         tl: f64,
     },
     /// A table of `[period [s], Sa [g]]` points, periods increasing.
@@ -181,7 +181,7 @@ impl TargetSpectrum {
         }
     }
 
-    /// The periods [s] the spectrum is defined over.
+    /// The periods \[s\] the spectrum is defined over.
     pub fn domain(&self) -> (f64, f64) {
         match self {
             TargetSpectrum::Table { points, .. } => {
@@ -191,7 +191,7 @@ impl TargetSpectrum {
         }
     }
 
-    /// Spectral acceleration [m/s^2] at period `t` [s] (the spectrum must be
+    /// Spectral acceleration [m/s^2] at period `t` \[s\] (the spectrum must be
     /// valid; NaN outside a table).
     pub fn sa(&self, t: f64) -> f64 {
         G * match self {

@@ -1,11 +1,11 @@
 //! The extension module `quakejoint._quakejoint` of the Python package
 //! `quakejoint` (python/quakejoint): the engine on numpy arrays.
 //!
-//! - [`record`]: records read from files or built from arrays, their
+//! - `record`: records read from files or built from arrays, their
 //!   statistics and exact linear spectra;
-//! - [`config`]: configs from TOML files, text or dicts, validated as the
+//! - `config`: configs from TOML files, text or dicts, validated as the
 //!   command line validates them;
-//! - [`run`]: coupled earthquake runs and service loops, with the GIL
+//! - `run`: coupled earthquake runs and service loops, with the GIL
 //!   released and Ctrl-C honoured.
 //!
 //! Errors are Python exceptions with the command line's messages:

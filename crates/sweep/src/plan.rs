@@ -34,7 +34,7 @@ use crate::error::SweepError;
 pub const SWEEP_KEYS: [&str; 7] =
     ["periods", "damping", "records", "cases", "histories", "checkpoint_seconds", "suite"];
 
-/// Longest interval between checkpoints or progress lines [s] (116 days;
+/// Longest interval between checkpoints or progress lines \[s\] (116 days;
 /// the longest run allowed, `simulation.max_wall_time`, is as long).
 pub const MAX_INTERVAL: f64 = 1e7;
 
@@ -46,7 +46,7 @@ pub const SUITE_KEYS: [&str; 3] = ["target", "range", "rule"];
 pub struct Suite {
     /// The target spectrum.
     pub target: TargetSpectrum,
-    /// Periods of the fit [s].
+    /// Periods of the fit \[s\].
     pub range: (f64, f64),
     /// What the Eurocode 8 rule does.
     pub rule: SuiteRule,
@@ -104,7 +104,7 @@ pub struct Plan {
     pub suite: Option<Suite>,
     /// Damping ratios [-].
     pub damping: Vec<f64>,
-    /// Bridge periods [s].
+    /// Bridge periods \[s\].
     pub periods: Vec<f64>,
     /// Indices into `periods` whose histories are stored.
     pub history_periods: Vec<usize>,
@@ -690,7 +690,7 @@ pub struct Estimate {
     /// Cost-model seconds on one core of the reference machine (the wall
     /// time on one thread; on `t` threads about this divided by `t`).
     pub seconds: f64,
-    /// Peak resident memory of the process [MB].
+    /// Peak resident memory of the process \[MB\].
     pub memory_mb: f64,
 }
 
@@ -723,11 +723,11 @@ impl Plan {
     }
 }
 
-/// Memory of the program, the HDF5 library and the allocator [MB].
+/// Memory of the program, the HDF5 library and the allocator \[MB\].
 pub const MEMORY_BASE_MB: f64 = 18.0;
-/// Memory of a worker without its model [MB].
+/// Memory of a worker without its model \[MB\].
 pub const MEMORY_PER_WORKER_MB: f64 = 1.0;
-/// Memory of a worker's model per joint body [MB].
+/// Memory of a worker's model per joint body \[MB\].
 pub const MEMORY_PER_BODY_MB: f64 = 0.025;
 
 /// Seconds per output sample of a job, whatever the model ([`cost_seconds`]).
@@ -739,7 +739,7 @@ pub const COST_PER_BODY_SAMPLE: f64 = 1.45e-6;
 /// "Cost of a job"): seconds on one core of the reference machine for a
 /// joint of `bodies` rigid bodies, `samples` output samples (the steps never
 /// cross a sample, so the step count follows the sample count) and bridge
-/// period `period` [s]:
+/// period `period` \[s\]:
 /// `samples * (COST_PER_SAMPLE + COST_PER_BODY_SAMPLE * bodies) * f(T)` with
 /// `f(T) = 1 - 0.45 exp(-(T / 0.2 s)^2)`: a stiff bridge (short period)
 /// barely moves the joint, so its friction rarely reverses and Newton needs

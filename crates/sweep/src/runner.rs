@@ -91,7 +91,7 @@ pub struct Summary {
     pub flagged: Vec<(String, String, f64, f64, u32, String)>,
     /// Finished jobs whose beams pounded (at least one impact).
     pub pounded: usize,
-    /// The largest contact force of any job [N] and its job (case, record,
+    /// The largest contact force of any job \[N\] and its job (case, record,
     /// damping, period), if any pounded.
     pub peak_contact: Option<(f64, String, String, f64, f64)>,
     /// Whether a stop request ended the sweep before every job had run.
@@ -99,13 +99,13 @@ pub struct Summary {
     /// Warnings given during the run (damage found in the journal, an
     /// output rebuilt from it).
     pub notices: Vec<String>,
-    /// Wall-clock time [s].
+    /// Wall-clock time \[s\].
     pub wall_time_s: f64,
     /// The HDF5 output.
     pub output: PathBuf,
     /// The journal.
     pub journal: PathBuf,
-    /// Peak resident memory of the process [MB] (Linux; for cluster job
+    /// Peak resident memory of the process \[MB\] (Linux; for cluster job
     /// requests).
     pub peak_memory_mb: Option<f64>,
 }
@@ -413,7 +413,7 @@ pub struct Check {
     pub flagged: usize,
     /// Whether a journal of this sweep exists.
     pub journal: bool,
-    /// Estimated CPU time of the jobs to run [s] (cost model).
+    /// Estimated CPU time of the jobs to run \[s\] (cost model).
     pub cpu_seconds: f64,
     /// What the journal's reading noticed (damaged entries that a run
     /// skips); empty when nothing.

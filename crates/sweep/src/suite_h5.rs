@@ -17,19 +17,19 @@ pub struct StoredSuite {
     pub target_config: String,
     /// `ec8` or `check`.
     pub rule: String,
-    /// Periods of the fit [s].
+    /// Periods of the fit \[s\].
     pub range: [f64; 2],
     /// Factor of each record [-] (in the records' `scale` already).
     pub factors: Vec<f64>,
     /// The rule's common factor [-].
     pub rule_factor: f64,
-    /// Periods of the fit [s].
+    /// Periods of the fit \[s\].
     pub fit_periods: Vec<f64>,
     /// The target there [m/s^2].
     pub fit_target: Vec<f64>,
     /// The mean of the scaled records' spectra there [m/s^2].
     pub fit_mean: Vec<f64>,
-    /// Lowest ratio of the mean to the target [-] and its period [s].
+    /// Lowest ratio of the mean to the target [-] and its period \[s\].
     pub min_ratio: [f64; 2],
     /// Whether the mean stays at or above 90 % of the target.
     pub ec8_satisfied: bool,

@@ -29,7 +29,7 @@ pub struct StoredRecord {
     pub sha256: String,
     /// Units of the numbers in the file.
     pub file_units: String,
-    /// Time step [s].
+    /// Time step \[s\].
     pub dt: f64,
     /// Scale factor applied (file numbers to m/s^2).
     pub scale: f64,
@@ -54,7 +54,7 @@ pub struct SweepFile {
     /// The jobs this file is responsible for (flat indices): its shard's,
     /// or every job.
     pub scope: Vec<u32>,
-    /// Bridge periods [s].
+    /// Bridge periods \[s\].
     pub periods: Vec<f64>,
     /// Damping ratios [-].
     pub damping: Vec<f64>,
