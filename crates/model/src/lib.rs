@@ -24,6 +24,7 @@ pub mod run;
 pub mod runspec;
 pub mod service;
 pub mod validity;
+pub mod verification;
 mod watch;
 
 pub use config::Config;

@@ -1,0 +1,175 @@
+//! The reference problems (module doc of [`super`]).
+
+use std::f64::consts::PI;
+use std::path::Path;
+use std::sync::Arc;
+
+use quakejoint_motion::{load_record, peaks, RecordSpec, SpectrumOptions};
+use quakejoint_solver::reference::contact::HeadOn;
+use quakejoint_solver::{Assembly, AssemblyOptions, ContactLaw, Coord, IntegratorOptions, NoObserver, Radau5};
+
+use super::{Band, Outcome, Problem};
+use crate::run::RunOptions;
+use crate::runspec::{Named, Overrides, Reference, RunSpec};
+use crate::Config;
+
+/// Every reference problem, in the order of the manual.
+pub const PROBLEMS: &[Problem] = &[
+    Problem {
+        id: "head-on-linear-contact",
+        layer: "solver",
+        title: "two bodies meeting head on through a linear spring-dashpot contact (k = 1e9 N/m, e = 0.65), released when its force vanishes",
+        source: "closed form: a damped oscillator in the penetration released when the force vanishes, e_r = exp(-a t_r)(a/wd sin(wd t_r) - cos(wd t_r)) (Anagnostopoulos 1988)",
+        quantity: "coefficient of restitution [-]",
+        band: Band::Relative(1e-6),
+        run: head_on_linear_contact,
+    },
+    Problem {
+        id: "resonance-amplitude",
+        layer: "motion",
+        title: "a damped oscillator (T = 1 s, 5 %) driven at resonance by a sampled sine (1000 samples a cycle) until steady",
+        source: "closed form: steady amplitude a0 / (2 zeta w^2) times sinc^2(w dt / 2), the sampled sine's fundamental",
+        quantity: "Sd with 8 subdivisions [m]",
+        band: Band::Relative(5e-7),
+        run: resonance_amplitude,
+    },
+    Problem {
+        id: "spectrum-against-rk4",
+        layer: "motion",
+        title: "Sa of Loma Prieta Corralitos 090 (first 20 s) at T = 1 s, 5 %",
+        source: "second method: classical Runge-Kutta 4 with 1000 fixed sub-steps a sample, on the same piecewise-linear ground motion",
+        quantity: "Sa [m/s^2]",
+        band: Band::Relative(1e-9),
+        run: spectrum_against_rk4,
+    },
+    Problem {
+        id: "no-joint-equals-exact",
+        layer: "model",
+        title: "the reference bridge with its joint disabled, through the multibody solver, under Corralitos 090 at T = 1 s",
+        source: "second method: the exact solution of the linear oscillator (Nigam and Jennings 1969) over the same window",
+        quantity: "Sa [m/s^2]",
+        band: Band::Relative(1e-5),
+        run: no_joint_equals_exact,
+    },
+    Problem {
+        id: "energy-balance",
+        layer: "model",
+        title: "the small joint (3 center beams) with friction under the first 10 s of Corralitos 090",
+        source: "conservation law: kinetic and stored energy plus the energy dissipated equal the work of the earthquake load",
+        quantity: "energy balance error over the earthquake's work [-]",
+        band: Band::Absolute(1e-6),
+        run: energy_balance,
+    },
+    Problem {
+        id: "service-friction-work",
+        layer: "model",
+        title: "the small joint with rigid bushings (1e9 N/m) opened and closed by the service case",
+        source: "hand calculation: mu n_s F_N times each bearing's sliding distance, summed (docs/model.md, \"The service case\")",
+        quantity: "friction work per cycle [J]",
+        band: Band::Relative(5e-3),
+        run: service_friction_work,
+    },
+];
+
+fn config(root: &Path, name: &str) -> Result<Config, String> {
+    Config::from_file(&root.join("configs").join(name)).map_err(|e| e.to_string())
+}
+
+fn head_on_linear_contact(_root: &Path) -> Result<Outcome, String> {
+    let e = 0.65;
+    let case = HeadOn {
+        mass_a: 900.0,
+        mass_b: 600.0,
+        speed_a: 0.4,
+        speed_b: -0.1,
+        gap: 0.002,
+        law: ContactLaw::Linear { stiffness: 1e9, restitution: e },
+    };
+    let (sys, a, b) = case.system();
+    let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).map_err(|e| e.to_string())?);
+    let (ca, cb) = (asm.coordinate(a, Coord::X).ok_or("no x of a")?, asm.coordinate(b, Coord::X).ok_or("no x of b")?);
+    let options =
+        IntegratorOptions { rtol: 1e-9, atol_translation: 1e-11, atol_velocity: 1e-9, ..IntegratorOptions::default() };
+    let mut sim = Radau5::new(asm, options).map_err(|e| e.to_string())?;
+    sim.run(case.gap / case.approach_speed() + 0.05, &mut NoObserver).map_err(|e| e.to_string())?;
+    let v = sim.velocities();
+    let computed = -(v[ca] - v[cb]) / case.approach_speed();
+    let w = (1e9 / case.reduced_mass()).sqrt();
+    let zeta = -f64::ln(e) / (PI.powi(2) + f64::ln(e).powi(2)).sqrt();
+    let (decay, wd) = (zeta * w, w * (1.0 - zeta * zeta).sqrt());
+    let tr = (PI - (2.0 * decay * wd / (w * w - 2.0 * decay * decay)).atan()) / wd;
+    let reference = (-decay * tr).exp() * (decay / wd * (wd * tr).sin() - (wd * tr).cos());
+    Ok(Outcome { computed, reference })
+}
+
+fn resonance_amplitude(_root: &Path) -> Result<Outcome, String> {
+    let (period, a0, zeta, per_cycle) = (1.0, 1.5, 0.05, 1000usize);
+    let w = 2.0 * PI / period;
+    // transients decay as exp(-zeta w t): 30 e-foldings
+    let cycles = (30.0 / (zeta * w * period)).ceil() as usize + 2;
+    let dt = period / per_cycle as f64;
+    let acc: Vec<f64> = (0..=per_cycle * cycles).map(|i| a0 * (w * i as f64 * dt).sin()).collect();
+    let p = peaks(&acc, dt, period, zeta, SpectrumOptions { subdivisions: 8 });
+    let x = w * dt / 2.0;
+    Ok(Outcome { computed: p.sd, reference: a0 / (2.0 * zeta * w * w) * (x.sin() / x).powi(2) })
+}
+
+/// Classical RK4 on u'' = -a_g - 2 zeta w u' - w^2 u, a_g linear between
+/// samples, `sub` steps a sample interval, from rest: the largest absolute
+/// acceleration at the sample times.
+fn rk4_sa(accel: &[f64], dt: f64, period: f64, zeta: f64, sub: usize) -> f64 {
+    let w = 2.0 * PI / period;
+    let (w2, c) = (w * w, 2.0 * zeta * w);
+    let h = dt / sub as f64;
+    let f = |u: f64, v: f64, a: f64| (v, -a - c * v - w2 * u);
+    let (mut u, mut v, mut sa) = (0.0f64, 0.0f64, 0.0f64);
+    for win in accel.windows(2) {
+        let slope = (win[1] - win[0]) / dt;
+        for k in 0..sub {
+            let t = k as f64 * h;
+            let (ag0, agm, ag1) = (win[0] + slope * t, win[0] + slope * (t + 0.5 * h), win[0] + slope * (t + h));
+            let (k1u, k1v) = f(u, v, ag0);
+            let (k2u, k2v) = f(u + 0.5 * h * k1u, v + 0.5 * h * k1v, agm);
+            let (k3u, k3v) = f(u + 0.5 * h * k2u, v + 0.5 * h * k2v, agm);
+            let (k4u, k4v) = f(u + h * k3u, v + h * k3v, ag1);
+            u += h / 6.0 * (k1u + 2.0 * k2u + 2.0 * k3u + k4u);
+            v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+        }
+        sa = sa.max((w2 * u + c * v).abs());
+    }
+    sa
+}
+
+fn spectrum_against_rk4(root: &Path) -> Result<Outcome, String> {
+    let spec = RecordSpec::new("RSN753_LOMAP_CLS090-hor2.AT2");
+    let rec = load_record(&spec, &root.join("ground_motions")).map_err(|e| e.to_string())?.record;
+    let accel = &rec.acceleration[..4000];
+    let computed = peaks(accel, rec.dt, 1.0, 0.05, SpectrumOptions::default()).sa;
+    Ok(Outcome { computed, reference: rk4_sa(accel, rec.dt, 1.0, 0.05, 1000) })
+}
+
+fn no_joint_equals_exact(root: &Path) -> Result<Outcome, String> {
+    let mut base = config(root, "paper.toml")?;
+    base.joint.enabled = false;
+    let overrides = Overrides { period: Some(Named::new(1.0, "period")), ..Overrides::default() };
+    let spec = RunSpec::new(base, &overrides).map_err(|e| e.to_string())?;
+    let (x, _) = crate::run::load_records(&spec.config, &root.join("configs")).map_err(|e| e.to_string())?;
+    let computed = spec.run(&x.record, None, &RunOptions::default()).map_err(|e| e.to_string())?.sa;
+    let reference = Reference::for_run(&spec.config, &x.record, &x.record).peaks(1.0, spec.config.bridge.damping).sa;
+    Ok(Outcome { computed, reference })
+}
+
+fn energy_balance(root: &Path) -> Result<Outcome, String> {
+    let mut c = config(root, "small.toml")?;
+    c.simulation.duration = Some(10.0);
+    let r = crate::run::simulate(&c, &root.join("configs"), &RunOptions::default()).map_err(|e| e.to_string())?;
+    Ok(Outcome { computed: r.energy_error, reference: 0.0 })
+}
+
+fn service_friction_work(root: &Path) -> Result<Outcome, String> {
+    let mut c = config(root, "small.toml")?;
+    (c.joint.bushing.kx, c.joint.bushing.ky) = (1e9, 1e9);
+    c.joint.contact.enabled = false;
+    let r = crate::service::service(&c).map_err(|e| e.to_string())?;
+    Ok(Outcome { computed: r.friction_work_per_cycle, reference: r.hand_calculation })
+}
