@@ -26,7 +26,8 @@
 //! An [`Observer`] sees every accepted step as a [`StepView`] with its dense
 //! output: the state at any time within the step, at requested times
 //! ([`OutputTimes`]) and the zeros of functions of the state
-//! ([`RootTracker`]); see [`integrator::dense`].
+//! ([`RootTracker`]); see [`integrator::dense`] and `docs/solver.md`,
+//! "Using the library".
 //!
 //! The crate is layered: [`model`] is what the user describes,
 //! [`assembly`] what the solver linearises (kernels with analytic
@@ -48,6 +49,12 @@ pub mod linalg;
 pub mod model;
 pub mod reference;
 pub mod timefn;
+
+// The code of docs/solver.md ("Using the library") is compiled and run with
+// the doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/solver.md")]
+struct SolverGuide;
 
 pub use assembly::{Assembly, AssemblyOptions, ContactValue, ForceExtremes, JacobianValues, Powers, Workspace};
 pub use error::{BuildError, DenseOutputError, LinalgError, SolverError, StepFailure};
