@@ -5,9 +5,10 @@
 //! time step) and at the output times (the force of the closed joint on the
 //! deck enters the deck's force balance there).
 
-use quakejoint_solver::{Assembly, ContactEventKind, ContactValue, StepView, Workspace};
+use quakejoint_solver::{Assembly, ContactEventKind, ContactValue, StateBuffer, StepView, Workspace};
 
 use crate::generator::{ContactPlace, JointModel};
+use crate::run::DENSE_OUTPUT;
 use crate::validity::Monitor;
 
 /// Slowest approach that counts as an impact [m/s]: slower touches (a
@@ -86,9 +87,6 @@ pub const INTERIOR: usize = 3;
 /// (the bracket shrinks to 0.618^20, about 1e-4 of it).
 const REFINE: usize = 20;
 
-/// Scratch positions, velocities and multipliers for the dense output.
-type Scratch<'a> = (&'a mut Vec<f64>, &'a mut Vec<f64>, &'a mut Vec<f64>);
-
 /// Follows the contacts of a running joint.
 #[derive(Debug, Clone)]
 pub(crate) struct ContactWatch {
@@ -97,7 +95,7 @@ pub(crate) struct ContactWatch {
     deck_gap: usize,
     values: Vec<ContactValue>,
     /// Interpolated positions, velocities and multipliers.
-    scratch: Option<(Vec<f64>, Vec<f64>, Vec<f64>)>,
+    scratch: Option<StateBuffer>,
     /// Largest contact force across each sub-gap since the last output
     /// time [N] (an impact is shorter than a record's time step).
     interval_peak: Vec<f64>,
@@ -144,23 +142,21 @@ impl ContactWatch {
         let peak_before = self.result.peak_contact_force;
         self.take(view.t, monitor.as_deref_mut());
         if closed && view.t > view.t_prev {
-            let (n, m) = (view.q.len(), view.lambda.len());
-            let (mut q, mut v, mut l) =
-                self.scratch.take().unwrap_or_else(|| (vec![0.0; n], vec![0.0; n], vec![0.0; m]));
+            let mut s = self.scratch.take().unwrap_or_else(|| StateBuffer::new(view.assembly));
             let dt = (view.t - view.t_prev) / (INTERIOR + 1) as f64;
             for k in 1..=INTERIOR {
                 let t = view.t_prev + dt * k as f64;
-                view.interpolate(t, &mut q, &mut v, &mut l);
-                view.assembly.contacts(view.workspace, &q, &v, &mut self.values);
+                view.state_at(t, &mut s).expect(DENSE_OUTPUT);
+                view.assembly.contacts(view.workspace, &s.q, &s.v, &mut self.values);
                 self.take(t, monitor.as_deref_mut());
             }
             if self.result.peak_contact_force > peak_before {
                 // the run's peak is in this step: located on the dense output
                 let t0 = self.result.peak_contact_time;
                 let bracket = ((t0 - dt).max(view.t_prev), (t0 + dt).min(view.t));
-                self.refine_peak(view, bracket, (&mut q, &mut v, &mut l));
+                self.refine_peak(view, bracket, &mut s);
             }
-            self.scratch = Some((q, v, l));
+            self.scratch = Some(s);
         }
     }
 
@@ -170,13 +166,12 @@ impl ContactWatch {
     /// `(pi dt / duration)^2 / 8`. (The deck's force from the closed joint,
     /// a sum over contacts, and the per-gap histories stay sampled: they may
     /// fall short of the located peak by that much.)
-    fn refine_peak(&mut self, view: &mut StepView<'_>, bracket: (f64, f64), state: Scratch<'_>) {
-        let (q, v, l) = state;
+    fn refine_peak(&mut self, view: &mut StepView<'_>, bracket: (f64, f64), s: &mut StateBuffer) {
         let Some(place) = self.result.peak_contact_place else { return };
         let Some(i) = self.places.iter().position(|p| *p == place) else { return };
         let mut force_at = |t: f64| {
-            view.interpolate(t, q, v, l);
-            view.assembly.contacts(view.workspace, q, v, &mut self.values);
+            view.state_at(t, s).expect(DENSE_OUTPUT);
+            view.assembly.contacts(view.workspace, &s.q, &s.v, &mut self.values);
             let c = self.values[i];
             if c.closed {
                 c.force

@@ -410,6 +410,11 @@ impl Peak {
     }
 }
 
+/// Why the dense output cannot fail in the observers: the times come from
+/// the step's own `OutputTimes::next_in` (or lie between its ends) and the
+/// buffers are sized by the same assembly.
+pub(crate) const DENSE_OUTPUT: &str = "an output time handed out for a step lies in it, and the buffers fit its system";
+
 /// Evaluates the reported quantities at the output times.
 struct EarthquakeObserver {
     deck: usize,
@@ -423,7 +428,8 @@ struct EarthquakeObserver {
     bridge: Bridge,
     ground: TimeSeries,
     dt: f64,
-    next: u64,
+    /// The output times: the record's samples after the first.
+    outputs: quakejoint_solver::OutputTimes,
     sa: Peak,
     sd: Peak,
     sv: Peak,
@@ -446,16 +452,15 @@ struct EarthquakeObserver {
     /// [s]: the record's time step divided into pieces of at most
     /// [`CHECK_INTERVAL`] (a coarse record must not hide a collision).
     check_dt: f64,
-    next_check: u64,
+    checks: quakejoint_solver::OutputTimes,
     /// The run's start and wall-clock limit [s], checked as output samples
     /// are written too (a long free vibration is many samples per step).
     deadline: Option<(Instant, f64)>,
     out_of_time: bool,
     monitor: Option<Monitor>,
     last_report: f64,
-    q: Vec<f64>,
-    v: Vec<f64>,
-    l: Vec<f64>,
+    /// Scratch: the state at an output time or a check.
+    state: quakejoint_solver::StateBuffer,
 }
 
 impl EarthquakeObserver {
@@ -482,7 +487,14 @@ impl EarthquakeObserver {
             contact_force: vec![Vec::new(); if contacts.is_some() { n_gaps } else { 0 }],
             ..Histories::default()
         });
-        let (n, m) = (asm.coordinates(), asm.equations());
+        let check_dt = dt / (dt / CHECK_INTERVAL).ceil().max(1.0);
+        let grid = |dt: f64| {
+            quakejoint_solver::OutputTimes::uniform(0.0, dt).map_err(|e| ModelError::Invalid {
+                field: "record.dt".into(),
+                value: dt.to_string(),
+                reason: e.to_string(),
+            })
+        };
         Ok(Self {
             deck,
             deck_y: asm.coordinate(model.deck, quakejoint_solver::Coord::Y),
@@ -493,7 +505,7 @@ impl EarthquakeObserver {
             bridge: model.bridge,
             ground,
             dt,
-            next: 0,
+            outputs: grid(dt)?,
             sa: Peak::default(),
             sd: Peak::default(),
             sv: Peak::default(),
@@ -506,17 +518,15 @@ impl EarthquakeObserver {
             contacts,
             gap_forces: vec![0.0; n_gaps],
             histories,
-            check_dt: dt / (dt / CHECK_INTERVAL).ceil().max(1.0),
-            next_check: 0,
+            check_dt,
+            checks: grid(check_dt)?,
             progress: None,
             cancel: None,
             deadline: None,
             out_of_time: false,
             monitor: None,
             last_report: 0.0,
-            q: vec![0.0; n],
-            v: vec![0.0; n],
-            l: vec![0.0; m],
+            state: quakejoint_solver::StateBuffer::new(asm),
         })
     }
 
@@ -528,23 +538,17 @@ impl EarthquakeObserver {
     }
 
     /// The checks between the output times up to the step's end (none when
-    /// the record's time step is already at most [`CHECK_INTERVAL`]).
+    /// the record's time step is already at most [`CHECK_INTERVAL`]), on the
+    /// dense output.
     fn check_between(&mut self, view: &mut StepView<'_>) {
         if self.gaps.is_none() || self.check_dt >= self.dt {
             return;
         }
-        loop {
-            let k = self.next_check + 1;
-            let tk = k as f64 * self.check_dt;
-            if tk > view.t + 1e-9 * self.check_dt {
-                break;
-            }
-            self.next_check = k;
-            let (mut q, mut v, mut l) =
-                (std::mem::take(&mut self.q), std::mem::take(&mut self.v), std::mem::take(&mut self.l));
-            view.interpolate(tk, &mut q, &mut v, &mut l);
-            self.check(tk, &q);
-            (self.q, self.v, self.l) = (q, v, l);
+        while let Some(tk) = self.checks.next_in(view) {
+            let mut state = std::mem::take(&mut self.state);
+            view.sample(&tk, &mut state).expect(DENSE_OUTPUT);
+            self.check(tk.t(), &state.q);
+            self.state = state;
         }
     }
 
@@ -646,28 +650,19 @@ impl Observer for EarthquakeObserver {
         if let Some(c) = &mut self.contacts {
             c.step(view, self.monitor.as_mut());
         }
-        loop {
-            let j = self.next + 1;
-            let tj = j as f64 * self.dt;
-            if tj > view.t + 1e-9 * self.dt {
-                break;
-            }
+        // the record's samples: the step's end state at the samples it ends
+        // on (every one while the record lasts), the dense output between
+        while let Some(tj) = self.outputs.next_in(view) {
             if let Some((start, limit)) = self.deadline {
-                if j.is_multiple_of(1024) && start.elapsed().as_secs_f64() > limit {
+                if (tj.index() + 1).is_multiple_of(1024) && start.elapsed().as_secs_f64() > limit {
                     self.out_of_time = true;
                     return false;
                 }
             }
-            self.next = j;
-            if (tj - view.t).abs() <= 1e-9 * self.dt {
-                self.sample(view.t, view.q, view.v, view.lambda, view.assembly, view.workspace);
-            } else {
-                let (mut q, mut v, mut l) =
-                    (std::mem::take(&mut self.q), std::mem::take(&mut self.v), std::mem::take(&mut self.l));
-                view.interpolate(tj, &mut q, &mut v, &mut l);
-                self.sample(tj, &q, &v, &l, view.assembly, view.workspace);
-                (self.q, self.v, self.l) = (q, v, l);
-            }
+            let mut state = std::mem::take(&mut self.state);
+            view.sample(&tj, &mut state).expect(DENSE_OUTPUT);
+            self.sample(state.t, &state.q, &state.v, &state.lambda, view.assembly, view.workspace);
+            self.state = state;
         }
         true
     }

@@ -27,14 +27,16 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use quakejoint_solver::{Assembly, AssemblyOptions, Coord, Observer, Radau5, SmoothTriangle, Stats, StepView};
+use quakejoint_solver::{
+    Assembly, AssemblyOptions, Coord, Observer, OutputTimes, Radau5, SmoothTriangle, StateBuffer, Stats, StepView,
+};
 
 use crate::config::{Config, SupportKind};
 use crate::error::ModelError;
 use crate::generator::{build, Drive};
 use crate::geometry::Geometry;
 use crate::pounding::ContactWatch;
-use crate::run::integrator_options;
+use crate::run::{integrator_options, DENSE_OUTPUT};
 use crate::validity::{Monitor, Validity};
 use crate::watch::Gaps;
 
@@ -306,14 +308,13 @@ struct LoopObserver {
     center_beams: [Vec<Vec<f64>>; 3],
     deck_body: quakejoint_solver::BodyId,
     boxes: Vec<quakejoint_solver::ConstraintId>,
-    dt: f64,
-    next: u64,
+    /// The output times, every thousandth of the cycle.
+    outputs: OutputTimes,
     t: Vec<f64>,
     u: Vec<f64>,
     f: Vec<f64>,
-    q: Vec<f64>,
-    v: Vec<f64>,
-    l: Vec<f64>,
+    /// Scratch: the state at an output time.
+    state: StateBuffer,
 }
 
 impl Observer for LoopObserver {
@@ -321,27 +322,24 @@ impl Observer for LoopObserver {
         if let Some(c) = &mut self.contacts {
             c.step(view, self.monitor.as_mut());
         }
-        loop {
-            let tj = (self.next + 1) as f64 * self.dt;
-            if tj > view.t + 1e-9 * self.dt {
-                break;
-            }
-            self.next += 1;
-            view.interpolate(tj, &mut self.q, &mut self.v, &mut self.l);
+        while let Some(out) = self.outputs.next_in(view) {
+            let tj = out.t();
+            let s = &mut self.state;
+            view.sample(&out, s).expect(DENSE_OUTPUT);
             // the joist boxes, and the deck's edge beam once the joint is closed
             let pushed = match &mut self.contacts {
-                Some(c) => c.at(view.assembly, view.workspace, &self.q, &self.v, None),
+                Some(c) => c.at(view.assembly, view.workspace, &s.q, &s.v, None),
                 None => 0.0,
             };
-            let fj = view.assembly.reaction_sum(view.workspace, tj, &self.q, &self.l, &self.boxes, self.deck_body)[0]
+            let fj = view.assembly.reaction_sum(view.workspace, tj, &s.q, &s.lambda, &self.boxes, self.deck_body)[0]
                 + pushed;
-            self.gaps.check(tj, &self.q, self.q[self.deck], self.monitor.as_mut());
+            self.gaps.check(tj, &s.q, s.q[self.deck], self.monitor.as_mut());
             self.t.push(tj);
-            self.u.push(self.q[self.deck]);
+            self.u.push(s.q[self.deck]);
             self.f.push(fj);
             for (i, coords) in self.beams.iter().enumerate() {
                 for (c, &(index, reference)) in coords.iter().enumerate() {
-                    self.center_beams[c][i].push(self.q[index] - reference);
+                    self.center_beams[c][i].push(s.q[index] - reference);
                 }
             }
         }
@@ -374,7 +372,6 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
     }
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
     let deck = asm.coordinate(model.deck, Coord::X).ok_or_else(|| ModelError::Geometry("deck has no x".into()))?;
-    let (n, m) = (asm.coordinates(), asm.equations());
     let geo = model.geometry.as_ref().ok_or_else(|| ModelError::Geometry("the service case needs the joint".into()))?;
     let coord =
         |b, c| asm.coordinate(b, c).ok_or_else(|| ModelError::Geometry("a center beam lacks a coordinate".into()));
@@ -397,14 +394,15 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
         center_beams: [vec![Vec::new(); nb], vec![Vec::new(); nb], vec![Vec::new(); nb]],
         deck_body: model.deck,
         boxes: model.joist_boxes.clone(),
-        dt: period / 1000.0,
-        next: 0,
+        outputs: OutputTimes::uniform(0.0, period / 1000.0).map_err(|e| ModelError::Invalid {
+            field: "service".into(),
+            value: period.to_string(),
+            reason: e.to_string(),
+        })?,
         t: Vec::new(),
         u: Vec::new(),
         f: Vec::new(),
-        q: vec![0.0; n],
-        v: vec![0.0; n],
-        l: vec![0.0; m],
+        state: StateBuffer::new(&asm),
     };
     let start = Instant::now();
     let mut sim = Radau5::new(asm, integrator_options(config))?;

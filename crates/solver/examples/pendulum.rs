@@ -10,22 +10,28 @@ use std::sync::Arc;
 use quakejoint_solver::reference::pendulum;
 use quakejoint_solver::*;
 
+/// The times the bob passes the bottom (x = 0), located on the dense output.
 struct Bottom {
     x: usize,
-    last: f64,
+    tracker: RootTracker,
+    state: StateBuffer,
     times: Vec<f64>,
+    error: Option<DenseOutputError>,
 }
 
 impl Observer for Bottom {
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
-        let x = view.q[self.x];
-        if x.signum() != self.last.signum() {
-            // linear interpolation is enough for a printout
-            let t = view.t_prev + (view.t - view.t_prev) * self.last / (self.last - x);
-            self.times.push(t);
+        let x = self.x;
+        loop {
+            match self.tracker.next(view, &mut self.state, |s| s.q[x]) {
+                Ok(Some(root)) => self.times.push(root.t),
+                Ok(None) => return true,
+                Err(e) => {
+                    self.error = Some(e);
+                    return false;
+                }
+            }
         }
-        self.last = x;
-        true
     }
 }
 
@@ -33,9 +39,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (sys, bob) = pendulum(1.0, 1.0, 9.81, PI / 2.0);
     let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default())?);
     let x = asm.coordinate(bob, Coord::X).ok_or("bob has no x")?;
-    let mut sim = Radau5::new(asm, IntegratorOptions::default())?;
-    let mut obs = Bottom { x, last: 1.0, times: Vec::new() };
+    let mut sim = Radau5::new(asm.clone(), IntegratorOptions::default())?;
+    let mut tracker = RootTracker::new(1e-12)?;
+    tracker.start(0.0, sim.positions()[x]);
+    let mut obs = Bottom { x, tracker, state: StateBuffer::new(&asm), times: Vec::new(), error: None };
     sim.run(10.0, &mut obs)?;
+    if let Some(e) = obs.error {
+        return Err(e.into());
+    }
     let n = obs.times.len();
     let period = 2.0 * (obs.times[n - 1] - obs.times[0]) / (n - 1) as f64;
     // K(1/sqrt 2) by the arithmetic-geometric mean

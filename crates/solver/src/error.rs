@@ -1,9 +1,10 @@
 //! Typed errors of the solver crate.
 //!
 //! Nothing in this crate panics on user input or on a singular matrix: model
-//! building returns [`BuildError`], linear algebra returns [`LinalgError`] and
+//! building returns [`BuildError`], linear algebra returns [`LinalgError`],
 //! time integration returns [`SolverError`], which carries the time and the
-//! cause of a failure.
+//! cause of a failure, and a request the dense output cannot answer returns
+//! [`DenseOutputError`].
 
 use thiserror::Error;
 
@@ -177,5 +178,44 @@ pub enum SolverError {
         t_end: f64,
         /// Current time.
         t: f64,
+    },
+}
+
+/// A request that the dense output of a step cannot answer
+/// ([`crate::StepView::interpolate`], [`crate::OutputTimes`],
+/// [`crate::RootTracker`]).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum DenseOutputError {
+    /// The time lies outside the step (by more than a few units in the last
+    /// place of its ends): the collocation polynomial would be extrapolated.
+    #[error("t = {t} s lies outside the step from {start} s to {end} s")]
+    OutsideStep {
+        /// The requested time \[s\].
+        t: f64,
+        /// Start of the step \[s\].
+        start: f64,
+        /// End of the step \[s\].
+        end: f64,
+    },
+    /// A slice to be written has the wrong length.
+    #[error("{what} has {len} entries, the system has {expected}")]
+    WrongLength {
+        /// Which slice (`q`, `v` or `lambda`).
+        what: &'static str,
+        /// Its length.
+        len: usize,
+        /// The number of coordinates (`q`, `v`) or constraint equations (`lambda`).
+        expected: usize,
+    },
+    /// An argument is out of its range (a tolerance, a time step, a list of
+    /// times that does not increase).
+    #[error("{name} = {value} is invalid ({reason})")]
+    InvalidArgument {
+        /// The argument.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+        /// Why it is refused.
+        reason: &'static str,
     },
 }

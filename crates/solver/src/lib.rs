@@ -23,6 +23,12 @@
 //! assert!(sim.energy().relative_error() < 1e-6);
 //! ```
 //!
+//! An [`Observer`] sees every accepted step as a [`StepView`] with its dense
+//! output: the state at any time within the step, at requested times
+//! ([`OutputTimes`]) and the zeros of functions of the state
+//! ([`RootTracker`]); see [`integrator::dense`] and `docs/solver.md`,
+//! "Using the library".
+//!
 //! The crate is layered: [`model`] is what the user describes,
 //! [`assembly`] what the solver linearises (kernels with analytic
 //! derivatives scattered into a fixed sparse pattern), [`linalg`] the sparse
@@ -44,11 +50,20 @@ pub mod model;
 pub mod reference;
 pub mod timefn;
 
+// The code of docs/solver.md ("Using the library") is compiled and run with
+// the doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/solver.md")]
+struct SolverGuide;
+
 pub use assembly::{Assembly, AssemblyOptions, ContactValue, ForceExtremes, JacobianValues, Powers, Workspace};
-pub use error::{BuildError, LinalgError, SolverError, StepFailure};
+pub use error::{BuildError, DenseOutputError, LinalgError, SolverError, StepFailure};
 pub use integrator::events::{ContactEvent, ContactEventKind};
 pub use integrator::radau5::ConstraintResiduals;
-pub use integrator::{EnergyBalance, IntegratorOptions, JacobianMode, NoObserver, Observer, Radau5, Stats, StepView};
+pub use integrator::{
+    EnergyBalance, IntegratorOptions, JacobianMode, NoObserver, Observer, OutputTime, OutputTimes, Radau5, Root,
+    RootTracker, StateBuffer, Stats, StepView,
+};
 pub use linalg::block_lu::BlockOrdering;
 pub use linalg::LinearSolver;
 pub use model::body::{Body, BodyId, Coord};

@@ -141,12 +141,23 @@ fn runge_kutta(p: &PoundingOscillator, ag: &[f64]) -> Trace {
     trace
 }
 
-/// The solver's trace at the same times.
+/// The solver's trace at the same times (the dense output at every
+/// millisecond after the start).
 struct Sampler {
     x: usize,
-    next: usize,
+    times: OutputTimes,
+    state: StateBuffer,
     trace: Trace,
     contacts: Vec<ContactValue>,
+}
+
+impl Sampler {
+    /// The trace's entry at a state.
+    fn record(&mut self, asm: &Assembly, ws: &mut Workspace) {
+        asm.contacts(ws, &self.state.q, &self.state.v, &mut self.contacts);
+        self.trace.x.push(self.state.q[self.x]);
+        self.trace.force.push(if self.contacts[0].closed { self.contacts[0].force } else { 0.0 });
+    }
 }
 
 impl Observer for Sampler {
@@ -156,15 +167,9 @@ impl Observer for Sampler {
                 self.trace.onsets.push(e.time);
             }
         }
-        let (n, m) = (view.q.len(), view.lambda.len());
-        let (mut q, mut v, mut l) = (vec![0.0; n], vec![0.0; n], vec![0.0; m]);
-        while self.next as f64 * DT <= view.t + 1e-12 {
-            let t = self.next as f64 * DT;
-            view.interpolate(t, &mut q, &mut v, &mut l);
-            view.assembly.contacts(view.workspace, &q, &v, &mut self.contacts);
-            self.trace.x.push(q[self.x]);
-            self.trace.force.push(if self.contacts[0].closed { self.contacts[0].force } else { 0.0 });
-            self.next += 1;
+        while let Some(t) = self.times.next_in(view) {
+            view.sample(&t, &mut self.state).unwrap();
+            self.record(view.assembly, view.workspace);
         }
         true
     }
@@ -178,8 +183,18 @@ fn compare(law: ContactLaw) {
     let x = asm.coordinate(body, Coord::X).unwrap();
     let options =
         IntegratorOptions { rtol: 1e-9, atol_translation: 1e-12, atol_velocity: 1e-10, ..IntegratorOptions::default() };
-    let mut sim = Radau5::new(asm, options).unwrap();
-    let mut obs = Sampler { x, next: 0, trace: Trace::default(), contacts: vec![ContactValue::default(); 1] };
+    let mut sim = Radau5::new(asm.clone(), options).unwrap();
+    let mut obs = Sampler {
+        x,
+        times: OutputTimes::uniform(0.0, DT).unwrap(),
+        state: StateBuffer::new(&asm),
+        trace: Trace::default(),
+        contacts: vec![ContactValue::default(); 1],
+    };
+    // the first entry: the initial state
+    obs.state.q.copy_from_slice(sim.positions());
+    obs.state.v.copy_from_slice(sim.velocities());
+    obs.record(&asm, &mut asm.workspace());
     assert!(sim.run(DURATION, &mut obs).unwrap());
     let solver = obs.trace;
     let reference = runge_kutta(&p, &ag);

@@ -16,34 +16,29 @@ use std::sync::Arc;
 use quakejoint_solver::reference::FrictionOscillator;
 use quakejoint_solver::*;
 
-/// Positions at the turning points (velocity sign changes), on the dense output.
+/// Positions at the turning points (velocity sign changes), located on the
+/// dense output ([`RootTracker`], to 1e-12 s; released from rest, the
+/// velocity's first sign is not a turning point).
 struct TurningPoints {
     x: usize,
-    last_v: f64,
+    tracker: RootTracker,
+    state: StateBuffer,
     extremes: Vec<(f64, f64)>,
+}
+
+impl TurningPoints {
+    fn new(asm: &Assembly, x: usize) -> Self {
+        let mut tracker = RootTracker::new(1e-12).unwrap();
+        tracker.start(0.0, 0.0);
+        Self { x, tracker, state: StateBuffer::new(asm), extremes: Vec::new() }
+    }
 }
 
 impl Observer for TurningPoints {
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
-        let v1 = view.v[self.x];
-        if self.last_v != 0.0 && v1 != 0.0 && v1.signum() != self.last_v.signum() {
-            let (n, m) = (view.q.len(), view.lambda.len());
-            let (mut q, mut v, mut l) = (vec![0.0; n], vec![0.0; n], vec![0.0; m]);
-            let (mut a, mut b) = (view.t_prev, view.t);
-            for _ in 0..60 {
-                let c = 0.5 * (a + b);
-                view.interpolate(c, &mut q, &mut v, &mut l);
-                if v[self.x].signum() == self.last_v.signum() {
-                    a = c;
-                } else {
-                    b = c;
-                }
-            }
-            view.interpolate(0.5 * (a + b), &mut q, &mut v, &mut l);
-            self.extremes.push((0.5 * (a + b), q[self.x]));
-        }
-        if v1 != 0.0 {
-            self.last_v = v1;
+        let x = self.x;
+        while let Some(root) = self.tracker.next(view, &mut self.state, |s| s.v[x]).unwrap() {
+            self.extremes.push((root.t, self.state.q[x]));
         }
         true
     }
@@ -71,8 +66,8 @@ fn turning_point_errors(v_eps: f64) -> (f64, f64) {
     let (sys, body) = oscillator.on_coordinate();
     let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
     let x = asm.coordinate(body, Coord::X).unwrap();
-    let mut sim = Radau5::new(asm, IntegratorOptions::default().scaled_tolerances(1e-2)).unwrap();
-    let mut obs = TurningPoints { x, last_v: -1.0, extremes: Vec::new() };
+    let mut sim = Radau5::new(asm.clone(), IntegratorOptions::default().scaled_tolerances(1e-2)).unwrap();
+    let mut obs = TurningPoints::new(&asm, x);
     // stop just after the last turning point, before the regularised creep
     sim.run(1.6, &mut obs).unwrap();
     let expected = den_hartog(x0, f / k);
@@ -124,7 +119,7 @@ fn prismatic_slider_with_local_friction_solve_follows_den_hartog() {
     for local_friction in [true, false] {
         let opts = IntegratorOptions { local_friction, ..IntegratorOptions::default().scaled_tolerances(1e-2) };
         let mut sim = Radau5::new(asm.clone(), opts).unwrap();
-        let mut obs = TurningPoints { x, last_v: -1.0, extremes: Vec::new() };
+        let mut obs = TurningPoints::new(&asm, x);
         sim.run(1.6, &mut obs).unwrap();
         assert!(obs.extremes.len() >= 5, "turning points {:?}", obs.extremes);
         let worst = expected.iter().zip(&obs.extremes).map(|(e, got)| (got.1 - e).abs()).fold(0.0, f64::max);

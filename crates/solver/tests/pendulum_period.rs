@@ -27,32 +27,20 @@ fn elliptic_k(k: f64) -> f64 {
 }
 
 /// Records the times at which the bob passes the bottom (x = 0), located on
-/// the dense output by bisection.
+/// the dense output ([`RootTracker`], to 1e-12 s).
 struct Crossings {
     x: usize,
+    tracker: RootTracker,
+    state: StateBuffer,
     times: Vec<f64>,
-    last_x: f64,
 }
 
 impl Observer for Crossings {
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
-        let x1 = view.q[self.x];
-        if self.last_x != 0.0 && x1.signum() != self.last_x.signum() {
-            let (n, m) = (view.q.len(), view.lambda.len());
-            let (mut q, mut v, mut l) = (vec![0.0; n], vec![0.0; n], vec![0.0; m]);
-            let (mut a, mut b) = (view.t_prev, view.t);
-            for _ in 0..60 {
-                let c = 0.5 * (a + b);
-                view.interpolate(c, &mut q, &mut v, &mut l);
-                if q[self.x].signum() == self.last_x.signum() {
-                    a = c;
-                } else {
-                    b = c;
-                }
-            }
-            self.times.push(0.5 * (a + b));
+        let x = self.x;
+        while let Some(root) = self.tracker.next(view, &mut self.state, |s| s.q[x]).unwrap() {
+            self.times.push(root.t);
         }
-        self.last_x = x1;
         true
     }
 }
@@ -69,8 +57,10 @@ fn run(options: IntegratorOptions) -> (Outcome, f64) {
     let (sys, bob) = pendulum(m, l, g, PI / 2.0);
     let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
     let x = asm.coordinate(bob, Coord::X).unwrap();
-    let mut sim = Radau5::new(asm, options).unwrap();
-    let mut obs = Crossings { x, times: Vec::new(), last_x: 1.0 };
+    let mut sim = Radau5::new(asm.clone(), options).unwrap();
+    let mut tracker = RootTracker::new(1e-12).unwrap();
+    tracker.start(0.0, sim.positions()[x]);
+    let mut obs = Crossings { x, tracker, state: StateBuffer::new(&asm), times: Vec::new() };
     sim.run(10.0, &mut obs).unwrap();
     let inertia = sys.body(bob).inertia;
     let l_eq = l + inertia / (m * l);

@@ -10,8 +10,11 @@
 //! driven by a local error estimate, the stages satisfying the constraints at
 //! velocity level, every accepted state projected onto `g = 0` and
 //! `G v + g_t = 0`, and sliding friction solved locally inside the Newton
-//! iteration (`local_friction`).
+//! iteration (`local_friction`). An [`Observer`] sees every accepted step
+//! with its dense output ([`dense`]: the state at requested times, zeros of
+//! functions of the state).
 
+pub mod dense;
 pub mod events;
 mod local_friction;
 pub mod radau5;
@@ -20,6 +23,7 @@ use crate::assembly::{Assembly, Workspace};
 use crate::error::BuildError;
 use crate::linalg::LinearSolver;
 
+pub use dense::{OutputTime, OutputTimes, Root, RootTracker, StateBuffer};
 pub use radau5::Radau5;
 
 /// How the Jacobian is obtained.
@@ -304,7 +308,11 @@ impl Observer for NoObserver {
     }
 }
 
-/// The last accepted step, with dense output over it.
+/// The last accepted step, with dense output over it: the state at any time
+/// within the step ([`StepView::interpolate`], [`StepView::state_at`]), at
+/// requested times ([`OutputTimes`], [`StepView::sample`]) and the zeros of a
+/// function of the state ([`StepView::locate_root`], [`RootTracker`]); see
+/// [`dense`].
 pub struct StepView<'a> {
     /// Start of the step [s].
     pub t_prev: f64,
@@ -323,12 +331,4 @@ pub struct StepView<'a> {
     /// Contact onsets and releases at `t` (the end of this step).
     pub events: &'a [events::ContactEvent],
     pub(crate) dense: radau5::DenseRef<'a>,
-}
-
-impl StepView<'_> {
-    /// Positions, velocities and multipliers at `t` in `[t_prev, t]` from the
-    /// collocation polynomial of the step.
-    pub fn interpolate(&self, t: f64, q: &mut [f64], v: &mut [f64], lambda: &mut [f64]) {
-        self.dense.eval(t, q, v, lambda);
-    }
 }
