@@ -24,18 +24,18 @@ pub struct Pounding {
     /// Impacts: contact onsets at [`IMPACT_SPEED`] or faster, all beam ends
     /// counted.
     pub impacts: u64,
-    /// Largest force of one contact (one beam end) [N].
+    /// Largest force of one contact (one beam end) \[N\].
     pub peak_contact_force: f64,
     /// Where it acted (None without impacts).
     pub peak_contact_place: Option<ContactPlace>,
-    /// When [s].
+    /// When \[s\].
     pub peak_contact_time: f64,
-    /// Energy dissipated by the contacts [J] (inside the energy balance).
+    /// Energy dissipated by the contacts \[J\] (inside the energy balance).
     pub contact_energy: f64,
     /// Largest force of the closed joint on the deck through the deck's
-    /// edge beam [N].
+    /// edge beam \[N\].
     pub peak_deck_contact_force: f64,
-    /// Deepest penetration of a contact [m].
+    /// Deepest penetration of a contact \[m\].
     pub max_penetration: f64,
 }
 
@@ -71,7 +71,7 @@ impl Pounding {
 /// One impact: a contact's onset.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Impact {
-    /// When [s].
+    /// When \[s\].
     pub time: f64,
     /// Where.
     pub place: ContactPlace,

@@ -63,16 +63,16 @@ pub struct FarSegment {
     pub omega: f64,
     /// Peak absolute acceleration of its deck [m/s^2].
     pub sa: f64,
-    /// Time of `sa` [s].
+    /// Time of `sa` \[s\].
     pub t_sa: f64,
-    /// Peak displacement of its deck relative to the ground [m].
+    /// Peak displacement of its deck relative to the ground \[m\].
     pub sd: f64,
-    /// Peak force of the joint on it [N].
+    /// Peak force of the joint on it \[N\].
     pub peak_joint_force: f64,
     /// Its Sa without the joint: the exact linear response to the record
     /// over the run's window [m/s^2].
     pub sa_without: f64,
-    /// Largest relative displacement of the two decks, |u - u_far| [m].
+    /// Largest relative displacement of the two decks, |u - u_far| \[m\].
     pub max_relative_displacement: f64,
 }
 
@@ -83,13 +83,13 @@ pub struct Transverse {
     pub omega: f64,
     /// Peak absolute acceleration of the deck across the bridge [m/s^2].
     pub sa: f64,
-    /// Time of `sa` [s].
+    /// Time of `sa` \[s\].
     pub t_sa: f64,
-    /// Peak deck displacement across the bridge relative to the ground [m].
+    /// Peak deck displacement across the bridge relative to the ground \[m\].
     pub sd: f64,
     /// Peak deck velocity across the bridge relative to the ground [m/s].
     pub sv: f64,
-    /// Peak force of the joint on the deck across the bridge [N].
+    /// Peak force of the joint on the deck across the bridge \[N\].
     pub peak_joint_force: f64,
     /// Sa across the bridge without the joint: the exact linear response of
     /// the transverse oscillator to `[record_y]` over the run's window
@@ -104,37 +104,37 @@ pub struct RunResult {
     pub omega: f64,
     /// Peak absolute acceleration of the deck [m/s^2].
     pub sa: f64,
-    /// Time of `sa` [s].
+    /// Time of `sa` \[s\].
     pub t_sa: f64,
     /// Pseudo-spectral acceleration `w0^2 Sd` [m/s^2].
     pub psa: f64,
-    /// Peak deck displacement relative to the ground [m].
+    /// Peak deck displacement relative to the ground \[m\].
     pub sd: f64,
-    /// Time of `sd` [s].
+    /// Time of `sd` \[s\].
     pub t_sd: f64,
     /// Peak deck velocity relative to the ground [m/s].
     pub sv: f64,
-    /// Time of `sv` [s].
+    /// Time of `sv` \[s\].
     pub t_sv: f64,
-    /// Peak force of the joint on the deck [N].
+    /// Peak force of the joint on the deck \[N\].
     pub peak_joint_force: f64,
-    /// Peak bushing force [N].
+    /// Peak bushing force \[N\].
     pub peak_bushing_force: f64,
-    /// Peak friction force of one bearing [N].
+    /// Peak friction force of one bearing \[N\].
     pub peak_friction_force: f64,
-    /// Energy dissipated by friction [J].
+    /// Energy dissipated by friction \[J\].
     pub friction_energy: f64,
-    /// Energy dissipated by dampers (bridge and bushings) [J].
+    /// Energy dissipated by dampers (bridge and bushings) \[J\].
     pub damping_energy: f64,
-    /// Work of the earthquake load on the whole system [J].
+    /// Work of the earthquake load on the whole system \[J\].
     pub earthquake_work: f64,
-    /// Smallest clear sub-gap [m] (below zero: the beams would collide),
+    /// Smallest clear sub-gap \[m\] (below zero: the beams would collide),
     /// at either end of the center beams ([`crate::geometry::Geometry::subgaps`]), checked
     /// at least every [`CHECK_INTERVAL`].
     pub min_subgap: Option<f64>,
-    /// Largest clear sub-gap [m], at either end of the center beams.
+    /// Largest clear sub-gap \[m\], at either end of the center beams.
     pub max_subgap: Option<f64>,
-    /// Largest deviation of a sub-gap (at either end) from equal spacing [m].
+    /// Largest deviation of a sub-gap (at either end) from equal spacing \[m\].
     pub max_subgap_deviation: Option<f64>,
     /// Pounding: impacts, contact forces, the closed joint's force on the
     /// deck, contact dissipation.
@@ -157,12 +157,12 @@ pub struct RunResult {
     pub exact_linear: bool,
     /// Solver counters.
     pub stats: Stats,
-    /// Wall-clock time of the integration [s].
+    /// Wall-clock time of the integration \[s\].
     pub wall_time_s: f64,
-    /// CPU time of the integration on its thread [s] (NaN where the system
+    /// CPU time of the integration on its thread \[s\] (NaN where the system
     /// does not tell).
     pub cpu_time_s: f64,
-    /// Simulated duration [s].
+    /// Simulated duration \[s\].
     pub duration: f64,
     /// Time histories, if requested.
     pub histories: Option<Histories>,
@@ -235,7 +235,7 @@ fn series(record: &Record) -> Result<TimeSeries, ModelError> {
     Ok(TimeSeries::uniform(0.0, record.dt, record.acceleration.clone())?)
 }
 
-/// The simulated duration of a run [s]: `simulation.duration`, else the
+/// The simulated duration of a run \[s\]: `simulation.duration`, else the
 /// record's duration plus `simulation.extra_time`.
 pub fn run_duration(config: &Config, record_x: &Record) -> f64 {
     config.simulation.duration.unwrap_or(record_x.duration() + config.simulation.extra_time)
@@ -390,7 +390,7 @@ pub fn simulate_records(
 }
 
 /// Longest interval between two checks of the sub-gaps and the validity
-/// limits [s]: 5 ms, the time step of most records; a beam closing a sub-gap
+/// limits \[s\]: 5 ms, the time step of most records; a beam closing a sub-gap
 /// at 1 m/s moves 5 mm in it.
 pub const CHECK_INTERVAL: f64 = 0.005;
 

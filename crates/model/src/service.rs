@@ -43,19 +43,19 @@ use crate::watch::Gaps;
 /// Results of a service run (SI units).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ServiceResult {
-    /// Period of one opening-closing cycle [s].
+    /// Period of one opening-closing cycle \[s\].
     pub period: f64,
     /// Number of cycles run.
     pub cycles: u32,
-    /// Energy dissipated by friction during the last cycle [J].
+    /// Energy dissipated by friction during the last cycle \[J\].
     pub friction_work_per_cycle: f64,
     /// Work done by the deck on the joint during the last cycle, the area of
-    /// the hysteresis loop `-closed integral F_joint du` [J].
+    /// the hysteresis loop `-closed integral F_joint du` \[J\].
     pub loop_work_per_cycle: f64,
-    /// The hand calculation of the friction work per cycle, rigid bushings [J].
+    /// The hand calculation of the friction work per cycle, rigid bushings \[J\].
     pub hand_calculation: f64,
     /// The expected loss of friction work per cycle from the bushings'
-    /// compliance, closed form ([`compliance_deficit`]) [J]; None when a
+    /// compliance, closed form ([`compliance_deficit`]) \[J\]; None when a
     /// center beam's position is not fixed by its bearings.
     pub compliance_deficit: Option<f64>,
     /// What the comparison with the hand calculation means, when it needs
@@ -65,28 +65,28 @@ pub struct ServiceResult {
     /// x, y and angle of each center beam at the output times, from their
     /// reference positions, `[beam][time]` [m, m, rad].
     pub center_beams: [Vec<Vec<f64>>; 3],
-    /// Energy dissipated by the bushings' dampers during the last cycle [J]
+    /// Energy dissipated by the bushings' dampers during the last cycle \[J\]
     /// (with the friction work, what the loop area should equal).
     pub damping_work_per_cycle: f64,
-    /// Energy dissipated by impacts between beams during the last cycle [J]
+    /// Energy dissipated by impacts between beams during the last cycle \[J\]
     /// (0 unless a sub-gap closes).
     pub contact_work_per_cycle: f64,
     /// Smallest and largest clear sub-gap over the run, at either end of
-    /// the center beams [m].
+    /// the center beams \[m\].
     pub min_subgap: f64,
-    /// Largest clear sub-gap [m].
+    /// Largest clear sub-gap \[m\].
     pub max_subgap: f64,
     /// Whether the run stayed inside what the model can stand behind
     /// (collision, bearing off its support, joist pulled out, energy
     /// balance), as for an earthquake run.
     pub validity: Validity,
-    /// Largest force of the joint on the deck [N].
+    /// Largest force of the joint on the deck \[N\].
     pub peak_joint_force: f64,
-    /// Output times [s].
+    /// Output times \[s\].
     pub t: Vec<f64>,
-    /// Deck opening at the output times [m].
+    /// Deck opening at the output times \[m\].
     pub u: Vec<f64>,
-    /// Force of the joint on the deck (x) at the output times [N].
+    /// Force of the joint on the deck (x) at the output times \[N\].
     pub joint_force: Vec<f64>,
     /// Energy-balance error relative to the work put in [-].
     pub energy_error: f64,
@@ -94,7 +94,7 @@ pub struct ServiceResult {
     pub residuals: quakejoint_solver::ConstraintResiduals,
     /// Solver counters.
     pub stats: Stats,
-    /// Wall-clock time [s].
+    /// Wall-clock time \[s\].
     pub wall_time_s: f64,
 }
 
@@ -104,7 +104,7 @@ pub fn opening(config: &Config) -> Result<SmoothTriangle, ModelError> {
     Ok(SmoothTriangle::new(s.amplitude, s.speed, s.blend)?)
 }
 
-/// Friction work per cycle by hand (see the module documentation) [J].
+/// Friction work per cycle by hand (see the module documentation) \[J\].
 pub fn hand_friction_work_per_cycle(config: &Config) -> Result<f64, ModelError> {
     let geo = Geometry::new(config)?;
     let f = &config.joint.friction;
@@ -155,7 +155,7 @@ fn solve3(mut m: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
 
 /// The loss of friction work per cycle that the bushings' compliance causes
 /// against the rigid-bushing hand calculation, in closed form (see the
-/// module documentation) [J]; None when a center beam is not held by its
+/// module documentation) \[J\]; None when a center beam is not held by its
 /// bearings (a singular 3 x 3 system, or a bushing without stiffness).
 pub fn compliance_deficit(config: &Config) -> Result<Option<f64>, ModelError> {
     let geo = Geometry::new(config)?;

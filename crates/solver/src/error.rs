@@ -143,9 +143,9 @@ pub enum SolverError {
     /// The integration stopped at time `time`.
     #[error("integration failed at t = {time:.6} s after {attempts} attempts (last step {h:.3e} s): {cause}")]
     StepFailed {
-        /// Time of the last accepted state [s].
+        /// Time of the last accepted state \[s\].
         time: f64,
-        /// Step size of the last attempt [s].
+        /// Step size of the last attempt \[s\].
         h: f64,
         /// Number of consecutive failed attempts.
         attempts: u32,
@@ -157,15 +157,15 @@ pub enum SolverError {
     StepLimit {
         /// The limit.
         limit: u64,
-        /// Time reached [s].
+        /// Time reached \[s\].
         time: f64,
     },
     /// The wall-clock limit in the options was reached.
     #[error("time limit of {limit_s} s wall clock reached at t = {time:.6} s")]
     WallClockLimit {
-        /// The limit [s].
+        /// The limit \[s\].
         limit_s: f64,
-        /// Simulated time reached [s].
+        /// Simulated time reached \[s\].
         time: f64,
     },
     /// The consistent initial state could not be computed.

@@ -6,7 +6,7 @@
 //! the block factorisation and solves, the local friction solve, the
 //! simplified Newton iteration, the error estimate, the accepted step's
 //! energy quadrature and projection, the peak forces) are compiled twice,
-//! once for the baseline and once with AVX2 enabled, and [`run`] picks one
+//! once for the baseline and once with AVX2 enabled, and `run` picks one
 //! per call from what the processor reports. On the reference run the AVX2
 //! version is about 7 % faster (`QUAKEJOINT_SIMD` below;
 //! `docs/performance.md`, "Hot loops on slices").

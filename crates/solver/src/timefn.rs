@@ -58,7 +58,7 @@ impl TimeSeries {
         self
     }
 
-    /// Sample times [s].
+    /// Sample times \[s\].
     pub fn times(&self) -> &[f64] {
         &self.times
     }
@@ -68,7 +68,7 @@ impl TimeSeries {
         &self.values
     }
 
-    /// Time of the last sample [s].
+    /// Time of the last sample \[s\].
     pub fn end_time(&self) -> f64 {
         *self.times.last().expect("non-empty by construction")
     }
@@ -180,7 +180,7 @@ pub enum TimeFunction {
         amplitude: f64,
         /// Circular frequency [rad/s].
         omega: f64,
-        /// Phase [rad].
+        /// Phase \[rad\].
         phase: f64,
         /// Constant offset.
         offset: f64,
@@ -203,7 +203,7 @@ pub struct SmoothTriangle {
     pub amplitude: f64,
     /// Speed of the straight parts [unit/s].
     pub speed: f64,
-    /// Width of the rounding window [s]; must be shorter than a straight part.
+    /// Width of the rounding window \[s\]; must be shorter than a straight part.
     pub blend: f64,
 }
 
@@ -232,7 +232,7 @@ impl SmoothTriangle {
         self.amplitude + self.speed * self.blend / 4.0
     }
 
-    /// Period of the wave [s].
+    /// Period of the wave \[s\].
     pub fn period(&self) -> f64 {
         4.0 * self.corner() / self.speed
     }

@@ -32,7 +32,7 @@ use crate::assembly::{Assembly, ContactValue, Workspace};
 pub struct ContactEvent {
     /// The contact (in the order the system added them).
     pub contact: usize,
-    /// When [s].
+    /// When \[s\].
     pub time: f64,
     /// Closing or opening.
     pub kind: ContactEventKind,
@@ -47,11 +47,11 @@ pub enum ContactEventKind {
         /// Approach speed [m/s].
         speed: f64,
     },
-    /// The contact opened with penetration `penetration` [m] (zero, or
+    /// The contact opened with penetration `penetration` \[m\] (zero, or
     /// positive when its force reached zero first) and speed `speed` [m/s]
     /// (negative: separating).
     Release {
-        /// Penetration at release [m].
+        /// Penetration at release \[m\].
         penetration: f64,
         /// Rate of penetration at release [m/s].
         speed: f64,

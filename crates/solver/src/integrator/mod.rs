@@ -48,19 +48,19 @@ pub enum JacobianMode {
 pub struct IntegratorOptions {
     /// Relative tolerance [-].
     pub rtol: f64,
-    /// Absolute tolerance of translations [m].
+    /// Absolute tolerance of translations \[m\].
     pub atol_translation: f64,
-    /// Absolute tolerance of rotations [rad].
+    /// Absolute tolerance of rotations \[rad\].
     pub atol_rotation: f64,
     /// Absolute tolerance of translational velocities [m/s].
     pub atol_velocity: f64,
     /// Absolute tolerance of angular velocities [rad/s].
     pub atol_angular_velocity: f64,
-    /// First step size tried [s].
+    /// First step size tried \[s\].
     pub h_initial: f64,
-    /// Largest step size [s].
+    /// Largest step size \[s\].
     pub h_max: f64,
-    /// Smallest step size before the run is abandoned [s].
+    /// Smallest step size before the run is abandoned \[s\].
     pub h_min: f64,
     /// Largest number of steps (accepted and rejected) per run.
     pub max_steps: u64,
@@ -84,7 +84,7 @@ pub struct IntegratorOptions {
     pub initial_tolerance: f64,
     /// Consecutive failed attempts at one time before the run ends.
     pub max_failures: u32,
-    /// Wall-clock limit of a run [s] (None: no limit).
+    /// Wall-clock limit of a run \[s\] (None: no limit).
     pub max_wall_time: Option<f64>,
     /// Sparse LU used for the iteration matrices.
     pub linear_solver: LinearSolver,
@@ -215,7 +215,7 @@ pub struct Stats {
     pub event_retries: u64,
 }
 
-/// Running energy balance of a run [J].
+/// Running energy balance of a run \[J\].
 ///
 /// `error = (T + V) - (T0 + V0) + damping + friction + contact - applied - base - constraints`
 /// is zero for the exact solution.
@@ -314,9 +314,9 @@ impl Observer for NoObserver {
 /// function of the state ([`StepView::locate_root`], [`RootTracker`]); see
 /// [`dense`].
 pub struct StepView<'a> {
-    /// Start of the step [s].
+    /// Start of the step \[s\].
     pub t_prev: f64,
-    /// End of the step [s].
+    /// End of the step \[s\].
     pub t: f64,
     /// Positions at `t`.
     pub q: &'a [f64],

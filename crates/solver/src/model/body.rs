@@ -22,11 +22,11 @@ impl BodyId {
 /// One of the three planar coordinates of a body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Coord {
-    /// x of the centre of mass [m].
+    /// x of the centre of mass \[m\].
     X = 0,
-    /// y of the centre of mass [m].
+    /// y of the centre of mass \[m\].
     Y = 1,
-    /// Rotation about the vertical axis, counter-clockwise [rad].
+    /// Rotation about the vertical axis, counter-clockwise \[rad\].
     Phi = 2,
 }
 
@@ -54,11 +54,11 @@ impl Coord {
 pub struct Body {
     /// Name used in messages and reports.
     pub name: String,
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
     /// Moment of inertia about the vertical axis through the centre of mass [kg m^2].
     pub inertia: f64,
-    /// Initial pose (x [m], y [m], phi [rad]).
+    /// Initial pose (x \[m\], y \[m\], phi \[rad\]).
     pub pose: [f64; 3],
     /// Initial velocity (vx [m/s], vy [m/s], omega [rad/s]).
     pub velocity: [f64; 3],

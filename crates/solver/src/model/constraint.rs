@@ -21,11 +21,11 @@ impl ConstraintId {
 pub struct Revolute {
     /// First body.
     pub body_a: BodyId,
-    /// Joint point on `body_a`, in its frame [m].
+    /// Joint point on `body_a`, in its frame \[m\].
     pub point_a: [f64; 2],
     /// Second body (may be the ground).
     pub body_b: BodyId,
-    /// Joint point on `body_b`, in its frame [m] (world point for the ground).
+    /// Joint point on `body_b`, in its frame \[m\] (world point for the ground).
     pub point_b: [f64; 2],
 }
 
@@ -37,11 +37,11 @@ pub struct Revolute {
 pub struct Prismatic {
     /// The sliding body.
     pub slider: BodyId,
-    /// Point of the slider that stays on the axis, in its frame [m].
+    /// Point of the slider that stays on the axis, in its frame \[m\].
     pub point: [f64; 2],
     /// The body carrying the axis (may be the ground).
     pub base: BodyId,
-    /// A point of the axis, in the base frame [m].
+    /// A point of the axis, in the base frame \[m\].
     pub axis_point: [f64; 2],
     /// Direction of the axis, in the base frame (need not be unit length).
     pub axis_direction: [f64; 2],
@@ -54,11 +54,11 @@ pub struct Prismatic {
 pub struct PointOnLine {
     /// Body carrying the point.
     pub body: BodyId,
-    /// The point, in the frame of `body` [m].
+    /// The point, in the frame of `body` \[m\].
     pub point: [f64; 2],
     /// Body carrying the line (may be the ground).
     pub line_body: BodyId,
-    /// A point of the line, in the frame of `line_body` [m].
+    /// A point of the line, in the frame of `line_body` \[m\].
     pub line_point: [f64; 2],
     /// Direction of the line, in the frame of `line_body`.
     pub line_direction: [f64; 2],
@@ -70,11 +70,11 @@ pub struct PointOnLine {
 pub struct Weld {
     /// First body.
     pub body_a: BodyId,
-    /// Reference point on `body_a`, in its frame [m].
+    /// Reference point on `body_a`, in its frame \[m\].
     pub point_a: [f64; 2],
     /// Second body (may be the ground).
     pub body_b: BodyId,
-    /// The coinciding point on `body_b`, in its frame [m].
+    /// The coinciding point on `body_b`, in its frame \[m\].
     pub point_b: [f64; 2],
 }
 

@@ -9,7 +9,7 @@ use crate::model::force::{Contact, ContactLaw, CoordinateSpring, Excitation, For
 use crate::model::system::System;
 use crate::timefn::TimeSeries;
 
-/// Half the width of the bodies of these problems [m]: their faces are
+/// Half the width of the bodies of these problems \[m\]: their faces are
 /// this far from their centres.
 pub const HALF_WIDTH: f64 = 0.05;
 
@@ -30,15 +30,15 @@ fn faces(a: BodyId, b: BodyId, law: ContactLaw) -> ForceElement {
 /// `gap` apart at t = 0, meeting through one contact.
 #[derive(Debug, Clone, Copy)]
 pub struct HeadOn {
-    /// Mass of `a` [kg].
+    /// Mass of `a` \[kg\].
     pub mass_a: f64,
-    /// Mass of `b` [kg].
+    /// Mass of `b` \[kg\].
     pub mass_b: f64,
     /// Velocity of `a` [m/s] (toward `b` when above `speed_b`).
     pub speed_a: f64,
     /// Velocity of `b` [m/s].
     pub speed_b: f64,
-    /// Clear distance between the faces at t = 0 [m].
+    /// Clear distance between the faces at t = 0 \[m\].
     pub gap: f64,
     /// The contact law.
     pub law: ContactLaw,
@@ -63,7 +63,7 @@ impl HeadOn {
         (sys, a, b)
     }
 
-    /// Reduced mass `m_a m_b / (m_a + m_b)` [kg].
+    /// Reduced mass `m_a m_b / (m_a + m_b)` \[kg\].
     pub fn reduced_mass(&self) -> f64 {
         self.mass_a * self.mass_b / (self.mass_a + self.mass_b)
     }
@@ -79,13 +79,13 @@ impl HeadOn {
 /// moves in +x: a deck pounding against an abutment.
 #[derive(Debug, Clone, Copy)]
 pub struct PoundingOscillator {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
-    /// Natural period [s].
+    /// Natural period \[s\].
     pub period: f64,
     /// Damping ratio [-].
     pub damping: f64,
-    /// Clear distance to the stop at rest [m].
+    /// Clear distance to the stop at rest \[m\].
     pub gap: f64,
     /// The contact law.
     pub law: ContactLaw,
@@ -126,9 +126,9 @@ impl PoundingOscillator {
 pub struct Cradle {
     /// Number of bodies.
     pub bodies: usize,
-    /// Mass of each [kg].
+    /// Mass of each \[kg\].
     pub mass: f64,
-    /// Clear distance between neighbours at t = 0 [m].
+    /// Clear distance between neighbours at t = 0 \[m\].
     pub gap: f64,
     /// Speed of the first body [m/s].
     pub speed: f64,

@@ -13,8 +13,8 @@ use crate::model::force::{
 use crate::model::system::System;
 use crate::timefn::{TimeFunction, TimeSeries};
 
-/// Simple pendulum: a point-like body of `mass` [kg] on a massless link of
-/// `length` [m] pivoting at the origin, released from rest at `angle0` [rad]
+/// Simple pendulum: a point-like body of `mass` \[kg\] on a massless link of
+/// `length` \[m\] pivoting at the origin, released from rest at `angle0` \[rad\]
 /// from the downward vertical (pi/2 is horizontal), under gravity `g`
 /// [m/s^2] in -y.
 pub fn pendulum(mass: f64, length: f64, g: f64, angle0: f64) -> (System, BodyId) {
@@ -37,7 +37,7 @@ pub fn pendulum(mass: f64, length: f64, g: f64, angle0: f64) -> (System, BodyId)
 }
 
 /// Linear single-DOF oscillator: a body of `mass` moving in x only, on a
-/// spring and damper to the ground with natural period `period` [s] and
+/// spring and damper to the ground with natural period `period` \[s\] and
 /// damping ratio `zeta`, under base acceleration `ground` [m/s^2].
 pub fn sdof(mass: f64, period: f64, zeta: f64, ground: TimeSeries) -> (System, BodyId) {
     let w = 2.0 * std::f64::consts::PI / period;
@@ -55,20 +55,20 @@ pub fn sdof(mass: f64, period: f64, zeta: f64, ground: TimeSeries) -> (System, B
 }
 
 /// Mass on a spring with regularised Coulomb friction against the ground,
-/// released from rest at `x0` [m] (free vibration).
+/// released from rest at `x0` \[m\] (free vibration).
 #[derive(Debug, Clone, Copy)]
 pub struct FrictionOscillator {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
     /// Spring stiffness [N/m].
     pub stiffness: f64,
-    /// Coulomb friction force mu N [N].
+    /// Coulomb friction force mu N \[N\].
     pub friction_force: f64,
     /// Regularisation velocity [m/s].
     pub v_eps: f64,
     /// Friction law.
     pub law: FrictionLaw,
-    /// Initial position [m].
+    /// Initial position \[m\].
     pub x0: f64,
 }
 
