@@ -13,50 +13,15 @@
 
 use std::sync::Arc;
 
+use quakejoint_solver::reference::closed_form::{den_hartog_turning_points, SignChanges, Watch};
 use quakejoint_solver::reference::FrictionOscillator;
 use quakejoint_solver::*;
 
-/// Positions at the turning points (velocity sign changes), located on the
-/// dense output ([`RootTracker`], to 1e-12 s; released from rest, the
-/// velocity's first sign is not a turning point).
-struct TurningPoints {
-    x: usize,
-    tracker: RootTracker,
-    state: StateBuffer,
-    extremes: Vec<(f64, f64)>,
-}
-
-impl TurningPoints {
-    fn new(asm: &Assembly, x: usize) -> Self {
-        let mut tracker = RootTracker::new(1e-12).unwrap();
-        tracker.start(0.0, 0.0);
-        Self { x, tracker, state: StateBuffer::new(asm), extremes: Vec::new() }
-    }
-}
-
-impl Observer for TurningPoints {
-    fn step(&mut self, view: &mut StepView<'_>) -> bool {
-        let x = self.x;
-        while let Some(root) = self.tracker.next(view, &mut self.state, |s| s.v[x]).unwrap() {
-            self.extremes.push((root.t, self.state.q[x]));
-        }
-        true
-    }
-}
-
-/// Den Hartog's turning points from `x0` until the stop.
-fn den_hartog(x0: f64, f_over_k: f64) -> Vec<f64> {
-    let mut out = Vec::new();
-    let mut x = x0;
-    loop {
-        let next = -(x.abs() - 2.0 * f_over_k) * x.signum();
-        if x.abs() <= f_over_k {
-            break;
-        }
-        out.push(next);
-        x = next;
-    }
-    out
+/// The turning points: where the velocity changes sign, located on the
+/// dense output to 1e-12 s (released from rest, the velocity's first sign
+/// is not a turning point), with the position there.
+fn turning_points(asm: &Assembly, x: usize) -> SignChanges {
+    SignChanges::new(asm, Watch::Velocity(x), x, (0.0, 0.0), 1e-12).unwrap()
 }
 
 fn turning_point_errors(v_eps: f64) -> (f64, f64) {
@@ -67,21 +32,22 @@ fn turning_point_errors(v_eps: f64) -> (f64, f64) {
     let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
     let x = asm.coordinate(body, Coord::X).unwrap();
     let mut sim = Radau5::new(asm.clone(), IntegratorOptions::default().scaled_tolerances(1e-2)).unwrap();
-    let mut obs = TurningPoints::new(&asm, x);
+    let mut obs = turning_points(&asm, x);
     // stop just after the last turning point, before the regularised creep
     sim.run(1.6, &mut obs).unwrap();
-    let expected = den_hartog(x0, f / k);
+    assert!(obs.error.is_none(), "dense output: {:?}", obs.error);
+    let expected = den_hartog_turning_points(x0, f / k);
     assert_eq!(expected.len(), 5);
-    assert!(obs.extremes.len() >= 5, "turning points {:?}", obs.extremes);
+    assert!(obs.found.len() >= 5, "turning points {:?}", obs.found);
     let mut worst = 0.0f64;
-    for (e, got) in expected.iter().zip(&obs.extremes) {
+    for (e, got) in expected.iter().zip(&obs.found) {
         worst = worst.max((got.1 - e).abs());
     }
     // smallest acceleration at a turning point: (k |x| - F)/m at the last one
     let a_min = (k * 0.025 - f) / m;
     let allowed = 2.0 * v_eps * v_eps / a_min + 1e-6 * v_eps.sqrt();
     eprintln!("v_eps {v_eps:e}: worst turning-point error {worst:.2e} m (allowed {allowed:.2e})");
-    assert!(worst < allowed, "v_eps {v_eps}: error {worst:e} > {allowed:e}; got {:?}", obs.extremes);
+    assert!(worst < allowed, "v_eps {v_eps}: error {worst:e} > {allowed:e}; got {:?}", obs.found);
     // energy: friction work equals the spring energy lost (plus kinetic now)
     let e = sim.energy();
     assert!(e.relative_error() < 1e-5, "energy balance {:e}", e.relative_error());
@@ -114,17 +80,18 @@ fn prismatic_slider_with_local_friction_solve_follows_den_hartog() {
     let (sys, body) = oscillator.on_prismatic();
     let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
     let x = asm.coordinate(body, Coord::X).unwrap();
-    let expected = den_hartog(x0, f / k);
+    let expected = den_hartog_turning_points(x0, f / k);
     let mut failed = Vec::new();
     for local_friction in [true, false] {
         let opts = IntegratorOptions { local_friction, ..IntegratorOptions::default().scaled_tolerances(1e-2) };
         let mut sim = Radau5::new(asm.clone(), opts).unwrap();
-        let mut obs = TurningPoints::new(&asm, x);
+        let mut obs = turning_points(&asm, x);
         sim.run(1.6, &mut obs).unwrap();
-        assert!(obs.extremes.len() >= 5, "turning points {:?}", obs.extremes);
-        let worst = expected.iter().zip(&obs.extremes).map(|(e, got)| (got.1 - e).abs()).fold(0.0, f64::max);
+        assert!(obs.error.is_none(), "dense output: {:?}", obs.error);
+        assert!(obs.found.len() >= 5, "turning points {:?}", obs.found);
+        let worst = expected.iter().zip(&obs.found).map(|(e, got)| (got.1 - e).abs()).fold(0.0, f64::max);
         let allowed = 2.0 * v_eps * v_eps / (k * 0.025 - f) * m + 1e-6 * v_eps.sqrt();
-        assert!(worst < allowed, "local {local_friction}: error {worst:e} > {allowed:e}; got {:?}", obs.extremes);
+        assert!(worst < allowed, "local {local_friction}: error {worst:e} > {allowed:e}; got {:?}", obs.found);
         assert!(sim.energy().relative_error() < 1e-5, "energy balance {:e}", sim.energy().relative_error());
         eprintln!("local friction solve {local_friction}: worst turning-point error {worst:.2e} m, {:?}", sim.stats());
         failed.push(sim.stats().failed_attempts);

@@ -3,7 +3,7 @@
 //! A 1 kg point-like bob on a 1 m massless link under g = 9.81 m/s^2,
 //! released from rest at 90 degrees. Its exact period is
 //! `T = 4 sqrt(L/g) K(sin(theta0/2))` with `K` the complete elliptic integral
-//! of the first kind (computed here by the arithmetic-geometric mean), about
+//! of the first kind (`reference::closed_form::pendulum_period`), about
 //! 18 % longer than the small-angle `2 pi sqrt(L/g)`. The bob's tiny own
 //! inertia lengthens the equivalent length by `I/(m L)`, accounted for.
 //! The motion is conservative, so kinetic plus potential energy must stay
@@ -12,38 +12,9 @@
 use std::f64::consts::PI;
 use std::sync::Arc;
 
+use quakejoint_solver::reference::closed_form::{pendulum_period, SignChanges, Watch};
 use quakejoint_solver::reference::pendulum;
 use quakejoint_solver::*;
-
-/// Complete elliptic integral of the first kind K(k) by the AGM.
-fn elliptic_k(k: f64) -> f64 {
-    let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
-    for _ in 0..40 {
-        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
-        a = an;
-        b = bn;
-    }
-    PI / (2.0 * a)
-}
-
-/// Records the times at which the bob passes the bottom (x = 0), located on
-/// the dense output ([`RootTracker`], to 1e-12 s).
-struct Crossings {
-    x: usize,
-    tracker: RootTracker,
-    state: StateBuffer,
-    times: Vec<f64>,
-}
-
-impl Observer for Crossings {
-    fn step(&mut self, view: &mut StepView<'_>) -> bool {
-        let x = self.x;
-        while let Some(root) = self.tracker.next(view, &mut self.state, |s| s.q[x]).unwrap() {
-            self.times.push(root.t);
-        }
-        true
-    }
-}
 
 struct Outcome {
     crossings: Vec<f64>,
@@ -58,15 +29,15 @@ fn run(options: IntegratorOptions) -> (Outcome, f64) {
     let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
     let x = asm.coordinate(bob, Coord::X).unwrap();
     let mut sim = Radau5::new(asm.clone(), options).unwrap();
-    let mut tracker = RootTracker::new(1e-12).unwrap();
-    tracker.start(0.0, sim.positions()[x]);
-    let mut obs = Crossings { x, tracker, state: StateBuffer::new(&asm), times: Vec::new() };
+    // the bob passes the bottom where x = 0, located on the dense output
+    let mut obs = SignChanges::new(&asm, Watch::Position(x), x, (0.0, sim.positions()[x]), 1e-12).unwrap();
     sim.run(10.0, &mut obs).unwrap();
+    assert!(obs.error.is_none(), "dense output: {:?}", obs.error);
     let inertia = sys.body(bob).inertia;
     let l_eq = l + inertia / (m * l);
-    let exact = 4.0 * (l_eq / g).sqrt() * elliptic_k((PI / 4.0).sin());
+    let exact = pendulum_period(l_eq, g, PI / 2.0);
     let outcome = Outcome {
-        crossings: obs.times,
+        crossings: obs.times(),
         energy_error: sim.energy().relative_error(),
         residuals: sim.max_constraint_residuals(),
         steps: sim.stats().steps,

@@ -39,8 +39,8 @@ impl Band {
     /// In words: `relative 1e-6`, `absolute 1e-9`.
     pub fn describe(self) -> String {
         match self {
-            Band::Relative(x) => format!("relative {x:.0e}"),
-            Band::Absolute(x) => format!("absolute {x:.0e}"),
+            Band::Relative(x) => format!("relative {x:e}"),
+            Band::Absolute(x) => format!("absolute {x:e}"),
         }
     }
 }
@@ -97,6 +97,11 @@ fn shown(x: f64) -> String {
     }
 }
 
+/// Text for a markdown table cell: its `|` escaped.
+fn cell(text: &str) -> String {
+    text.replace('|', "\\|")
+}
+
 /// The table of `docs/verification.md`: one row per problem with its
 /// outcome (`outcomes[i]` of `PROBLEMS[i]`).
 pub fn manual_table(outcomes: &[Result<Outcome, String>]) -> String {
@@ -112,10 +117,10 @@ pub fn manual_table(outcomes: &[Result<Outcome, String>]) -> String {
         t += &format!(
             "| `{}`: {} | {} | {} | {} | {} | {computed} | {reference} | {error} | `{}` |\n",
             p.id,
-            p.title,
+            cell(p.title),
             p.layer,
-            p.source,
-            p.quantity,
+            cell(p.source),
+            cell(p.quantity),
             p.band.describe(),
             p.command()
         );

@@ -5,8 +5,12 @@ use std::path::Path;
 use std::sync::Arc;
 
 use quakejoint_motion::{load_record, peaks, RecordSpec, SpectrumOptions};
+use quakejoint_solver::reference::closed_form::{self, SignChanges, Watch};
 use quakejoint_solver::reference::contact::HeadOn;
-use quakejoint_solver::{Assembly, AssemblyOptions, ContactLaw, Coord, IntegratorOptions, NoObserver, Radau5};
+use quakejoint_solver::reference::{self, FrictionOscillator};
+use quakejoint_solver::{
+    Assembly, AssemblyOptions, ContactLaw, Coord, FrictionLaw, IntegratorOptions, NoObserver, Radau5,
+};
 
 use super::{Band, Outcome, Problem};
 use crate::run::RunOptions;
@@ -15,6 +19,24 @@ use crate::Config;
 
 /// Every reference problem, in the order of the manual.
 pub const PROBLEMS: &[Problem] = &[
+    Problem {
+        id: "pendulum-period",
+        layer: "solver",
+        title: "a 1 kg bob on a 1 m link (revolute joint) released from horizontal under g = 9.81 m/s^2, for 10 s",
+        source: "closed form: T = 4 sqrt(L/g) K(sin(theta0/2)), K the complete elliptic integral of the first kind (Abramowitz and Stegun 17.6), L lengthened by the bob's own inertia I/(m L)",
+        quantity: "period from the bottom crossings located on the dense output [s]",
+        band: Band::Relative(1e-6),
+        run: pendulum_period,
+    },
+    Problem {
+        id: "coulomb-turning-points",
+        layer: "solver",
+        title: "a 1 kg mass on a 100 N/m spring with 1 N of friction (regularised below 1 mm/s), released at 0.105 m",
+        source: "closed form: each half cycle loses 2 F/k of amplitude and the mass stops at the first turning point with |x| <= F/k (Den Hartog 1931); the regularisation shifts a turning point by about v_eps^2/a",
+        quantity: "position where the mass stops, its fifth turning point located on the dense output [m]",
+        band: Band::Absolute(1.5e-6),
+        run: coulomb_turning_points,
+    },
     Problem {
         id: "head-on-linear-contact",
         layer: "solver",
@@ -73,6 +95,51 @@ pub const PROBLEMS: &[Problem] = &[
 
 fn config(root: &Path, name: &str) -> Result<Config, String> {
     Config::from_file(&root.join("configs").join(name)).map_err(|e| e.to_string())
+}
+
+fn pendulum_period(_root: &Path) -> Result<Outcome, String> {
+    let (length, mass, g, angle0) = (1.0, 1.0, 9.81, PI / 2.0);
+    let (sys, bob) = reference::pendulum(mass, length, g, angle0);
+    let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).map_err(|e| e.to_string())?);
+    let x = asm.coordinate(bob, Coord::X).ok_or("no x of the bob")?;
+    let mut sim = Radau5::new(asm.clone(), IntegratorOptions::default()).map_err(|e| e.to_string())?;
+    let mut bottom =
+        SignChanges::new(&asm, Watch::Position(x), x, (0.0, sim.positions()[x]), 1e-12).map_err(|e| e.to_string())?;
+    sim.run(10.0, &mut bottom).map_err(|e| e.to_string())?;
+    if let Some(e) = bottom.error {
+        return Err(e.to_string());
+    }
+    let times = bottom.times();
+    if times.len() < 2 {
+        return Err(format!("the bob passed the bottom {} times in 10 s", times.len()));
+    }
+    // crossings every half period
+    let computed = 2.0 * (times[times.len() - 1] - times[0]) / (times.len() - 1) as f64;
+    let equivalent = length + sys.body(bob).inertia / (mass * length);
+    Ok(Outcome { computed, reference: closed_form::pendulum_period(equivalent, g, angle0) })
+}
+
+fn coulomb_turning_points(_root: &Path) -> Result<Outcome, String> {
+    let (stiffness, friction_force, x0) = (100.0, 1.0, 0.105);
+    let oscillator =
+        FrictionOscillator { mass: 1.0, stiffness, friction_force, v_eps: 1e-3, law: FrictionLaw::Linear, x0 };
+    let (sys, body) = oscillator.on_coordinate();
+    let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).map_err(|e| e.to_string())?);
+    let x = asm.coordinate(body, Coord::X).ok_or("no x of the mass")?;
+    let options = IntegratorOptions::default().scaled_tolerances(1e-2);
+    let mut sim = Radau5::new(asm.clone(), options).map_err(|e| e.to_string())?;
+    // released from rest: the velocity's first sign is not a turning point
+    let mut turning = SignChanges::new(&asm, Watch::Velocity(x), x, (0.0, 0.0), 1e-12).map_err(|e| e.to_string())?;
+    // until just after the stop, before the regularised law's creep
+    sim.run(1.6, &mut turning).map_err(|e| e.to_string())?;
+    if let Some(e) = turning.error {
+        return Err(e.to_string());
+    }
+    let expected = closed_form::den_hartog_turning_points(x0, friction_force / stiffness);
+    let (Some(&reference), Some(found)) = (expected.last(), turning.found.get(expected.len() - 1)) else {
+        return Err(format!("{} turning points found, {} expected", turning.found.len(), expected.len()));
+    };
+    Ok(Outcome { computed: found.1, reference })
 }
 
 fn head_on_linear_contact(_root: &Path) -> Result<Outcome, String> {

@@ -345,4 +345,5 @@ pub fn element_zoo() -> System {
     sys
 }
 
+pub mod closed_form;
 pub mod contact;
