@@ -160,6 +160,7 @@ impl ForceKernel for BushingK {
     }
 
     /// `1/2 d_l^T diag(kx, ky) d_l` [J].
+    #[inline]
     fn potential(&self, at: &At, _i: usize) -> f64 {
         let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
