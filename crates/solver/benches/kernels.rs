@@ -9,6 +9,7 @@ use std::hint::black_box;
 use std::sync::Arc;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use quakejoint_solver::integrator::radau5::{form_complex, form_real};
 use quakejoint_solver::linalg::scalar::Complex64;
 use quakejoint_solver::linalg::{FaerCache, KktSolver, LinearSolver};
 use quakejoint_solver::reference::chain;
@@ -61,20 +62,20 @@ fn kernels(c: &mut Criterion) {
         let mut real = KktSolver::<f64>::new(sym, LinearSolver::Block);
         group.bench_with_input(BenchmarkId::new("factor_real", n), &n, |b, _| {
             b.iter(|| {
-                real.factor(sym, &mut cache, &|out: &mut [f64]| asm.form_real(3.64 / h, &jac, out), &desc).unwrap()
+                real.factor(sym, &mut cache, &|out: &mut [f64]| form_real(asm, 3.64 / h, &jac, out), &desc).unwrap()
             })
         });
         let mut faer = KktSolver::<f64>::new(sym, LinearSolver::Faer);
         group.bench_with_input(BenchmarkId::new("factor_real_faer_colamd", n), &n, |b, _| {
             b.iter(|| {
-                faer.factor(sym, &mut cache, &|out: &mut [f64]| asm.form_real(3.64 / h, &jac, out), &desc).unwrap()
+                faer.factor(sym, &mut cache, &|out: &mut [f64]| form_real(asm, 3.64 / h, &jac, out), &desc).unwrap()
             })
         });
         let cz = Complex64::new(2.68 / h, 3.05 / h);
         let mut cplx = KktSolver::<Complex64>::new(sym, LinearSolver::Block);
         group.bench_with_input(BenchmarkId::new("factor_complex", n), &n, |b, _| {
             b.iter(|| {
-                cplx.factor(sym, &mut cache, &|out: &mut [Complex64]| asm.form_complex(cz, &jac, out), &desc).unwrap()
+                cplx.factor(sym, &mut cache, &|out: &mut [Complex64]| form_complex(asm, cz, &jac, out), &desc).unwrap()
             })
         });
         // the right-hand side is restored before every solve (solving in

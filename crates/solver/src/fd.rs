@@ -103,48 +103,20 @@ fn pattern(asm: &Assembly) -> ColumnPattern {
     let n = asm.coordinates();
     let sink = asm.layout.sink();
     let mut rows: Vec<Vec<(u32, u32)>> = vec![Vec::new(); n];
-    let mut add = |f: &[u32; 6], pos: &[u32; 36]| {
+    for (row, col, p) in asm.element_entries() {
+        rows[col as usize].push((row, p));
+    }
+    let prims = &asm.prims;
+    let maps = prims.points.iter().map(|x| &x.1).chain(prims.lines.iter().map(|x| &x.1));
+    for m in maps.chain(prims.angles.iter().map(|x| &x.1)).chain(prims.drivers.iter().map(|x| &x.1)) {
         for i in 0..6 {
             for j in 0..6 {
-                let p = pos[i * 6 + j];
-                if f[i] < n as u32 && f[j] < n as u32 && p != sink {
-                    rows[f[j] as usize].push((f[i], p));
+                let p = m.h[i * 6 + j];
+                if m.f[i] < n as u32 && m.f[j] < n as u32 && p != sink {
+                    rows[m.f[j] as usize].push((m.f[i], p));
                 }
             }
         }
-    };
-    for (_, m) in &asm.bushings {
-        add(&m.f, &m.jac);
-    }
-    for (_, m) in &asm.frictions {
-        add(&m.f, &m.jac);
-    }
-    for (_, m) in &asm.springs {
-        add(&m.f, &m.jac);
-    }
-    for (_, m) in &asm.loads {
-        add(&m.f, &m.jac);
-    }
-    for (_, m) in &asm.customs {
-        add(&m.f, &m.jac);
-    }
-    for (_, m) in &asm.contacts {
-        add(&m.f, &m.jac);
-    }
-    for (_, m) in &asm.points {
-        add(&m.f, &m.h);
-    }
-    for (_, m) in &asm.lines {
-        add(&m.f, &m.h);
-    }
-    for (_, m) in &asm.angles {
-        add(&m.f, &m.h);
-    }
-    for (_, m) in &asm.drivers {
-        add(&m.f, &m.h);
-    }
-    for (_, c, p) in &asm.coord_springs {
-        rows[*c as usize].push((*c, *p));
     }
     for (c, &p) in asm.mass_pos.iter().enumerate() {
         rows[c].push((c as u32, p));

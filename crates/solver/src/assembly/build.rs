@@ -2,12 +2,15 @@
 
 use std::collections::BTreeSet;
 
-use super::constraints::{AngleK, DriverK, LineK, PointK};
+use super::constraints::{AngleK, DriverK, LineK, PointK, PrimRef, Primitive, Primitives};
 use super::contact::{ContactK, LawK};
-use super::forces::{BushingK, CoordSpringK, CustomK, FrictionK, LoadK, SpringK};
-use super::kin::{Rot, V2};
+use super::element::{ForceElements, ForceKernel, KindVisitor, ResidualOrder};
+use super::forces::{BushingK, CoordSpringK, CustomK, LoadK, SpringK};
+use super::friction::FrictionK;
+use super::kin::{BodyStatic, Rot, V2};
 use super::layout::{EquationSpec, Layout, NONE};
-use super::{Assembly, BodyStatic, GEntry, PairMap, PrimMap, PrimRef};
+use super::maps::{CoordMap, GEntry, PairMap, PrimMap, Scatter};
+use super::Assembly;
 use crate::error::BuildError;
 use crate::linalg::block_lu::BlockOrdering;
 use crate::model::constraint::Constraint;
@@ -32,10 +35,10 @@ enum Prim {
 impl Prim {
     fn bodies(&self) -> (u32, u32) {
         match self {
-            Prim::Point(k) => (k.a, k.b),
-            Prim::Angle(k) => (k.a, k.b),
-            Prim::Line(k) => (k.a, k.b),
-            Prim::Driver(k) => (k.a, 0),
+            Prim::Point(k) => k.bodies(),
+            Prim::Angle(k) => k.bodies(),
+            Prim::Line(k) => k.bodies(),
+            Prim::Driver(k) => k.bodies(),
         }
     }
 
@@ -210,18 +213,9 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         coord_mass: layout.coord_body.iter().map(|&(b, s)| bodies[b as usize].slot_mass(s as usize)).collect(),
         coord_tolerance_scale: layout.coord_body.iter().map(|&(b, _)| bodies[b as usize].tolerance_scale).collect(),
         mass_pos: (0..layout.n).map(|c| layout.entry(layout.unknown_of_coord[c], layout.unknown_of_coord[c])).collect(),
-        bushings: Vec::new(),
-        frictions: Vec::new(),
-        springs: Vec::new(),
-        coord_springs: Vec::new(),
-        loads: Vec::new(),
-        customs: Vec::new(),
-        contacts: Vec::new(),
+        elements: ForceElements::default(),
         contact_bodies: Vec::new(),
-        points: Vec::new(),
-        angles: Vec::new(),
-        lines: Vec::new(),
-        drivers: Vec::new(),
+        prims: Primitives::default(),
         g_entries: Vec::new(),
         eq_mref: Vec::new(),
         eq_angular: vec![false; layout.eq_coord.len()],
@@ -243,7 +237,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         let (a, b) = f.bodies();
         let (a, b) = (a.index() as u32, b.index() as u32);
         match f {
-            ForceElement::Bushing(e) => asm.bushings.push((
+            ForceElement::Bushing(e) => asm.elements.bushings.push((
                 BushingK {
                     a,
                     b,
@@ -255,11 +249,11 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
                 },
                 pair(a, b),
             )),
-            ForceElement::Friction(e) => asm.frictions.push((
+            ForceElement::Friction(e) => asm.elements.frictions.push((
                 FrictionK { a, b, pa: V2::from(e.point), force: e.sliding_force(), v_eps: e.v_eps, law: e.law },
                 pair(a, b),
             )),
-            ForceElement::SpringDamper(e) => asm.springs.push((
+            ForceElement::SpringDamper(e) => asm.elements.springs.push((
                 SpringK {
                     a,
                     b,
@@ -274,17 +268,16 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
             ForceElement::CoordinateSpring(e) => {
                 let c = layout.body_coord[a as usize][e.coord.slot()];
                 let u = layout.unknown_of_coord[c as usize];
-                asm.coord_springs.push((
+                asm.elements.coord_springs.push((
                     CoordSpringK { body: a, slot: e.coord.slot() as u8, k: e.stiffness, c: e.damping, rest: e.rest },
-                    c,
-                    layout.entry(u, u),
+                    CoordMap { f: c, jac: layout.entry(u, u) },
                 ));
             }
-            ForceElement::AppliedLoad(e) => asm.loads.push((
+            ForceElement::AppliedLoad(e) => asm.elements.loads.push((
                 LoadK { a, pa: V2::from(e.point), fx: e.fx.clone(), fy: e.fy.clone(), torque: e.torque.clone() },
                 pair(a, 0),
             )),
-            ForceElement::Custom(e) => asm.customs.push((CustomK { a, b, law: e.clone() }, pair(a, b))),
+            ForceElement::Custom(e) => asm.elements.customs.push((CustomK { a, b, law: e.clone() }, pair(a, b))),
             ForceElement::Contact(e) => {
                 // reduced mass of the two bodies (the ground counts as infinite)
                 let mass = |i: u32| if i == 0 { f64::INFINITY } else { bodies[i as usize].mass };
@@ -296,7 +289,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
                 } else {
                     ma * mb / (ma + mb)
                 };
-                asm.contacts.push((
+                asm.elements.contacts.push((
                     ContactK {
                         a,
                         b,
@@ -311,7 +304,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         }
     }
     let touched: BTreeSet<usize> =
-        asm.contacts.iter().flat_map(|(k, _)| [k.a as usize, k.b as usize]).filter(|&b| b != 0).collect();
+        asm.elements.contacts.iter().flat_map(|(k, _)| [k.a as usize, k.b as usize]).filter(|&b| b != 0).collect();
     asm.contact_bodies = touched.into_iter().collect();
 
     let mut eq = 0u32;
@@ -353,20 +346,20 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         eq += p.rows() as u32;
         let r = match p {
             Prim::Point(k) => {
-                asm.points.push((k, map));
-                PrimRef::Point(asm.points.len() as u32 - 1)
+                asm.prims.points.push((k, map));
+                PrimRef::Point(asm.prims.points.len() as u32 - 1)
             }
             Prim::Angle(k) => {
-                asm.angles.push((k, map));
-                PrimRef::Angle(asm.angles.len() as u32 - 1)
+                asm.prims.angles.push((k, map));
+                PrimRef::Angle(asm.prims.angles.len() as u32 - 1)
             }
             Prim::Line(k) => {
-                asm.lines.push((k, map));
-                PrimRef::Line(asm.lines.len() as u32 - 1)
+                asm.prims.lines.push((k, map));
+                PrimRef::Line(asm.prims.lines.len() as u32 - 1)
             }
             Prim::Driver(k) => {
-                asm.drivers.push((k, map));
-                PrimRef::Driver(asm.drivers.len() as u32 - 1)
+                asm.prims.drivers.push((k, map));
+                PrimRef::Driver(asm.prims.drivers.len() as u32 - 1)
             }
         };
         asm.constraint_prims[ci].push(r);
@@ -403,21 +396,10 @@ fn structural_nnz(asm: &Assembly) -> usize {
 
 /// The positions written by any element or constraint, sorted.
 pub(super) fn structural_positions(asm: &Assembly) -> BTreeSet<u32> {
-    let sink = asm.layout.sink();
     let mut set: BTreeSet<u32> = asm.mass_pos.iter().copied().collect();
-    let maps = asm
-        .bushings
-        .iter()
-        .map(|x| &x.1)
-        .chain(asm.frictions.iter().map(|x| &x.1))
-        .chain(asm.springs.iter().map(|x| &x.1))
-        .chain(asm.loads.iter().map(|x| &x.1))
-        .chain(asm.customs.iter().map(|x| &x.1))
-        .chain(asm.contacts.iter().map(|x| &x.1));
-    for m in maps {
-        set.extend(m.jac.iter().copied().filter(|&p| p != sink));
-    }
-    for m in asm.points.iter().map(|x| &x.1).chain(asm.lines.iter().map(|x| &x.1)) {
+    set.extend(asm.element_entries().into_iter().map(|(_, _, p)| p));
+    let sink = asm.layout.sink();
+    for m in asm.prims.points.iter().map(|x| &x.1).chain(asm.prims.lines.iter().map(|x| &x.1)) {
         set.extend(m.h.iter().copied().filter(|&p| p != sink));
     }
     for e in &asm.g_entries {
@@ -429,29 +411,42 @@ pub(super) fn structural_positions(asm: &Assembly) -> BTreeSet<u32> {
 
 /// Distinct (row, column, position) entries of the damping matrix.
 fn damping_entries(asm: &Assembly) -> Vec<(u32, u32, u32)> {
-    let n = asm.layout.n as u32;
-    let mut set = BTreeSet::new();
-    let maps = asm
-        .bushings
-        .iter()
-        .map(|x| &x.1)
-        .chain(asm.frictions.iter().map(|x| &x.1))
-        .chain(asm.springs.iter().map(|x| &x.1))
-        .chain(asm.customs.iter().map(|x| &x.1))
-        .chain(asm.contacts.iter().map(|x| &x.1));
-    for m in maps {
-        for i in 0..6 {
-            for j in 0..6 {
-                if m.f[i] < n && m.f[j] < n {
-                    set.insert((m.jac[i * 6 + j], m.f[i], m.f[j]));
-                }
-            }
+    let mut entries = Entries { n: asm.layout.n as u32, damping_only: true, out: BTreeSet::new() };
+    asm.elements.visit::<ResidualOrder, _>(&mut entries);
+    entries.out.into_iter().map(|(p, r, c)| (r, c, p)).collect()
+}
+
+impl Assembly {
+    /// The entries of the force elements' blocks between free coordinates,
+    /// as distinct (row coordinate, column coordinate, position in the
+    /// Jacobian arrays).
+    pub(crate) fn element_entries(&self) -> Vec<(u32, u32, u32)> {
+        let mut entries = Entries { n: self.layout.n as u32, damping_only: false, out: BTreeSet::new() };
+        self.elements.visit::<ResidualOrder, _>(&mut entries);
+        entries.out.into_iter().map(|(p, r, c)| (r, c, p)).collect()
+    }
+}
+
+/// Collects the (position, row, column) entries of the elements' blocks
+/// between free coordinates; with `damping_only`, of those with a damping
+/// block.
+struct Entries {
+    n: u32,
+    damping_only: bool,
+    out: BTreeSet<(u32, u32, u32)>,
+}
+
+impl KindVisitor for Entries {
+    fn visit<K: ForceKernel>(&mut self, elements: &[(K, K::Map)]) {
+        if self.damping_only && !K::DAMPING {
+            return;
+        }
+        for (_, map) in elements {
+            map.for_each_entry(self.n, |r, c, p| {
+                self.out.insert((p, r, c));
+            });
         }
     }
-    for (_, c, p) in &asm.coord_springs {
-        set.insert((*p, *c, *c));
-    }
-    set.into_iter().map(|(p, r, c)| (r, c, p)).collect()
 }
 
 #[cfg(test)]

@@ -21,7 +21,9 @@
 //! `delta` (`sign(delta) |delta|^1.5` for Hertz): the mode changes only at
 //! the integrator's events, so within a step the force is smooth.
 
+use super::element::{At, ForceKernel, PeakForce, PowerFlow};
 use super::kin::{BodyKin, Mat6, V2};
+use super::maps::PairMap;
 use crate::model::force::{ContactLaw, HertzDamping, MIN_APPROACH_SPEED};
 
 /// The compiled law.
@@ -123,16 +125,33 @@ impl ContactK {
         let n = g.n;
         [n.x, n.y, g.rho_a.cross(n), -n.x, -n.y, -g.d_b.cross(n)]
     }
+}
+
+impl ForceKernel for ContactK {
+    type Map = PairMap;
+    const DAMPING: bool = true;
+    const STORES_ENERGY: bool = true;
+    const POWER: Option<PowerFlow> = Some(PowerFlow::Contact);
+    const PEAK: Option<PeakForce> = None;
+
+    /// Only while closed (the integrator's mode of the step).
+    #[inline(always)]
+    fn acts(&self, at: &At, i: usize) -> bool {
+        at.closed[i]
+    }
 
     /// Generalised forces of the closed contact.
-    pub fn force(&self, ka: &BodyKin, kb: &BodyKin, v0: f64) -> [f64; 6] {
+    fn force(&self, at: &At, i: usize) -> [f64; 6] {
+        let (ka, kb) = at.pair(self.a, self.b);
         let g = self.gap(ka, kb);
-        let (f, _, _) = self.law.eval(g.delta, g.rate, v0);
+        let (f, _, _) = self.law.eval(g.delta, g.rate, at.v0[i]);
         Self::j(&g).map(|x| f * x)
     }
 
-    /// Stiffness and damping of the closed contact (added into `km`, `dm`).
-    pub fn jacobian(&self, ka: &BodyKin, kb: &BodyKin, v0: f64, km: &mut Mat6, dm: &mut Mat6) {
+    /// Stiffness and damping of the closed contact.
+    fn derivatives(&self, at: &At, i: usize, km: &mut Mat6, dm: &mut Mat6) {
+        let (ka, kb) = at.pair(self.a, self.b);
+        let v0 = at.v0[i];
         let g = self.gap(ka, kb);
         let (f, fd, fv) = self.law.eval(g.delta, g.rate, v0);
         let j = Self::j(&g);
@@ -157,6 +176,19 @@ impl ContactK {
             }
         }
     }
+
+    /// Elastic energy stored at the penetration [J].
+    fn potential(&self, at: &At, _i: usize) -> f64 {
+        let (ka, kb) = at.pair(self.a, self.b);
+        self.law.energy(self.gap(ka, kb).delta)
+    }
+
+    /// Dissipated by the law's damping [W].
+    fn add_power(&self, at: &At, i: usize, _map: &PairMap, acc: &mut f64) {
+        let (ka, kb) = at.pair(self.a, self.b);
+        let g = self.gap(ka, kb);
+        *acc += self.law.dissipation(g.delta, g.rate, at.v0[i]);
+    }
 }
 
 #[cfg(test)]
@@ -164,7 +196,8 @@ mod tests {
     use super::*;
     use crate::assembly::kin::Rot;
 
-    fn kin(z: &[f64], zd: &[f64]) -> (BodyKin, BodyKin) {
+    /// The kinematics of the ground, body 1 (`z[0..3]`) and body 2 (`z[3..6]`).
+    fn kin(z: &[f64], zd: &[f64]) -> [BodyKin; 3] {
         let body = |o: usize| BodyKin {
             r: V2::new(z[o], z[o + 1]),
             phi: z[o + 2],
@@ -172,7 +205,7 @@ mod tests {
             v: V2::new(zd[o], zd[o + 1]),
             w: zd[o + 2],
         };
-        (body(0), body(3))
+        [BodyKin::default(), body(0), body(3)]
     }
 
     /// The kernel's stiffness and damping against central differences of
@@ -183,23 +216,19 @@ mod tests {
         let c = ContactK { a: 1, b: 2, sa: V2::new(0.2, 0.1), sb: V2::new(-0.1, 0.05), nb: V2::new(-0.8, 0.6), law };
         let z = [0.31, 0.18, 0.27, 0.62, -0.09, -0.21];
         let zd = [0.4, -0.3, 0.7, -0.2, 0.5, -0.6];
-        let (ka, kb) = kin(&z, &zd);
+        let force = |z: &[f64], zd: &[f64]| c.force(&At::new(&kin(z, zd), 0.0, &[true], &[0.3]), 0);
         let (mut km, mut dm) = ([[0.0; 6]; 6], [[0.0; 6]; 6]);
-        c.jacobian(&ka, &kb, 0.3, &mut km, &mut dm);
+        c.derivatives(&At::new(&kin(&z, &zd), 0.0, &[true], &[0.3]), 0, &mut km, &mut dm);
         for col in 0..6 {
             let h = 1e-6;
             let (mut zp, mut zm) = (z, z);
             zp[col] += h;
             zm[col] -= h;
-            let (ap, bp) = kin(&zp, &zd);
-            let (am, bm) = kin(&zm, &zd);
-            let (fp, fm) = (c.force(&ap, &bp, 0.3), c.force(&am, &bm, 0.3));
+            let (fp, fm) = (force(&zp, &zd), force(&zm, &zd));
             let (mut vp, mut vm) = (zd, zd);
             vp[col] += h;
             vm[col] -= h;
-            let (ap, bp) = kin(&z, &vp);
-            let (am, bm) = kin(&z, &vm);
-            let (gp, gm) = (c.force(&ap, &bp, 0.3), c.force(&am, &bm, 0.3));
+            let (gp, gm) = (force(&z, &vp), force(&z, &vm));
             for row in 0..6 {
                 let k_fd = -(fp[row] - fm[row]) / (2.0 * h);
                 let d_fd = -(gp[row] - gm[row]) / (2.0 * h);

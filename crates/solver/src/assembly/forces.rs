@@ -4,24 +4,30 @@
 //! `z = (x_a, y_a, phi_a, x_b, y_b, phi_b)` and returns
 //! - the generalised forces `Q(z, z')` (6 values),
 //! - the stiffness `K = -dQ/dz` and damping `D = -dQ/dz'` (6x6 each),
-//! - its stored energy and dissipated power for the energy balance.
+//! - its stored energy and dissipated power for the energy balance,
+//! - the force it transmits (bushings and friction, for the peak forces),
 //!
-//! The derivations are in `docs/solver.md`; every kernel is checked against
-//! central finite differences in the tests of [`crate::fd`].
+//! each through its implementation of [`ForceKernel`]. The derivations are
+//! in `docs/solver.md`; every kernel's derivatives are checked against
+//! central differences of its own force (the tests of
+//! [`super::element`]) and, inside a whole system, against the coloured
+//! differences of [`crate::fd`] (`tests/jacobian_fd.rs`).
 
+use super::element::{At, ForceKernel, PeakForce, PowerFlow};
 use super::kin::{add_btcb, add_btcp, BodyKin, Mat6, Rot, V2};
-use crate::model::force::{BodyState, CustomElement, FrictionLaw};
+use super::maps::{CoordMap, PairMap};
+use crate::model::force::{BodyState, CustomElement};
 use crate::timefn::TimeFunction;
 
 /// Generalised force of a point force `f` at world offset `rho` from the
 /// centre of mass: (fx, fy, rho x f).
 #[inline]
-fn point_force(f: V2, rho: V2) -> [f64; 3] {
+pub(super) fn point_force(f: V2, rho: V2) -> [f64; 3] {
     [f.x, f.y, rho.cross(f)]
 }
 
 #[inline]
-fn put(q: &mut [f64; 6], at: usize, g: [f64; 3]) {
+pub(super) fn put(q: &mut [f64; 6], at: usize, g: [f64; 3]) {
     q[at] += g[0];
     q[at + 1] += g[1];
     q[at + 2] += g[2];
@@ -82,15 +88,6 @@ impl BushingK {
     }
 
     #[inline(always)]
-    pub fn force(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
-        if self.pb == V2::default() {
-            self.force_at::<true>(ka, kb)
-        } else {
-            self.force_at::<false>(ka, kb)
-        }
-    }
-
-    #[inline(always)]
     fn force_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
         let e = self.eval_at::<CENTRED>(ka, kb);
         // total force on b, world frame
@@ -102,8 +99,27 @@ impl BushingK {
         q[2] += e.e_l.cross(e.f_l);
         q
     }
+}
 
-    pub fn jacobian(&self, ka: &BodyKin, kb: &BodyKin, km: &mut Mat6, dm: &mut Mat6) {
+impl ForceKernel for BushingK {
+    type Map = PairMap;
+    const DAMPING: bool = true;
+    const STORES_ENERGY: bool = true;
+    const POWER: Option<PowerFlow> = Some(PowerFlow::Damping);
+    const PEAK: Option<PeakForce> = Some(PeakForce::Bushing);
+
+    #[inline(always)]
+    fn force(&self, at: &At, _i: usize) -> [f64; 6] {
+        let (ka, kb) = at.pair(self.a, self.b);
+        if self.pb == V2::default() {
+            self.force_at::<true>(ka, kb)
+        } else {
+            self.force_at::<false>(ka, kb)
+        }
+    }
+
+    fn derivatives(&self, at: &At, _i: usize, km: &mut Mat6, dm: &mut Mat6) {
+        let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
         let ra = e.rot_a;
         let pa = self.pa;
@@ -143,196 +159,28 @@ impl BushingK {
         let _ = (e.rho_a, e.rho_b);
     }
 
-    pub fn potential(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
+    /// `1/2 d_l^T diag(kx, ky) d_l` [J].
+    #[inline]
+    fn potential(&self, at: &At, _i: usize) -> f64 {
+        let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
         0.5 * (self.k[0] * e.d_l.x * e.d_l.x + self.k[1] * e.d_l.y * e.d_l.y)
     }
 
+    /// Dissipated by the dampers [W] (never negative).
     #[inline(always)]
-    pub fn dissipation(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
+    fn add_power(&self, at: &At, _i: usize, _map: &PairMap, acc: &mut f64) {
+        let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
-        e.c_l.dot(e.dd_l)
+        *acc += e.c_l.dot(e.dd_l);
     }
 
-    /// Square of the bushing force's magnitude [N^2] (the largest of
-    /// several magnitudes is the root of the largest square, bit for bit).
+    /// Square of the bushing force's magnitude, elastic and damping [N^2].
     #[inline(always)]
-    pub fn force_magnitude_squared(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
+    fn reaction_squared(&self, at: &At, _i: usize) -> f64 {
+        let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
         (e.f_l + e.c_l).norm_squared()
-    }
-}
-
-/// Regularised Coulomb friction; body `a` is the slider, `b` the base.
-#[derive(Debug, Clone)]
-pub(crate) struct FrictionK {
-    pub a: u32,
-    pub b: u32,
-    pub pa: V2,
-    /// mu * surfaces * normal force [N].
-    pub force: f64,
-    pub v_eps: f64,
-    pub law: FrictionLaw,
-}
-
-struct FrictionEval {
-    rho: V2,
-    e: V2,
-    f: V2,
-}
-
-impl FrictionK {
-    /// phi(v) of the regularised law (the force is `-force phi`).
-    #[inline(always)]
-    pub(crate) fn phi(&self, v: V2) -> V2 {
-        let speed = v.norm();
-        match self.law {
-            FrictionLaw::Linear => v.scale(1.0 / speed.max(self.v_eps)),
-            FrictionLaw::Smooth => v.scale(1.0 / (speed * speed + self.v_eps * self.v_eps).sqrt()),
-        }
-    }
-
-    /// For a relative velocity with components `a` along a unit direction
-    /// and `b` across it: the component of `phi` along the direction and
-    /// its derivative with respect to `a`.
-    #[inline]
-    pub(crate) fn law_along(&self, a: f64, b: f64) -> (f64, f64) {
-        let speed2 = a * a + b * b;
-        match self.law {
-            FrictionLaw::Linear => {
-                let speed = speed2.sqrt();
-                if speed < self.v_eps {
-                    (a / self.v_eps, 1.0 / self.v_eps)
-                } else {
-                    let s = 1.0 / speed;
-                    (a * s, b * b * s * s * s)
-                }
-            }
-            FrictionLaw::Smooth => {
-                let e2 = self.v_eps * self.v_eps;
-                let s = 1.0 / (speed2 + e2).sqrt();
-                (a * s, (b * b + e2) * s * s * s)
-            }
-        }
-    }
-
-    /// phi(v) and d phi / dv for the regularised law.
-    pub(crate) fn law(&self, v: V2) -> (V2, [[f64; 2]; 2]) {
-        let speed = v.norm();
-        match self.law {
-            FrictionLaw::Linear if speed < self.v_eps => {
-                let s = 1.0 / self.v_eps;
-                (v.scale(s), [[s, 0.0], [0.0, s]])
-            }
-            FrictionLaw::Linear => {
-                let s = 1.0 / speed;
-                let (ux, uy) = (v.x * s, v.y * s);
-                (V2::new(ux, uy), [[s * (1.0 - ux * ux), -s * ux * uy], [-s * ux * uy, s * (1.0 - uy * uy)]])
-            }
-            FrictionLaw::Smooth => {
-                let r = (speed * speed + self.v_eps * self.v_eps).sqrt();
-                let s = 1.0 / r;
-                let s3 = s * s * s;
-                (v.scale(s), [[s - v.x * v.x * s3, -v.x * v.y * s3], [-v.x * v.y * s3, s - v.y * v.y * s3]])
-            }
-        }
-    }
-
-    /// Contact point, relative velocity and force, without the law's slope.
-    #[inline(always)]
-    fn kinematics(&self, ka: &BodyKin, kb: &BodyKin) -> (V2, V2, V2) {
-        if self.pa == V2::default() {
-            self.kinematics_at::<true>(ka, kb)
-        } else {
-            self.kinematics_at::<false>(ka, kb)
-        }
-    }
-
-    /// [`Self::kinematics`]; with `CENTRED` (`pa` is zero, as a bearing's)
-    /// the terms of the offset are left out rather than computed as zeros.
-    #[inline(always)]
-    fn kinematics_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> (V2, V2, V2) {
-        let rho = if CENTRED { V2::default() } else { ka.rot.apply(self.pa) };
-        let e = if CENTRED { ka.r - kb.r } else { ka.r + rho - kb.r };
-        let va = if CENTRED { ka.v } else { ka.v + ka.w * rho.perp() };
-        let v = va - (kb.v + kb.w * e.perp());
-        (rho, e, v)
-    }
-
-    fn eval(&self, ka: &BodyKin, kb: &BodyKin) -> (FrictionEval, [[f64; 2]; 2]) {
-        let (rho, e, v) = self.kinematics(ka, kb);
-        let (phi, dphi) = self.law(v);
-        (FrictionEval { rho, e, f: -(self.force * phi) }, dphi)
-    }
-
-    #[inline(always)]
-    pub fn force(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
-        if self.pa == V2::default() {
-            self.force_at::<true>(ka, kb)
-        } else {
-            self.force_at::<false>(ka, kb)
-        }
-    }
-
-    #[inline(always)]
-    fn force_at<const CENTRED: bool>(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
-        let (rho, e, v) = self.kinematics_at::<CENTRED>(ka, kb);
-        let e = FrictionEval { rho, e, f: -(self.force * self.phi(v)) };
-        let mut q = [0.0; 6];
-        put(&mut q, 0, if CENTRED { [e.f.x, e.f.y, 0.0] } else { point_force(e.f, e.rho) });
-        put(&mut q, 3, point_force(-e.f, e.e));
-        q
-    }
-
-    /// Relative sliding velocity (slider contact point minus base).
-    pub(crate) fn rel_velocity(&self, ka: &BodyKin, kb: &BodyKin) -> V2 {
-        self.kinematics(ka, kb).2
-    }
-
-    /// Derivatives of the friction force. With `zone_slope`, `d phi / dv` is
-    /// replaced by the slope of the law inside its regularisation zone,
-    /// `I / v_eps`, whatever the state (the iteration matrix of the
-    /// integrator; see [`crate::integrator::radau5`]).
-    pub fn jacobian(&self, ka: &BodyKin, kb: &BodyKin, km: &mut Mat6, dm: &mut Mat6, zone_slope: bool) {
-        let (e, dphi) = self.eval(ka, kb);
-        let dphi = if zone_slope { [[1.0 / self.v_eps, 0.0], [0.0, 1.0 / self.v_eps]] } else { dphi };
-        let cf =
-            [[self.force * dphi[0][0], self.force * dphi[0][1]], [self.force * dphi[1][0], self.force * dphi[1][1]]];
-        let ex = V2::new(1.0, 0.0);
-        let ey = V2::new(0.0, 1.0);
-        let b = [ex, ey, e.rho.perp(), -ex, -ey, -e.e.perp()];
-        add_btcb(dm, &b, cf);
-        // -(dB^T/dz) F
-        let f = e.f;
-        let fp = f.perp();
-        km[2][2] -= -e.rho.dot(f);
-        km[5][0] -= fp.x;
-        km[5][1] -= fp.y;
-        km[5][2] -= e.rho.dot(f);
-        km[5][3] -= -fp.x;
-        km[5][4] -= -fp.y;
-        // + B^T Cf P with P = d v_rel / dz
-        let ws = kb.w;
-        let p =
-            [-(ws * ex.perp()), -(ws * ey.perp()), (ws - ka.w) * e.rho, ws * ex.perp(), ws * ey.perp(), V2::default()];
-        add_btcp(km, &b, cf, &p);
-    }
-
-    /// Dissipated power `-F . v_rel` [W] (never negative).
-    /// (`phi` alone: the law's slope is not needed, and `phi` equals the
-    /// first value of [`Self::law`] bit for bit.)
-    #[inline(always)]
-    pub fn dissipation(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
-        let (_, _, v) = self.kinematics(ka, kb);
-        let f = -(self.force * self.phi(v));
-        -f.dot(v)
-    }
-
-    /// Square of the friction force's magnitude [N^2].
-    #[inline(always)]
-    pub fn force_magnitude_squared(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
-        let (_, _, v) = self.kinematics(ka, kb);
-        (-(self.force * self.phi(v))).norm_squared()
     }
 }
 
@@ -370,8 +218,17 @@ impl SpringK {
         let ldot = n.dot(w);
         SpringEval { rho_a, rho_b, n, l, w, ldot, f: self.k * (l - self.l0) + self.c * ldot }
     }
+}
 
-    pub fn force(&self, ka: &BodyKin, kb: &BodyKin) -> [f64; 6] {
+impl ForceKernel for SpringK {
+    type Map = PairMap;
+    const DAMPING: bool = true;
+    const STORES_ENERGY: bool = true;
+    const POWER: Option<PowerFlow> = Some(PowerFlow::Damping);
+    const PEAK: Option<PeakForce> = None;
+
+    fn force(&self, at: &At, _i: usize) -> [f64; 6] {
+        let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
         let fb = -(e.f * e.n);
         let mut q = [0.0; 6];
@@ -380,7 +237,8 @@ impl SpringK {
         q
     }
 
-    pub fn jacobian(&self, ka: &BodyKin, kb: &BodyKin, km: &mut Mat6, dm: &mut Mat6) {
+    fn derivatives(&self, at: &At, _i: usize, km: &mut Mat6, dm: &mut Mat6) {
+        let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
         let ex = V2::new(1.0, 0.0);
         let ey = V2::new(0.0, 1.0);
@@ -411,14 +269,18 @@ impl SpringK {
         km[5][5] -= -e.rho_b.dot(fb);
     }
 
-    pub fn potential(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
+    /// `1/2 k (l - l0)^2` [J].
+    fn potential(&self, at: &At, _i: usize) -> f64 {
+        let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
         0.5 * self.k * (e.l - self.l0) * (e.l - self.l0)
     }
 
-    pub fn dissipation(&self, ka: &BodyKin, kb: &BodyKin) -> f64 {
+    /// Dissipated by the damper, `c l'^2` [W].
+    fn add_power(&self, at: &At, _i: usize, _map: &PairMap, acc: &mut f64) {
+        let (ka, kb) = at.pair(self.a, self.b);
         let e = self.eval(ka, kb);
-        self.c * e.ldot * e.ldot
+        *acc += self.c * e.ldot * e.ldot;
     }
 }
 
@@ -440,20 +302,35 @@ impl CoordSpringK {
             _ => (kin.phi, kin.w),
         }
     }
+}
 
-    pub fn force(&self, kin: &BodyKin) -> f64 {
-        let (q, v) = self.q_v(kin);
+impl ForceKernel for CoordSpringK {
+    type Map = CoordMap;
+    const DAMPING: bool = true;
+    const STORES_ENERGY: bool = true;
+    const POWER: Option<PowerFlow> = Some(PowerFlow::Damping);
+    const PEAK: Option<PeakForce> = None;
+
+    fn force(&self, at: &At, _i: usize) -> f64 {
+        let (q, v) = self.q_v(&at.kin[self.body as usize]);
         -self.k * (q - self.rest) - self.c * v
     }
 
-    pub fn potential(&self, kin: &BodyKin) -> f64 {
-        let (q, _) = self.q_v(kin);
+    fn derivatives(&self, _at: &At, _i: usize, km: &mut f64, dm: &mut f64) {
+        *km += self.k;
+        *dm += self.c;
+    }
+
+    /// `1/2 k (q - rest)^2` [J].
+    fn potential(&self, at: &At, _i: usize) -> f64 {
+        let (q, _) = self.q_v(&at.kin[self.body as usize]);
         0.5 * self.k * (q - self.rest) * (q - self.rest)
     }
 
-    pub fn dissipation(&self, kin: &BodyKin) -> f64 {
-        let (_, v) = self.q_v(kin);
-        self.c * v * v
+    /// Dissipated by the damper, `c q'^2` [W].
+    fn add_power(&self, at: &At, _i: usize, _map: &CoordMap, acc: &mut f64) {
+        let (_, v) = self.q_v(&at.kin[self.body as usize]);
+        *acc += self.c * v * v;
     }
 }
 
@@ -472,8 +349,21 @@ impl LoadK {
         (V2::new(self.fx.value(t), self.fy.value(t)), self.torque.value(t))
     }
 
-    pub fn force(&self, ka: &BodyKin, t: f64) -> [f64; 6] {
-        let (f, tau) = self.at(t);
+    pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
+        [&self.fx, &self.fy, &self.torque].iter().filter_map(|f| f.next_breakpoint(t)).reduce(f64::min)
+    }
+}
+
+impl ForceKernel for LoadK {
+    type Map = PairMap;
+    const DAMPING: bool = false;
+    const STORES_ENERGY: bool = false;
+    const POWER: Option<PowerFlow> = Some(PowerFlow::Applied);
+    const PEAK: Option<PeakForce> = None;
+
+    fn force(&self, at: &At, _i: usize) -> [f64; 6] {
+        let ka = &at.kin[self.a as usize];
+        let (f, tau) = self.at(at.t);
         let rho = ka.rot.apply(self.pa);
         let mut q = [0.0; 6];
         put(&mut q, 0, point_force(f, rho));
@@ -481,20 +371,20 @@ impl LoadK {
         q
     }
 
-    pub fn jacobian(&self, ka: &BodyKin, t: f64, km: &mut Mat6) {
-        let (f, _) = self.at(t);
+    /// The moment of the force turning with the body (no damping).
+    fn derivatives(&self, at: &At, _i: usize, km: &mut Mat6, _dm: &mut Mat6) {
+        let ka = &at.kin[self.a as usize];
+        let (f, _) = self.at(at.t);
         let rho = ka.rot.apply(self.pa);
         km[2][2] += rho.dot(f);
     }
 
-    pub fn power(&self, ka: &BodyKin, t: f64) -> f64 {
-        let (f, tau) = self.at(t);
+    /// Delivered power `f . v_p + tau w` [W].
+    fn add_power(&self, at: &At, _i: usize, _map: &PairMap, acc: &mut f64) {
+        let ka = &at.kin[self.a as usize];
+        let (f, tau) = self.at(at.t);
         let rho = ka.rot.apply(self.pa);
-        f.dot(ka.v + ka.w * rho.perp()) + tau * ka.w
-    }
-
-    pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
-        [&self.fx, &self.fy, &self.torque].iter().filter_map(|f| f.next_breakpoint(t)).reduce(f64::min)
+        *acc += f.dot(ka.v + ka.w * rho.perp()) + tau * ka.w;
     }
 }
 
@@ -515,13 +405,24 @@ impl CustomK {
         let (fa, fb) = self.law.0.force(t, sa, sb);
         [fa[0], fa[1], fa[2], fb[0], fb[1], fb[2]]
     }
+}
 
-    pub fn force(&self, ka: &BodyKin, kb: &BodyKin, t: f64) -> [f64; 6] {
-        self.eval_states(t, &body_state(ka), &body_state(kb))
+impl ForceKernel for CustomK {
+    type Map = PairMap;
+    const DAMPING: bool = true;
+    const STORES_ENERGY: bool = false;
+    const POWER: Option<PowerFlow> = Some(PowerFlow::Applied);
+    const PEAK: Option<PeakForce> = None;
+
+    fn force(&self, at: &At, _i: usize) -> [f64; 6] {
+        let (ka, kb) = at.pair(self.a, self.b);
+        self.eval_states(at.t, &body_state(ka), &body_state(kb))
     }
 
     /// Central differences over the 12 inputs of the element.
-    pub fn jacobian(&self, ka: &BodyKin, kb: &BodyKin, t: f64, km: &mut Mat6, dm: &mut Mat6) {
+    fn derivatives(&self, at: &At, _i: usize, km: &mut Mat6, dm: &mut Mat6) {
+        let (ka, kb) = at.pair(self.a, self.b);
+        let t = at.t;
         let base = [body_state(ka), body_state(kb)];
         for j in 0..6 {
             for (velocity, out) in [(false, &mut *km), (true, &mut *dm)] {
@@ -545,54 +446,43 @@ impl CustomK {
             }
         }
     }
+
+    /// Delivered power `Q . z'` over the free slots [W].
+    fn add_power(&self, at: &At, i: usize, map: &PairMap, acc: &mut f64) {
+        let qf = self.force(at, i);
+        for s in 0..6 {
+            let c = map.f[s] as usize;
+            if c < at.v.len() {
+                *acc += qf[s] * at.v[c];
+            }
+        }
+    }
 }
 
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
 
-    /// The scalar law along a direction (the local friction solve) agrees
-    /// with the vector law: `t . phi(v)` and `t^T (d phi/dv) t`.
-    #[test]
-    fn law_along_a_direction_matches_the_vector_law() {
-        for law in [FrictionLaw::Linear, FrictionLaw::Smooth] {
-            let k = FrictionK { a: 1, b: 0, pa: V2::default(), force: 1.0, v_eps: 1e-3, law };
-            let t = V2::new(0.8, -0.6);
-            let n = t.perp();
-            for (a, b) in [(0.0, 0.0), (2e-4, 1e-5), (-5e-4, 3e-4), (0.3, 1e-4), (-0.02, -1e-3), (1e-3, 0.0)] {
-                let v = t.scale(a) + n.scale(b);
-                let (phi, dphi) = k.law(v);
-                let expect_slope =
-                    t.x * (dphi[0][0] * t.x + dphi[0][1] * t.y) + t.y * (dphi[1][0] * t.x + dphi[1][1] * t.y);
-                // across = v x t (only its square enters)
-                let (p, s) = k.law_along(v.dot(t), v.cross(t));
-                assert!((p - phi.dot(t)).abs() < 1e-12, "{law:?} {a} {b}: phi {p} vs {}", phi.dot(t));
-                assert!(
-                    (s - expect_slope).abs() <= 1e-9 * expect_slope.abs().max(1.0),
-                    "{law:?} {a} {b}: slope {s} vs {expect_slope}"
-                );
-            }
-        }
-    }
-
     /// A body's kinematics from a pose and velocity.
     pub(crate) fn kin_at(x: f64, y: f64, phi: f64, vx: f64, vy: f64, w: f64) -> BodyKin {
         BodyKin { r: V2::new(x, y), phi, rot: Rot::new(phi), v: V2::new(vx, vy), w }
     }
 
-    /// The centred forms (an offset of zero left out rather than computed)
-    /// give what the general forms give, bit for bit (the general forms are
-    /// checked against finite differences in `tests/jacobian_fd.rs`): a
-    /// bushing to a bearing's centre and a bearing's friction, both laws,
-    /// sliding and sticking, the bearing translating only or turning (the
-    /// spec's prismatic form, whose bearing has an angle coordinate).
+    /// The bearing states of the centred-form tests (translating only or
+    /// turning, sliding and sticking).
+    pub(crate) const BEARING_STATES: [(f64, f64, f64); 5] =
+        [(0.35, -0.2, 0.0), (2e-4, -1e-4, 0.0), (0.0, 0.0, 0.0), (0.35, -0.2, -0.9), (2e-4, 0.0, 0.3)];
+
+    /// The centred form (an offset of zero left out rather than computed)
+    /// gives what the general form gives, bit for bit (the general forms are
+    /// checked against finite differences in `tests/jacobian_fd.rs` and
+    /// [`crate::assembly::element`]): a bushing to a bearing's centre, the
+    /// bearing translating only or turning (the spec's prismatic form, whose
+    /// bearing has an angle coordinate).
     #[test]
-    fn centred_forms_give_the_general_forms_results() {
+    fn centred_bushing_gives_the_general_results() {
         let frame = kin_at(0.3, -0.2, 0.21, 0.4, -0.1, 0.7);
-        let base = kin_at(-0.5, 0.4, -0.13, -0.2, 0.3, -0.4);
-        for (vx, vy, w) in
-            [(0.35, -0.2, 0.0), (2e-4, -1e-4, 0.0), (0.0, 0.0, 0.0), (0.35, -0.2, -0.9), (2e-4, 0.0, 0.3)]
-        {
+        for (vx, vy, w) in BEARING_STATES {
             let bearing = kin_at(0.1, 0.6, 0.26, vx, vy, w);
             let bushing = BushingK {
                 a: 1,
@@ -609,14 +499,6 @@ pub(crate) mod tests {
                 (c.e_l, c.f_l, c.dd_l, c.c_l, c.rho_b, c.rho_b_l),
                 (g.e_l, g.f_l, g.dd_l, g.c_l, g.rho_b, g.rho_b_l)
             );
-            for law in [FrictionLaw::Linear, FrictionLaw::Smooth] {
-                let friction = FrictionK { a: 2, b: 3, pa: V2::default(), force: 10.0, v_eps: 1e-3, law };
-                assert_eq!(friction.force_at::<true>(&bearing, &base), friction.force_at::<false>(&bearing, &base));
-                assert_eq!(
-                    friction.kinematics_at::<true>(&bearing, &base),
-                    friction.kinematics_at::<false>(&bearing, &base)
-                );
-            }
         }
     }
 }

@@ -119,6 +119,17 @@ impl Default for BodyKin {
     }
 }
 
+/// Per-body data for loading the kinematics.
+#[derive(Debug, Clone)]
+pub(crate) struct BodyStatic {
+    /// Coordinate of each slot (x, y, phi), `NONE` where locked.
+    pub coord: [u32; 3],
+    /// The pose as given (the locked slots keep it).
+    pub pose0: [f64; 3],
+    /// Rotation at `pose0[2]` (used while the angle is not a coordinate).
+    pub rot0: Rot,
+}
+
 /// A dense 6x6 block over the coordinates (x_a, y_a, phi_a, x_b, y_b, phi_b)
 /// of a two-body element; rows are generalised-force components.
 pub(crate) type Mat6 = [[f64; 6]; 6];

@@ -34,9 +34,11 @@
 //! small, medium and reference expansion-joint models (docs/performance.md).
 
 use super::radau5::A;
+use crate::assembly::friction::FrictionK;
 use crate::assembly::kin::V2;
-use crate::assembly::{Assembly, JacobianValues, SliderInfo, Workspace};
+use crate::assembly::{Assembly, JacobianValues, Workspace};
 use crate::linalg::small::solve3_adjugate;
+use crate::model::force::FrictionLaw;
 
 /// `A^-1` of the Butcher matrix of Radau IIA (s = 3).
 pub(super) const AINV: [[f64; 3]; 3] = [
@@ -49,6 +51,76 @@ pub(super) const AINV: [[f64; 3]; 3] = [
 const LOCAL_TOL: f64 = 1e-10;
 /// Iterations of one local solve.
 const LOCAL_ITERATIONS: usize = 40;
+
+/// A friction element whose slider runs on a line of its base, solved
+/// locally ([`sliders`]).
+#[derive(Debug, Clone)]
+pub(crate) struct SliderInfo {
+    /// Index of the friction element.
+    pub friction: u32,
+    /// Index of the line primitive.
+    line: u32,
+    /// The slider's x and y coordinates.
+    pub coords: [u32; 2],
+    /// Positions of the slider's x-y block (xx, xy, yx, yy) in the Jacobian arrays.
+    pub jac: [u32; 4],
+    /// `mu n F_N` [N].
+    pub force: f64,
+    /// Regularisation velocity [m/s].
+    pub v_eps: f64,
+    kernel: FrictionK,
+}
+
+impl SliderInfo {
+    /// The law's `phi` along a unit direction and its slope, for a relative
+    /// velocity with components `a` along the direction and `b` across it
+    /// [m/s].
+    #[inline]
+    pub fn law_along(&self, a: f64, b: f64) -> (f64, f64) {
+        self.kernel.law_along(a, b)
+    }
+
+    /// Whether the law is linear inside the zone `|v| < v_eps` and, along a
+    /// line crossed by no velocity, constant outside it (the linear law).
+    pub fn is_linear_law(&self) -> bool {
+        self.kernel.law == FrictionLaw::Linear
+    }
+
+    /// The slider's relative sliding velocity [m/s] and the unit direction
+    /// of its line, from the kinematics loaded into `ws` by the last
+    /// evaluation (e.g. [`Assembly::residual`]).
+    fn state(&self, asm: &Assembly, ws: &Workspace) -> (V2, V2) {
+        let k = &self.kernel;
+        let (ka, kb) = (&ws.kin[k.a as usize], &ws.kin[k.b as usize]);
+        (k.rel_velocity(ka, kb), kb.rot.apply(asm.prims.lines[self.line as usize].0.ub))
+    }
+}
+
+/// The friction elements of `asm` whose slider runs on a line of its base
+/// (of a prismatic joint or a point-on-line constraint) and moves freely in
+/// x and y: those the integrator solves locally.
+pub(crate) fn sliders(asm: &Assembly) -> Vec<SliderInfo> {
+    let n = asm.coordinates() as u32;
+    let lines = &asm.prims.lines;
+    asm.elements
+        .frictions
+        .iter()
+        .enumerate()
+        .filter_map(|(e, (k, map))| {
+            let line = lines.iter().position(|(l, _)| l.a == k.a && l.b == k.b)?;
+            let coords = [map.f[0], map.f[1]];
+            (coords[0] < n && coords[1] < n).then(|| SliderInfo {
+                friction: e as u32,
+                line: line as u32,
+                coords,
+                jac: [map.jac[0], map.jac[1], map.jac[6], map.jac[7]],
+                force: k.force,
+                v_eps: k.v_eps,
+                kernel: k.clone(),
+            })
+        })
+        .collect()
+}
 
 /// The sliders solved locally and their state at the three stages.
 #[derive(Debug, Clone, Default)]
@@ -169,7 +241,7 @@ impl LocalFriction {
     /// The friction elements of `asm` whose slider runs on a line of its
     /// base (none when `enabled` is false).
     pub(super) fn new(asm: &Assembly, enabled: bool) -> Self {
-        let sliders = if enabled { asm.line_sliders() } else { Vec::new() };
+        let sliders = if enabled { sliders(asm) } else { Vec::new() };
         let n = sliders.len();
         Self { sliders, stage: [Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n)] }
     }
@@ -179,10 +251,10 @@ impl LocalFriction {
         self.sliders.is_empty()
     }
 
-    /// Per friction element of the assembly, whether it is solved locally
-    /// (it then enters the iteration matrix with its zone slope).
-    pub(super) fn zone_mask(&self, frictions: usize) -> Vec<bool> {
-        let mut mask = vec![false; frictions];
+    /// Per friction element of `asm`, whether it is solved locally (it then
+    /// enters the iteration matrix with its zone slope).
+    pub(super) fn zone_mask(&self, asm: &Assembly) -> Vec<bool> {
+        let mut mask = vec![false; asm.elements.frictions.len()];
         for s in &self.sliders {
             mask[s.friction as usize] = true;
         }
@@ -194,7 +266,7 @@ impl LocalFriction {
     pub(super) fn record_stage(&mut self, asm: &Assembly, ws: &Workspace, i: usize) {
         let out = &mut self.stage[i];
         out.clear();
-        out.extend(self.sliders.iter().map(|s| asm.slider_state(ws, s)));
+        out.extend(self.sliders.iter().map(|s| s.state(asm, ws)));
     }
 
     /// Solves every slider locally (see the module documentation): the stage
@@ -317,7 +389,7 @@ mod tests {
             let osc = FrictionOscillator { mass: 20.0, stiffness: 1e7, friction_force: 2e3, v_eps: 1e-3, law, x0: 0.0 };
             let (sys, _) = osc.on_prismatic();
             let asm = Assembly::new(&sys, &AssemblyOptions::default()).unwrap();
-            let sliders = asm.line_sliders();
+            let sliders = sliders(&asm);
             let info = &sliders[0];
             let (m, h, kt, ct) = (20.0, 5e-3, 1e7, 2e3);
             let mut lmat = [[0.0; 3]; 3];

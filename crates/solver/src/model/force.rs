@@ -1,5 +1,6 @@
 //! Force elements as the user describes them. Their force laws and analytic
-//! derivatives live in `assembly::forces`.
+//! derivatives live in `assembly::forces`, `assembly::friction` and
+//! `assembly::contact`, each behind the assembly's `ForceKernel` trait.
 
 use std::fmt;
 use std::sync::Arc;

@@ -59,10 +59,10 @@ impl Radau5 {
     pub(super) fn filtered_error(&mut self, h: f64) -> Result<f64, LinalgError> {
         let n = self.n;
         let g_r = GAMMA / h;
-        self.asm.mass_damping_product(g_r, &self.jac, &self.ecq, &mut self.emd);
+        super::matrices::mass_damping_product(&self.asm, g_r, &self.jac, &self.ecq, &mut self.emd);
         super::newton::add_into(&mut self.bv[..n], &self.ecv[..n], &self.emd[..n]);
         // velocity constraint rows: G e_q = (G R_q - R_w) / c
-        self.asm.gradient_product(&self.jac, &self.ecq, &mut self.bl);
+        super::matrices::gradient_product(&self.asm, &self.jac, &self.ecq, &mut self.bl);
         for (b, &g) in self.bl.iter_mut().zip(&self.ecg) {
             *b = (*b - g) / g_r;
         }

@@ -51,8 +51,10 @@
 //! values, error scales, the simplified Newton iteration and the local
 //! friction solve), `estimate` (the embedded error estimate), `accept` (energy
 //! quadrature, dense output, new state and projection) and `step` (step-size
-//! control, failures, contact events); this file holds the state, its set-up
-//! and the linear algebra.
+//! control, failures, contact events), `matrices` (the iteration matrices
+//! formed from the assembly's `K`, `D` and `G`, and the error estimate's
+//! products with them); this file holds the state, its set-up and the linear
+//! algebra.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -69,11 +71,13 @@ use crate::linalg::{FaerCache, KktSolver};
 mod accept;
 pub mod coefficients;
 mod estimate;
+mod matrices;
 mod newton;
 mod step;
 
 use coefficients::*;
 pub use coefficients::{A, ALPHA, BETA, C, GAMMA, T, TI};
+pub use matrices::{form_complex, form_real};
 
 /// Dense output of the last step: `y(t) = c0 + s (c1 + (s - c2m1)(c2 + (s - c1m1) c3))`
 /// with `s = (t - t1)/h`.
@@ -241,7 +245,7 @@ impl Radau5 {
         let fnewt = (10.0 * UROUND / rtol)
             .max(opt.newton_tolerance.unwrap_or_else(|| 0.03f64.min(rtol.powf(1.0 / (2.0 / 3.0) - 1.0))));
         let local = LocalFriction::new(&asm, opt.local_friction && opt.jacobian == JacobianMode::Analytic);
-        let zone = local.zone_mask(asm.friction_count());
+        let zone = local.zone_mask(&asm);
         let mut s = Self {
             real: KktSolver::new(sym, opt.linear_solver),
             cplx: KktSolver::new(sym, opt.linear_solver),
@@ -434,7 +438,7 @@ impl Radau5 {
                 .factor(
                     a.block_structure(),
                     &mut self.faer,
-                    &|out: &mut [f64]| a.form(1.0, 0.0, 0.0, 1.0, jac, out),
+                    &|out: &mut [f64]| matrices::form(a, 1.0, 0.0, 0.0, 1.0, jac, out),
                     &desc,
                 )
                 .map_err(SolverError::Initialisation)?;
@@ -616,10 +620,10 @@ impl Radau5 {
         let g = GAMMA / h;
         let jac = &self.jac;
         self.fact_h = f64::NAN;
-        self.real.factor(sym, &mut self.faer, &|out: &mut [f64]| asm.form_real(g, jac, out), &desc)?;
+        self.real.factor(sym, &mut self.faer, &|out: &mut [f64]| form_real(&asm, g, jac, out), &desc)?;
         let c = Complex64::new(ALPHA / h, BETA / h);
         let gs = c.norm_sqr();
-        self.cplx.factor(sym, &mut self.faer, &|out: &mut [Complex64]| asm.form_complex(c, jac, out), &desc)?;
+        self.cplx.factor(sym, &mut self.faer, &|out: &mut [Complex64]| form_complex(&asm, c, jac, out), &desc)?;
         self.gscale_r = g * g;
         self.gscale_c = gs;
         self.fact_h = h;
