@@ -30,7 +30,7 @@ pub enum Command {
     Record(RecordArgs),
     /// Exact linear response spectrum of a record.
     Spectrum(SpectrumArgs),
-    /// Run the spectrum sweep of a config (\[sweep\] table) on worker threads.
+    /// Run the spectrum sweep of a config ([sweep] table) on worker threads.
     Sweep(SweepArgs),
     /// Combine the outputs of sweep shards into one file.
     Merge(MergeArgs),
@@ -61,7 +61,7 @@ pub struct ModelArgs {
 
 #[derive(Debug, Args)]
 pub struct SweepArgs {
-    /// The TOML config with a \[sweep\] table.
+    /// The TOML config with a [sweep] table.
     pub config: PathBuf,
     /// The HDF5 output (default: the config's name with .h5, in the current
     /// directory); the journal is OUTPUT.journal, the lock OUTPUT.lock.
@@ -159,7 +159,7 @@ pub struct MergeArgs {
 
 #[derive(Debug, Args)]
 pub struct PlanArgs {
-    /// The TOML config with a \[sweep\] table.
+    /// The TOML config with a [sweep] table.
     pub config: PathBuf,
     /// Number of shards to estimate.
     #[arg(long, default_value_t = 1)]
@@ -211,14 +211,14 @@ pub fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
 pub struct SimulateArgs {
     /// The TOML config.
     pub config: PathBuf,
-    /// Bridge natural period \[s\] (default: from the config).
+    /// Bridge natural period [s] (default: from the config).
     #[arg(long, allow_negative_numbers = true)]
     pub period: Option<f64>,
     /// Run the bridge alone (exact linear solution).
     #[arg(long)]
     pub no_joint: bool,
-    /// Record file to use instead of the config's \[record\] (path relative
-    /// to the current directory). It replaces the whole \[record\] table: say
+    /// Record file to use instead of the config's [record] (path relative
+    /// to the current directory). It replaces the whole [record] table: say
     /// how to read it with the options below, as for `quakejoint record`.
     #[arg(long)]
     pub record: Option<PathBuf>,
@@ -238,7 +238,7 @@ pub struct ServiceArgs {
     /// Opening speed [m/s] (default: the config's service.speed).
     #[arg(long, allow_negative_numbers = true)]
     pub speed: Option<f64>,
-    /// Amplitude of the opening \[m\] (default: service.amplitude).
+    /// Amplitude of the opening [m] (default: service.amplitude).
     #[arg(long, allow_negative_numbers = true)]
     pub amplitude: Option<f64>,
     /// Number of cycles (default: service.cycles).
@@ -272,7 +272,7 @@ pub struct RecordReadArgs {
     /// file states its own (if given, they must agree).
     #[arg(long, value_enum)]
     pub units: Option<UnitsArg>,
-    /// Time step of a one-column file \[s\].
+    /// Time step of a one-column file [s].
     #[arg(long, allow_negative_numbers = true)]
     pub dt: Option<f64>,
     /// Column holding the acceleration in a multi-column text file (1-based).
@@ -293,7 +293,7 @@ pub struct RecordReadArgs {
     /// Scale factor applied after the unit conversion (default 1).
     #[arg(long, allow_negative_numbers = true)]
     pub scale: Option<f64>,
-    /// Scale the record to this peak ground acceleration \[g\].
+    /// Scale the record to this peak ground acceleration [g].
     #[arg(long, allow_negative_numbers = true)]
     pub target_pga_g: Option<f64>,
 }
@@ -400,13 +400,13 @@ pub struct SpectrumArgs {
     /// Damping ratios (several allowed: --damping 0.02 --damping 0.05, or 0.02,0.05).
     #[arg(long, value_delimiter = ',', default_values_t = [0.05], allow_negative_numbers = true)]
     pub damping: Vec<f64>,
-    /// Periods \[s\] (comma-separated); overrides --from/--to/--count.
+    /// Periods [s] (comma-separated); overrides --from/--to/--count.
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub periods: Vec<f64>,
-    /// First period of the grid \[s\].
+    /// First period of the grid [s].
     #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
     pub from: f64,
-    /// Last period of the grid \[s\].
+    /// Last period of the grid [s].
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     pub to: f64,
     /// Number of periods of the grid.

@@ -7,6 +7,10 @@
 //! job finished outside what the model can stand behind (flagged); 130
 //! and 143 a sweep interrupted by SIGINT or SIGTERM (README, "Commands").
 
+// The doc comments of `args` are the command's help text: the brackets in
+// them are units (`[s]`), not links.
+#![allow(rustdoc::broken_intra_doc_links)]
+
 mod args;
 mod commands;
 mod continuation;

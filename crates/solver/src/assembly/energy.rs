@@ -5,13 +5,13 @@ use super::element::{At, EnergyOrder, ForceKernel, KindVisitor, PowerFlow};
 use super::{Assembly, Powers, Workspace};
 
 impl Assembly {
-    /// Kinetic energy `1/2 q'^T M q'` [J].
+    /// Kinetic energy `1/2 q'^T M q'` \[J\].
     pub fn kinetic_energy(&self, v: &[f64]) -> f64 {
         0.5 * self.coord_mass.iter().zip(v).map(|(m, v)| m * v * v).sum::<f64>()
     }
 
     /// Energy stored in springs, bushings, closed contacts and the gravity
-    /// field [J].
+    /// field \[J\].
     pub fn potential_energy(&self, ws: &mut Workspace, q: &[f64]) -> f64 {
         // velocities do not enter stored energy; q stands in for them
         self.load_kin(ws, q, q);

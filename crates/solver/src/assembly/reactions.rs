@@ -12,7 +12,7 @@ use crate::model::constraint::ConstraintId;
 
 impl Assembly {
     /// Reaction of a constraint on one body, `-G^T lambda` restricted to the
-    /// body: (fx [N], fy [N], torque about the centre of mass [N m]). Locked
+    /// body: (fx \[N\], fy \[N\], torque about the centre of mass [N m]). Locked
     /// coordinates of the body report zero.
     pub fn constraint_reaction(
         &self,

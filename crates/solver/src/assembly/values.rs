@@ -24,7 +24,7 @@ impl JacobianValues {
     }
 }
 
-/// Power flows at one state, for the energy balance [W].
+/// Power flows at one state, for the energy balance \[W\].
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Powers {
     /// Dissipated by dampers (bushings, spring-dampers, coordinate dampers); never negative.
@@ -44,9 +44,9 @@ pub struct Powers {
 /// Largest element forces at one state.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ForceExtremes {
-    /// Largest bushing force magnitude [N].
+    /// Largest bushing force magnitude \[N\].
     pub bushing: f64,
-    /// Largest friction force magnitude [N].
+    /// Largest friction force magnitude \[N\].
     pub friction: f64,
 }
 
@@ -55,11 +55,11 @@ pub struct ForceExtremes {
 pub struct ContactValue {
     /// Whether the contact is closed.
     pub closed: bool,
-    /// Penetration [m] (positive when overlapping, whatever the mode).
+    /// Penetration \[m\] (positive when overlapping, whatever the mode).
     pub penetration: f64,
     /// Its rate [m/s].
     pub rate: f64,
-    /// Force of the law [N]: of a closed contact (may be below zero just
+    /// Force of the law \[N\]: of a closed contact (may be below zero just
     /// before a release event); of an open one, the force the law would
     /// give at this penetration and rate (0 when not penetrating), whose
     /// sign says whether closing it would push or pull.

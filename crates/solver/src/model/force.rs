@@ -30,17 +30,17 @@ impl ForceId {
 pub struct Bushing {
     /// Body whose axes resolve the stiffness (the center beam in the joint).
     pub frame_body: BodyId,
-    /// Attachment point on `frame_body`, in its body frame [m].
+    /// Attachment point on `frame_body`, in its body frame \[m\].
     pub frame_point: [f64; 2],
     /// The other body.
     pub body: BodyId,
-    /// Attachment point on `body`, in its body frame [m].
+    /// Attachment point on `body`, in its body frame \[m\].
     pub point: [f64; 2],
     /// Stiffness (kx, ky) along the frame body's axes [N/m].
     pub stiffness: [f64; 2],
     /// Viscous damping (cx, cy) along the frame body's axes [N s/m].
     pub damping: [f64; 2],
-    /// Deflection at which the bushing is unloaded, in the frame body's axes [m].
+    /// Deflection at which the bushing is unloaded, in the frame body's axes \[m\].
     pub rest: [f64; 2],
 }
 
@@ -65,13 +65,13 @@ pub enum FrictionLaw {
 pub struct Friction {
     /// The sliding body (the bearing).
     pub slider: BodyId,
-    /// Contact point on the slider, in its frame [m].
+    /// Contact point on the slider, in its frame \[m\].
     pub point: [f64; 2],
     /// The body it slides on (may be the ground).
     pub base: BodyId,
     /// Friction coefficient [-].
     pub mu: f64,
-    /// Normal force per sliding surface [N].
+    /// Normal force per sliding surface \[N\].
     pub normal_force: f64,
     /// Number of sliding surfaces [-].
     pub surfaces: f64,
@@ -82,7 +82,7 @@ pub struct Friction {
 }
 
 impl Friction {
-    /// Magnitude of the sliding force `mu * surfaces * normal_force` [N].
+    /// Magnitude of the sliding force `mu * surfaces * normal_force` \[N\].
     pub fn sliding_force(&self) -> f64 {
         self.mu * self.surfaces * self.normal_force
     }
@@ -169,11 +169,11 @@ pub enum ContactLaw {
 pub struct Contact {
     /// The body whose point touches the edge.
     pub body: BodyId,
-    /// The contact point on `body`, in its frame [m].
+    /// The contact point on `body`, in its frame \[m\].
     pub point: [f64; 2],
     /// The body carrying the edge.
     pub base: BodyId,
-    /// A point of the edge, in the base's frame [m].
+    /// A point of the edge, in the base's frame \[m\].
     pub edge_point: [f64; 2],
     /// Outward normal of the edge (toward the free side), in the base's
     /// frame [-] (normalised when compiled).
@@ -187,17 +187,17 @@ pub struct Contact {
 pub struct SpringDamper {
     /// First body.
     pub body_a: BodyId,
-    /// Point on the first body, in its frame [m].
+    /// Point on the first body, in its frame \[m\].
     pub point_a: [f64; 2],
     /// Second body.
     pub body_b: BodyId,
-    /// Point on the second body, in its frame [m].
+    /// Point on the second body, in its frame \[m\].
     pub point_b: [f64; 2],
     /// Axial stiffness [N/m].
     pub stiffness: f64,
     /// Axial damping [N s/m].
     pub damping: f64,
-    /// Unstretched length [m].
+    /// Unstretched length \[m\].
     pub rest_length: f64,
 }
 
@@ -223,11 +223,11 @@ pub struct CoordinateSpring {
 pub struct AppliedLoad {
     /// The loaded body.
     pub body: BodyId,
-    /// Point of application, in the body frame [m].
+    /// Point of application, in the body frame \[m\].
     pub point: [f64; 2],
-    /// Force x component [N].
+    /// Force x component \[N\].
     pub fx: TimeFunction,
-    /// Force y component [N].
+    /// Force y component \[N\].
     pub fy: TimeFunction,
     /// Torque [N m].
     pub torque: TimeFunction,

@@ -41,7 +41,7 @@
 //!
 //! Sliding friction on a line is solved locally at every Newton iteration,
 //! with the regularisation zone's slope in the iteration matrix
-//! ([`super::local_friction`]).
+//! (`super::local_friction`).
 //!
 //! The factorisation is reused while the step size is unchanged to within
 //! `FACT_RTOL` (steps fitted between breakpoints differ in the last bits),
@@ -325,7 +325,7 @@ impl Radau5 {
         Ok(s)
     }
 
-    /// Current time [s].
+    /// Current time \[s\].
     pub fn time(&self) -> f64 {
         self.t
     }
@@ -663,10 +663,10 @@ struct Spare {
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ConstraintResiduals {
     /// Largest |g| of translational equations (points, lines, drivers of x
-    /// or y) [m].
+    /// or y) \[m\].
     pub position: f64,
     /// Largest |g| of angular equations (relative angles, drivers of phi)
-    /// [rad].
+    /// \[rad\].
     pub angle: f64,
     /// Largest |G v + g_t| of translational equations [m/s].
     pub velocity: f64,
