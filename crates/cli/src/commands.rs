@@ -266,7 +266,8 @@ fn spectrum_cmd(a: SpectrumArgs) -> Result<ExitCode> {
 pub fn read_config(path: &Path) -> Result<(Config, String)> {
     let text = quakejoint_motion::read_input_text(path, quakejoint_motion::MAX_CONFIG_BYTES)
         .map_err(|e| InputError(format!("{}: cannot read the config: {e}", path.display())))?;
-    let config = Config::from_toml(&text, &path.display().to_string())?;
+    let mut config = Config::from_toml(&text, &path.display().to_string())?;
+    config.load_modes(&quakejoint_model::config::base_dir(path))?;
     Ok((config, text))
 }
 
@@ -416,7 +417,7 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         let provenance = provenance_of(&a.config, &text, config, records, warnings);
         quakejoint_io::run_h5::write_run(path, &provenance, result).context("writing the time histories")?;
     }
-    output::run_result(&a.config, &lx, result, a.print.json);
+    output::run_result(&a.config, &lx, result, config.bridge.modal.as_ref(), a.print.json);
     Ok(if result.validity.flags.is_flagged() { ExitCode::from(FLAGGED) } else { ExitCode::SUCCESS })
 }
 

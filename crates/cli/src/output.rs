@@ -15,6 +15,7 @@ macro_rules! out {
 
 use std::path::Path;
 
+use quakejoint_model::config::ModalConfig;
 use quakejoint_model::generator::JointModel;
 use quakejoint_model::run::RunResult;
 use quakejoint_model::service::ServiceResult;
@@ -110,7 +111,9 @@ fn extend(v: &mut serde_json::Value, more: serde_json::Value) {
 
 /// `quakejoint simulate`. Quantities not computed (the joint's, without
 /// it) are `null` in JSON and left out of the table.
-pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool) {
+/// With `modal`, the deck's values are those of the joint's point of the
+/// modes file.
+pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, modal: Option<&ModalConfig>, json: bool) {
     let v = &r.validity;
     let record = &loaded.record;
     if json {
@@ -129,6 +132,9 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
             "flags": v.flags.names(),
             "findings": v.findings,
             "peak_contact_place": r.pounding.peak_contact_place.map(|p| json!({"gap": p.gap, "end": p.end})),
+            "bridge_model": if modal.is_some() { "modal" } else { "single-DOF" },
+            "modes_file": modal.map(|m| m.modes.clone()),
+            "joint_point": modal.map(|m| m.joint_point.clone()),
         });
         extend(&mut out, fields_json(r));
         out!("{out}");
@@ -137,7 +143,20 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, json: bool)
     let mode = if r.exact_linear { "bridge alone (exact linear solution)" } else { "bridge with joint" };
     out!("{} under {}: {mode}", path.display(), record.name);
     out!("  {}", record_line(loaded));
-    out!("  w0 {:.4} rad/s, T {:.4} s, {:.2} s simulated", r.omega, 2.0 * std::f64::consts::PI / r.omega, r.duration);
+    let period = 2.0 * std::f64::consts::PI / r.omega;
+    match modal {
+        Some(m) => {
+            let kept = m.loaded.as_ref().map_or(0, |b| m.modes_used.unwrap_or(b.modes.len()).min(b.modes.len()));
+            out!(
+                "  modal bridge: {kept} modes of {} (longest period {period:.4} s), values at its point \"{}\", \
+                 {:.2} s simulated",
+                m.modes,
+                m.joint_point,
+                r.duration
+            );
+        }
+        None => out!("  w0 {:.4} rad/s, T {period:.4} s, {:.2} s simulated", r.omega, r.duration),
+    }
     out!("  Sa   {:>12.5} m/s^2  at t = {:.3} s", r.sa, r.t_sa);
     out!("  PSa  {:>12.5} m/s^2", r.psa);
     out!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);

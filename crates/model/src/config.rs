@@ -337,6 +337,38 @@ pub struct BridgeConfig {
     /// joint then sits between two decks; none: between the abutment and
     /// the deck.
     pub far: Option<FarSegmentConfig>,
+    /// The bridge given by its modes (`[bridge.modal]`, docs/bridge.md):
+    /// the deck's single DOF is then replaced by the modes, and `mass`,
+    /// `period` and `w0` are not used (`damping` is the modes' damping
+    /// where the modes file gives none).
+    pub modal: Option<ModalConfig>,
+}
+
+/// A bridge given by its modes (`[bridge.modal]`).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModalConfig {
+    /// The modes file (relative to the config's folder; docs/bridge.md,
+    /// "The modes file").
+    pub modes: String,
+    /// The point of the modes file the joint's deck side moves with (along x).
+    pub joint_point: String,
+    /// How many modes a run keeps, the longest periods first (default: all).
+    pub modes_used: Option<usize>,
+    /// A factor on every period of the bridge [-] (stiffness scaled, masses
+    /// kept; default 1).
+    pub period_scale: Option<f64>,
+    /// The modes file, read with the config ([`Config::from_file`],
+    /// [`Config::load_modes`]).
+    #[serde(skip)]
+    pub loaded: Option<std::sync::Arc<crate::modal::ModalBridge>>,
+}
+
+impl ModalConfig {
+    /// The period factor [-].
+    pub fn scale(&self) -> f64 {
+        self.period_scale.unwrap_or(1.0)
+    }
 }
 
 /// The adjacent segment the joint's abutment side rests on: a single-DOF
@@ -365,6 +397,7 @@ impl Default for BridgeConfig {
             transverse_period: None,
             transverse_damping: None,
             far: None,
+            modal: None,
         }
     }
 }
@@ -493,11 +526,31 @@ impl Config {
         Ok(config)
     }
 
-    /// Reads and parses a config file.
+    /// Reads and parses a config file, and the modes file it names.
     pub fn from_file(path: &std::path::Path) -> Result<Self, ModelError> {
         let text = quakejoint_motion::read_input_text(path, quakejoint_motion::MAX_CONFIG_BYTES)
             .map_err(|e| ModelError::Io { file: path.display().to_string(), message: e.to_string() })?;
-        Self::from_toml(&text, &path.display().to_string())
+        let mut config = Self::from_toml(&text, &path.display().to_string())?;
+        config.load_modes(&base_dir(path))?;
+        Ok(config)
+    }
+
+    /// Reads the modes file of `[bridge.modal]` (relative to `base_dir`)
+    /// and checks the config's modal keys against it.
+    pub fn load_modes(&mut self, base_dir: &std::path::Path) -> Result<(), ModelError> {
+        let Some(m) = &mut self.bridge.modal else { return Ok(()) };
+        let path = base_dir.join(&m.modes);
+        let bridge = crate::modal::ModalBridge::read(&path).map_err(|e| match e {
+            ModelError::Io { file, message } => ModelError::Invalid {
+                field: "bridge.modal.modes".to_string(),
+                value: format!("\"{}\"", m.modes),
+                reason: format!("cannot read {file}: {message}"),
+            },
+            other => other,
+        })?;
+        bridge.point(&m.joint_point, crate::modal::Direction::X, "bridge.modal.joint_point")?;
+        m.loaded = Some(std::sync::Arc::new(bridge));
+        Ok(())
     }
 
     /// Checks every value against its admissible range
@@ -593,6 +646,9 @@ impl Config {
             (None, None) => {}
         }
         check("bridge.damping", b.damping)?;
+        if let Some(m) = &b.modal {
+            check_modal(self, m)?;
+        }
         if let Some(t) = b.transverse_period {
             check("bridge.transverse_period", t)?;
         }
@@ -678,6 +734,33 @@ pub const MIN_JOIST_ANGLE_DEG: f64 = 1.0;
 pub fn parse_error(source: &str, e: &toml::de::Error) -> ModelError {
     let message = e.to_string().lines().map(|l| quakejoint_motion::excerpt(l, 200)).collect::<Vec<_>>().join("\n");
     ModelError::Parse { file: source.to_string(), message }
+}
+
+/// What a modal bridge does not (yet) combine with, and its own keys.
+fn check_modal(config: &Config, m: &ModalConfig) -> Result<(), ModelError> {
+    let b = &config.bridge;
+    let refuse = |field: &str, what: &str| ModelError::Invalid {
+        field: field.to_string(),
+        value: "set".to_string(),
+        reason: format!("{what} cannot be combined with [bridge.modal] (the modes give the whole bridge)"),
+    };
+    if b.transverse_period.is_some() {
+        return Err(refuse("bridge.transverse_period", "a transverse deck DOF"));
+    }
+    if b.far.is_some() {
+        return Err(refuse("bridge.far", "an adjacent single-DOF segment"));
+    }
+    if let Some(n) = m.modes_used {
+        if n == 0 {
+            return Err(invalid("bridge.modal.modes_used", 0.0, "keep at least one mode"));
+        }
+    }
+    if let Some(f) = m.period_scale {
+        if !(f.is_finite() && (0.1..=10.0).contains(&f)) {
+            return Err(invalid("bridge.modal.period_scale", f, "must be within 0.1 <= x <= 10"));
+        }
+    }
+    Ok(())
 }
 
 /// A directory against which relative record paths are resolved.

@@ -25,6 +25,7 @@ use quakejoint_solver::{
 use crate::config::{Config, ContactLawConfig, HertzDampingConfig, LawConfig, SupportKind};
 use crate::error::ModelError;
 use crate::geometry::Geometry;
+use crate::modal::{add_modes, ModalDeck};
 
 /// How a bearing's sliding joint on its support beam is written
 /// (`docs/model.md`, "Constraints").
@@ -128,7 +129,16 @@ fn contact_law(config: &Config) -> ContactLaw {
 }
 
 /// The contacts of the joint: at both ends of every sub-gap.
-fn add_contacts(sys: &mut System, model: &mut JointModel, geo: &Geometry, law: ContactLaw, abutment: BodyId) {
+/// `deck_impact`: the mass the restitution of the contacts on the deck is
+/// set for \[kg\] (none: the reduced mass of the beam and the deck).
+fn add_contacts(
+    sys: &mut System,
+    model: &mut JointModel,
+    geo: &Geometry,
+    law: ContactLaw,
+    abutment: BodyId,
+    deck_impact: Option<f64>,
+) {
     let (half_w, half_l) = (0.5 * geo.width, geo.half_length);
     let nc = model.center_beams.len();
     for gap in 0..=nc {
@@ -143,7 +153,15 @@ fn add_contacts(sys: &mut System, model: &mut JointModel, geo: &Geometry, law: C
             };
             sys.add_force_named(
                 format!("contact {gap}/{end}"),
-                ForceElement::Contact(Contact { body, point, base, edge_point, edge_normal, law }),
+                ForceElement::Contact(Contact {
+                    body,
+                    point,
+                    base,
+                    edge_point,
+                    edge_normal,
+                    law,
+                    reduced_mass: if gap == nc { deck_impact } else { None },
+                }),
             );
             model.contacts.push(ContactPlace { gap, end, center_beams: nc });
         }
@@ -191,6 +209,9 @@ pub struct JointModel {
     pub contacts: Vec<ContactPlace>,
     /// The bridge.
     pub bridge: Bridge,
+    /// The modes, when the bridge is given by them (`deck` is then the
+    /// point the joint's deck side moves with).
+    pub modal: Option<ModalDeck>,
     /// Size of the model.
     pub counts: Counts,
 }
@@ -219,6 +240,11 @@ pub fn build_with(
         far: None,
     };
     let bridge = Bridge { far: config.bridge.far_segment(bridge.omega), ..bridge };
+    let modes = config.bridge.modal.as_ref().map(|m| crate::modal::kept_modes(m, config.bridge.damping)).transpose()?;
+    let bridge = match &modes {
+        Some((kept, _)) => Bridge { omega: kept[0].omega, damping: kept[0].damping, ..bridge },
+        None => bridge,
+    };
     if !(bridge.omega.is_finite() && bridge.omega > 0.0) {
         return Err(crate::config::invalid("bridge.w0", bridge.omega, "must be positive"));
     }
@@ -236,6 +262,7 @@ pub fn build_with(
         contacts: Vec::new(),
         driver: None,
         bridge,
+        modal: None,
         counts: Counts { bodies: 0, coordinates: 0, constraints: 0, dof: 0 },
     };
     if j.enabled {
@@ -347,8 +374,18 @@ pub fn build_with(
         }
         None => BodyId::GROUND,
     };
-    let deck_coords: &[Coord] = if bridge.transverse.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
-    let deck = sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords));
+    let deck = match &modes {
+        Some((kept, point)) => {
+            let m = add_modes(&mut sys, kept, *point);
+            let deck = m.deck;
+            model.modal = Some(m);
+            deck
+        }
+        None => {
+            let deck_coords: &[Coord] = if bridge.transverse.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
+            sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords))
+        }
+    };
     model.deck = deck;
     if let Some(geo) = &model.geometry {
         for (k, s) in geo.supports.iter().enumerate() {
@@ -393,18 +430,23 @@ pub fn build_with(
         }
     }
     if let (true, Some(geo)) = (j.enabled && j.contact.enabled, model.geometry.clone()) {
-        add_contacts(&mut sys, &mut model, &geo, contact_law(config), abutment);
+        // a modal deck end weighs nothing of its own: the impact on it meets
+        // the bridge, many times the center beam's mass
+        let deck_impact = model.modal.as_ref().map(|_| j.center_beam.mass);
+        add_contacts(&mut sys, &mut model, &geo, contact_law(config), abutment, deck_impact);
     }
-    sys.add_force_named(
-        "bridge spring and damper",
-        ForceElement::CoordinateSpring(CoordinateSpring {
-            body: deck,
-            coord: Coord::X,
-            stiffness: bridge.stiffness(),
-            damping: bridge.damper(),
-            rest: 0.0,
-        }),
-    );
+    if model.modal.is_none() {
+        sys.add_force_named(
+            "bridge spring and damper",
+            ForceElement::CoordinateSpring(CoordinateSpring {
+                body: deck,
+                coord: Coord::X,
+                stiffness: bridge.stiffness(),
+                damping: bridge.damper(),
+                rest: 0.0,
+            }),
+        );
+    }
     if let Some((w, zeta)) = bridge.transverse {
         sys.add_force_named(
             "bridge spring and damper across",

@@ -18,6 +18,7 @@ pub mod geometry;
 pub mod history;
 pub mod limits;
 pub mod linear;
+pub mod modal;
 pub mod pounding;
 pub mod resources;
 pub mod run;

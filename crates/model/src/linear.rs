@@ -4,8 +4,9 @@
 
 use std::time::Instant;
 
-use quakejoint_motion::{history, peaks, Record, SpectrumOptions};
+use quakejoint_motion::{history, peaks, History, Record, SpectrumOptions};
 
+use crate::modal::KeptMode;
 use crate::run::{Histories, RunResult};
 
 /// Exact response of the bridge alone (circular frequency `omega` [rad/s],
@@ -71,4 +72,75 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
         },
         ..RunResult::default()
     }
+}
+
+/// Exact response of a modal bridge alone at the point `point` of its
+/// modes file: each kept mode's coordinate is `Gamma_i` times the exact
+/// single-DOF response at its period and damping, and the point moves by
+/// `sum_i phi_ip Gamma_i u_i` (its absolute acceleration: the ground's plus
+/// the modes' relative accelerations so summed). `omega` is the frequency
+/// the result reports (the longest kept period's).
+pub fn modal_response(record: &Record, kept: &[KeptMode], point: usize, histories: bool) -> RunResult {
+    let start = Instant::now();
+    let cpu = crate::resources::CpuClock::start();
+    let h = modal_history(record, kept, point);
+    let peak = |x: &[f64]| {
+        x.iter()
+            .enumerate()
+            .fold((0.0f64, 0.0), |(m, t), (j, &v)| if v.abs() > m { (v.abs(), j as f64 * record.dt) } else { (m, t) })
+    };
+    let ((sa, t_sa), (sd, t_sd), (sv, t_sv)) = (peak(&h.a_abs), peak(&h.u), peak(&h.v));
+    let omega = kept[0].omega;
+    let n = record.acceleration.len();
+    let histories = histories.then(|| Histories {
+        t: (0..n).map(|j| j as f64 * record.dt).collect(),
+        ag: record.acceleration.clone(),
+        u: h.u,
+        v: h.v,
+        a_abs: h.a_abs,
+        joint_force: vec![f64::NAN; n],
+        friction_power: vec![f64::NAN; n],
+        ..Histories::default()
+    });
+    let sdof = linear_response(record, omega, kept[0].damping, false);
+    RunResult {
+        omega,
+        sa,
+        t_sa,
+        psa: omega * omega * sd,
+        sd,
+        t_sd,
+        sv,
+        t_sv,
+        wall_time_s: start.elapsed().as_secs_f64(),
+        cpu_time_s: cpu.elapsed_s(),
+        histories,
+        ..sdof
+    }
+}
+
+/// The history of [`modal_response`] at the record's sample times.
+pub fn modal_history(record: &Record, kept: &[KeptMode], point: usize) -> History {
+    let n = record.acceleration.len();
+    let mut out = History { u: vec![0.0; n], v: vec![0.0; n], a_abs: record.acceleration.clone() };
+    if let Some(a) = out.a_abs.first_mut() {
+        // (the single-DOF histories start at rest: a_abs(0) = 0)
+        *a = 0.0;
+    }
+    for k in kept {
+        let factor = k.shape[point] * k.gamma[0];
+        if factor == 0.0 {
+            continue;
+        }
+        let period = 2.0 * std::f64::consts::PI / k.omega;
+        let h = history(&record.acceleration, record.dt, period, k.damping);
+        for j in 0..n {
+            out.u[j] += factor * h.u[j];
+            out.v[j] += factor * h.v[j];
+            if j > 0 {
+                out.a_abs[j] += factor * (h.a_abs[j] - record.acceleration[j]);
+            }
+        }
+    }
+    out
 }

@@ -426,6 +426,8 @@ struct EarthquakeObserver {
     deck_body: BodyId,
     boxes: Vec<ConstraintId>,
     bridge: Bridge,
+    /// The modes, when the bridge is given by them.
+    modal: Option<crate::modal::ModalDeck>,
     ground: TimeSeries,
     dt: f64,
     /// The output times: the record's samples after the first.
@@ -503,6 +505,7 @@ impl EarthquakeObserver {
             deck_body: model.deck,
             boxes: model.joist_boxes.clone(),
             bridge: model.bridge,
+            modal: model.modal.clone(),
             ground,
             dt,
             outputs: grid(dt)?,
@@ -572,7 +575,13 @@ impl EarthquakeObserver {
         let reaction = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body);
         let fj = reaction[0] + pushed;
         let b = &self.bridge;
-        let a_abs = (-b.stiffness() * u - b.damper() * ud + fj) / b.mass;
+        let a_abs = match &self.modal {
+            Some(m) => {
+                let lambda = -asm.reaction_sum(ws, t, q, lam, &[m.link], m.deck)[0];
+                m.a_abs(asm, q, v, lambda, self.ground.value(t))
+            }
+            None => (-b.stiffness() * u - b.damper() * ud + fj) / b.mass,
+        };
         if let (Some((c, body)), Some((mass, w, zeta))) = (self.far, b.far) {
             let (uf, vf) = (q[c], v[c]);
             let pushed_far = self.contacts.as_ref().map_or(0.0, |w| w.far_push());

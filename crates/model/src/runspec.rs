@@ -13,6 +13,7 @@ use quakejoint_motion::{Peaks, Record, RecordSpec, SpectrumError, SpectrumOption
 
 use crate::config::Config;
 use crate::error::ModelError;
+use crate::modal::kept_modes;
 use crate::run::{run_duration, simulate_records, RunOptions, RunResult};
 
 /// A value a front end sets for one run, with the name it gives it
@@ -55,7 +56,7 @@ pub struct RunSpec {
     /// The bridge alone, exactly, instead of the coupled model.
     pub alone: bool,
     /// The bridge's natural period \[s\]: the override as given, else the
-    /// config's (2π/ω).
+    /// config's (2π/ω); a modal bridge's longest kept period.
     pub period: f64,
 }
 
@@ -72,6 +73,18 @@ impl RunSpec {
     /// `config` with `overrides` applied, then checked as a whole; an error
     /// about an overridden value names the override.
     pub fn new(mut config: Config, overrides: &Overrides) -> Result<Self, ModelError> {
+        if config.bridge.modal.is_some() {
+            if let Some(o) = [&overrides.period, &overrides.damping].into_iter().flatten().next() {
+                return Err(ModelError::Override {
+                    name: o.name.clone(),
+                    value: quakejoint_motion::number(o.value),
+                    reason: "the bridge is given by its modes ([bridge.modal]): its periods are the modes file's \
+                             times bridge.modal.period_scale, its damping the file's (or bridge.damping where \
+                             the file gives none)"
+                        .to_string(),
+                });
+            }
+        }
         if let Some(p) = &overrides.period {
             check_override("bridge.period", &p.name, p.value)?;
             (config.bridge.period, config.bridge.w0) = (Some(p.value), None);
@@ -87,7 +100,10 @@ impl RunSpec {
             config.joint.enabled = false;
         }
         config.validate()?;
-        let period = overrides.period.as_ref().map_or_else(|| config.bridge.natural_period(), |p| p.value);
+        let period = match &config.bridge.modal {
+            Some(m) => 2.0 * std::f64::consts::PI / kept_modes(m, config.bridge.damping)?.0[0].omega,
+            None => overrides.period.as_ref().map_or_else(|| config.bridge.natural_period(), |p| p.value),
+        };
         Ok(RunSpec { config, alone: overrides.alone, period })
     }
 
@@ -107,6 +123,20 @@ impl RunSpec {
         options: &RunOptions,
     ) -> Result<RunResult, ModelError> {
         let reference = Reference::for_run(&self.config, record_x, record_x);
+        if let Some(m) = &self.config.bridge.modal {
+            let (kept, point) = kept_modes(m, self.config.bridge.damping)?;
+            let mut result = if self.alone {
+                crate::linear::modal_response(reference.window(), &kept, point, options.histories)
+            } else {
+                simulate_records(&self.config, record_x, record_y, options)?
+            };
+            if let Some(h) = &mut result.histories {
+                let mut a = crate::linear::modal_history(reference.window(), &kept, point).a_abs;
+                a.resize(h.t.len(), f64::NAN);
+                h.a_abs_without_joint = a;
+            }
+            return Ok(result);
+        }
         let mut result = if self.alone {
             crate::linear::linear_response(
                 reference.window(),

@@ -26,7 +26,8 @@ pub struct PyConfig {
 impl PyConfig {
     /// Parses and validates TOML text.
     fn parse(text: &str, source: &str, base_dir: PathBuf) -> PyResult<Self> {
-        let config = Config::from_toml(text, source).map_err(|e| config_error(e, source))?;
+        let mut config = Config::from_toml(text, source).map_err(|e| config_error(e, source))?;
+        config.load_modes(&base_dir).map_err(|e| config_error(e, source))?;
         check_geometry(&config, source)?;
         Ok(PyConfig { config, base_dir, source: source.into() })
     }
@@ -39,6 +40,8 @@ impl PyConfig {
             .try_into()
             .map_err(|e: toml::de::Error| InputError::new_err(format!("{source}: {}", dict_error(&e))))?;
         config.validate().map_err(|e| config_error(e, source))?;
+        let mut config = config;
+        config.load_modes(&base_dir).map_err(|e| config_error(e, source))?;
         check_geometry(&config, source)?;
         Ok(PyConfig { config, base_dir, source: source.into() })
     }

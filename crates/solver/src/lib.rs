@@ -67,7 +67,7 @@ pub use integrator::{
 pub use linalg::block_lu::BlockOrdering;
 pub use linalg::LinearSolver;
 pub use model::body::{Body, BodyId, Coord};
-pub use model::constraint::{Constraint, ConstraintId, Driver, PointOnLine, Prismatic, Revolute, Weld};
+pub use model::constraint::{Constraint, ConstraintId, Driver, Linear, PointOnLine, Prismatic, Revolute, Weld};
 pub use model::force::{
     AppliedLoad, BodyState, Bushing, Contact, ContactLaw, CoordinateSpring, CustomElement, CustomForce, Excitation,
     ForceElement, ForceId, Friction, FrictionLaw, HertzDamping, SpringDamper, MIN_APPROACH_SPEED,

@@ -104,7 +104,15 @@ fn contact_zoo(only: usize) -> System {
         (d, [-0.2, 0.1], b, [0.3, 0.1], [1.0, 0.0], ContactLaw::Linear { stiffness: 1e5, restitution: 0.5 }),
     ];
     for (body, point, base, edge_point, edge_normal, law) in contacts.into_iter().skip(only).take(1) {
-        sys.add_force(ForceElement::Contact(Contact { body, point, base, edge_point, edge_normal, law }));
+        sys.add_force(ForceElement::Contact(Contact {
+            body,
+            point,
+            base,
+            edge_point,
+            edge_normal,
+            law,
+            reduced_mass: None,
+        }));
     }
     sys
 }

@@ -388,6 +388,13 @@ impl Plan {
     /// record paths are resolved against `base_dir`).
     pub fn new(config_text: &str, source: &str, base_dir: &Path) -> Result<Self, SweepError> {
         let base_config = Config::from_toml(config_text, source)?;
+        if base_config.bridge.modal.is_some() {
+            return Err(sweep_err(
+                "bridge.modal",
+                "a sweep over a bridge given by its modes is not available yet: run it with \
+                 `quakejoint simulate` (its periods: bridge.modal.period_scale)",
+            ));
+        }
         let mut table: toml::Table = toml::from_str(config_text)
             .map_err(|e| SweepError::from(quakejoint_model::config::parse_error(source, &e)))?;
         let sweep = match table.remove("sweep") {

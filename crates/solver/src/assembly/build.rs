@@ -9,11 +9,13 @@ use super::forces::{BushingK, CoordSpringK, CustomK, LoadK, SpringK};
 use super::friction::FrictionK;
 use super::kin::{BodyStatic, Rot, V2};
 use super::layout::{EquationSpec, Layout, NONE};
+use super::linear::LinearK;
 use super::maps::{CoordMap, GEntry, PairMap, PrimMap, Scatter};
 use super::Assembly;
 use crate::error::BuildError;
 use crate::linalg::block_lu::BlockOrdering;
-use crate::model::constraint::Constraint;
+use crate::model::body::Body;
+use crate::model::constraint::{Constraint, Linear};
 use crate::model::force::ForceElement;
 use crate::model::system::System;
 
@@ -85,6 +87,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
 
     // Constraint primitives and equation specs.
     let mut prims: Vec<(usize, Prim)> = Vec::new();
+    let mut linears: Vec<(usize, &Linear)> = Vec::new();
     for (ci, (_, c)) in system.constraints().iter().enumerate() {
         let id = |b: crate::model::body::BodyId| b.index() as u32;
         match c {
@@ -132,14 +135,15 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
                 ci,
                 Prim::Driver(DriverK { a: id(d.body), slot: d.coord.slot() as u8, motion: d.motion.clone() }),
             )),
+            Constraint::Linear(l) => linears.push((ci, l)),
         }
     }
     // Preference: bodies touched by fewer constraints take the equations.
     let mut touches = vec![0usize; nb];
     for (_, c) in system.constraints() {
-        let (a, b) = c.bodies();
-        touches[a.index()] += 1;
-        touches[b.index()] += 1;
+        for b in c.bodies() {
+            touches[b.index()] += 1;
+        }
     }
     let mut equations = Vec::new();
     let mut eq_bodies = Vec::new();
@@ -162,9 +166,18 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
                 }
             }
             equations.push(EquationSpec { constraint: system.constraints()[*ci].0.clone(), candidates });
-            eq_bodies.push((a, b));
+            eq_bodies.push(vec![a, b]);
             eq_constraint.push(*ci as u32);
         }
+    }
+    // (the linear equations after the primitives': see `compile_linear`)
+    for &(ci, l) in &linears {
+        // (in the terms' order: the first term's coordinate takes the
+        // equation when it is free; see `Linear::terms`)
+        let candidates: Vec<(u32, u8)> = l.terms.iter().map(|&(b, c, _)| (b.index() as u32, c.slot() as u8)).collect();
+        equations.push(EquationSpec { constraint: system.constraints()[ci].0.clone(), candidates });
+        eq_bodies.push(system.constraints()[ci].1.bodies().iter().map(|b| b.index() as u32).collect());
+        eq_constraint.push(ci as u32);
     }
     let couplings: Vec<(u32, u32)> = system
         .forces()
@@ -216,6 +229,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         elements: ForceElements::default(),
         contact_bodies: Vec::new(),
         prims: Primitives::default(),
+        linear: Vec::new(),
         g_entries: Vec::new(),
         eq_mref: Vec::new(),
         eq_angular: vec![false; layout.eq_coord.len()],
@@ -282,7 +296,9 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
                 // reduced mass of the two bodies (the ground counts as infinite)
                 let mass = |i: u32| if i == 0 { f64::INFINITY } else { bodies[i as usize].mass };
                 let (ma, mb) = (mass(a), mass(b));
-                let reduced = if mb.is_infinite() {
+                let reduced = if let Some(m) = e.reduced_mass {
+                    m
+                } else if mb.is_infinite() {
                     ma
                 } else if ma.is_infinite() {
                     mb
@@ -365,11 +381,16 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         asm.constraint_prims[ci].push(r);
     }
 
+    for (ci, l) in linears {
+        compile_linear(&mut asm, &layout, bodies, ci, l, eq);
+        eq += 1;
+    }
+
     for (b, body) in bodies.iter().enumerate().skip(1) {
         for dir in 0..2 {
             let c = layout.body_coord[b][dir];
             if c != NONE {
-                asm.translational[dir].push((c, body.mass));
+                asm.translational[dir].push((c, body.base_mass.map_or(body.mass, |m| m[dir])));
             }
         }
     }
@@ -387,6 +408,32 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
     asm.d_row_ptr = (0..=layout.n as u32).map(|r| by_row.partition_point(|&(row, _, _)| row < r) as u32).collect();
     asm.d_cols = by_row.iter().map(|&(_, c, p)| (c, p)).collect();
     Ok(asm)
+}
+
+/// Compiles the linear constraint `l` (user constraint `ci`) as equation
+/// `eq`, with one gradient entry per term.
+fn compile_linear(asm: &mut Assembly, layout: &Layout, bodies: &[Body], ci: usize, l: &Linear, eq: u32) {
+    let g_start = asm.g_entries.len() as u32;
+    let mut terms = Vec::with_capacity(l.terms.len());
+    let mut offset = 0.0;
+    for &(body, coord, c) in &l.terms {
+        let (b, slot) = (body.index(), coord.slot());
+        let col = layout.body_coord[b][slot];
+        let (ue, uc) = (layout.unknown_of_eq[eq as usize], layout.unknown_of_coord[col as usize]);
+        asm.g_entries.push(GEntry {
+            pos: layout.entry(ue, uc),
+            pos_t: layout.entry(uc, ue),
+            eq,
+            coord: col,
+            row: 0,
+            slot: slot as u8,
+        });
+        terms.push((b as u32, slot as u8, col, c));
+        offset += c * bodies[b].pose[slot];
+    }
+    asm.eq_angular[eq as usize] = terms.iter().all(|&(_, s, _, _)| s == 2);
+    asm.linear.push(LinearK { eq, terms, offset, g_start });
+    asm.constraint_prims[ci].push(PrimRef::Linear(asm.linear.len() as u32 - 1));
 }
 
 /// Distinct positions written by any element or constraint.

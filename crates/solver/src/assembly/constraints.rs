@@ -92,17 +92,22 @@ impl Primitives {
             PrimRef::Angle(i) => visitor.visit(std::slice::from_ref(&self.angles[i as usize])),
             PrimRef::Line(i) => visitor.visit(std::slice::from_ref(&self.lines[i as usize])),
             PrimRef::Driver(i) => visitor.visit(std::slice::from_ref(&self.drivers[i as usize])),
+            // (not a primitive: the callers handle it, see `super::linear`)
+            PrimRef::Linear(_) => {}
         }
     }
 }
 
-/// Which primitive of [`Primitives`] a part of a user constraint is.
+/// Which primitive of [`Primitives`] (or linear equation) a part of a user
+/// constraint is.
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum PrimRef {
     Point(u32),
     Angle(u32),
     Line(u32),
     Driver(u32),
+    /// A linear constraint's equation, in [`super::Assembly::linear`].
+    Linear(u32),
 }
 
 /// Point of body `a` coincides with point of body `b` (2 equations).

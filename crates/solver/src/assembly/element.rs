@@ -342,6 +342,7 @@ mod tests {
                 edge_point: [-0.1, 0.05],
                 edge_normal: [-0.8, 0.6],
                 law,
+                reduced_mass: None,
             }));
         }
         let asm = Assembly::new(&sys, &AssemblyOptions::default()).unwrap();

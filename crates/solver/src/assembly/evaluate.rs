@@ -91,6 +91,9 @@ impl Assembly {
         vx[..v.len()].copy_from_slice(v);
         vx[v.len()] = 0.0;
         self.prims.visit(&mut ConstraintRows { kin, t, f, g, w, vx, lam });
+        for k in &self.linear {
+            k.apply(kin, vx, f, g, w, lam);
+        }
     }
 
     /// Generalised applied forces `Q(t, q, q')` added into `ws.f` (kinematics loaded).
@@ -155,6 +158,9 @@ impl Assembly {
         let at = At { zone, ..At::new(kin, t, closed, v0) };
         self.elements.visit::<JacobianOrder, _>(&mut AddDerivatives { at, k, d });
         self.prims.visit(&mut Gradients { kin, t, lam, entries: &self.g_entries, g, k });
+        for k in &self.linear {
+            k.store_gradient(g);
+        }
     }
 
     /// The acceleration-free part of `d^2 g/dt^2` (for consistent accelerations),
@@ -163,6 +169,9 @@ impl Assembly {
         self.load_kin(ws, q, v);
         let Workspace { kin, g, .. } = ws;
         self.prims.visit(&mut Gamma { kin: &kin[..], t, g });
+        for k in &self.linear {
+            g[k.eq as usize] = 0.0;
+        }
     }
 }
 

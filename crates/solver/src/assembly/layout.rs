@@ -52,12 +52,13 @@ pub(crate) struct Layout {
 impl Layout {
     /// Builds the numbering. `couplings` are pairs of bodies coupled by force
     /// elements; `equations` lists each equation's candidates and `eq_bodies`
-    /// the bodies each equation involves.
+    /// the bodies each equation involves (two for a primitive, any number
+    /// for a linear constraint).
     pub fn new(
         free: &[[bool; 3]],
         names: &[String],
         equations: &[EquationSpec],
-        eq_bodies: &[(u32, u32)],
+        eq_bodies: &[Vec<u32>],
         couplings: &[(u32, u32)],
         ordering: BlockOrdering,
     ) -> Result<Self, BuildError> {
@@ -105,15 +106,18 @@ impl Layout {
                 edges.push((block(a), block(b)));
             }
         }
-        for (e, &(a, b)) in eq_bodies.iter().enumerate() {
+        for (e, bodies) in eq_bodies.iter().enumerate() {
             let o = block(eq_owner[e]);
-            for x in [a, b] {
+            for &x in bodies {
                 if block(x) != NONE {
                     edges.push((o, block(x)));
                 }
             }
-            if block(a) != NONE && block(b) != NONE {
-                edges.push((block(a), block(b)));
+            // a two-body primitive's Hessian couples its bodies
+            if let [a, b] = bodies[..] {
+                if block(a) != NONE && block(b) != NONE {
+                    edges.push((block(a), block(b)));
+                }
             }
         }
         let sym = BlockSymbolic::analyse(&sizes, &edges, ordering);

@@ -35,6 +35,7 @@ pub(crate) mod forces;
 pub(crate) mod friction;
 pub(crate) mod kin;
 pub(crate) mod layout;
+pub(crate) mod linear;
 pub(crate) mod maps;
 mod reactions;
 mod values;
@@ -49,6 +50,7 @@ use constraints::{PrimRef, Primitives};
 use element::ForceElements;
 use kin::{BodyStatic, V2};
 use layout::{Layout, NONE};
+use linear::LinearK;
 use maps::GEntry;
 
 pub use build::AssemblyOptions;
@@ -71,6 +73,8 @@ pub struct Assembly {
     pub(crate) contact_bodies: Vec<usize>,
     /// The constraint primitives, one list per kind.
     pub(crate) prims: Primitives,
+    /// The linear constraints' equations (after the primitives').
+    pub(crate) linear: Vec<LinearK>,
     pub(crate) g_entries: Vec<GEntry>,
     /// Reference mass of each equation for scaling the constraint rows.
     pub(crate) eq_mref: Vec<f64>,

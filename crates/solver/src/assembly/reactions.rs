@@ -2,9 +2,10 @@
 //! constraints on a body, the largest element forces, and the contacts'
 //! states.
 
-use super::constraints::{PrimVisitor, Primitive};
+use super::constraints::{PrimRef, PrimVisitor, Primitive};
 use super::element::{At, EnergyOrder, ForceKernel, KindVisitor, PeakForce};
 use super::layout::NONE;
+use super::linear::LinearK;
 use super::maps::PrimMap;
 use super::{Assembly, ContactValue, ForceExtremes, Workspace};
 use crate::model::body::BodyId;
@@ -45,7 +46,10 @@ impl Assembly {
                 continue;
             };
             for &prim in prims {
-                self.prims.visit_one(prim, &mut reaction);
+                match prim {
+                    PrimRef::Linear(i) => reaction.linear(&self.linear[i as usize]),
+                    _ => self.prims.visit_one(prim, &mut reaction),
+                }
             }
         }
         reaction.out
@@ -127,6 +131,19 @@ impl PrimVisitor for Reaction<'_> {
                         self.out[s] -= rows.grad[r][slot] * l;
                     }
                 }
+            }
+        }
+    }
+}
+
+impl Reaction<'_> {
+    /// Adds `-c_k lambda` of the terms of a linear equation on the body's
+    /// coordinates.
+    fn linear(&mut self, k: &LinearK) {
+        let l = self.lam[k.eq as usize];
+        for &(_, _, c, coef) in &k.terms {
+            if let Some(s) = self.coords.iter().position(|&x| x == c) {
+                self.out[s] -= coef * l;
             }
         }
     }

@@ -72,17 +72,37 @@ pub struct Body {
     /// own motion matters little, and which would otherwise set the step
     /// size by its number, can be held less tightly.
     pub tolerance_scale: f64,
+    /// The masses the ground's acceleration acts on along x and y \[kg\]: the
+    /// base-excitation load is `-m_b a_g`; none: the body's mass. A modal
+    /// coordinate's is its participation factor `Gamma = phi^T M r`
+    /// (in the units of its coordinate).
+    pub base_mass: Option<[f64; 2]>,
 }
 
 impl Body {
     /// A body free in x, y and phi, at rest at `pose`.
     pub fn new(name: impl Into<String>, mass: f64, inertia: f64, pose: [f64; 3]) -> Self {
-        Self { name: name.into(), mass, inertia, pose, velocity: [0.0; 3], free: [true; 3], tolerance_scale: 1.0 }
+        Self {
+            name: name.into(),
+            mass,
+            inertia,
+            pose,
+            velocity: [0.0; 3],
+            free: [true; 3],
+            tolerance_scale: 1.0,
+            base_mass: None,
+        }
     }
 
     /// Sets the factor on the absolute tolerances ([`Body::tolerance_scale`]).
     pub fn with_tolerance_scale(mut self, scale: f64) -> Self {
         self.tolerance_scale = scale;
+        self
+    }
+
+    /// Sets the masses the ground's acceleration acts on ([`Body::base_mass`]).
+    pub fn with_base_mass(mut self, base_mass: [f64; 2]) -> Self {
+        self.base_mass = Some(base_mass);
         self
     }
 

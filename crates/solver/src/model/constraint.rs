@@ -89,6 +89,24 @@ pub struct Driver {
     pub motion: TimeFunction,
 }
 
+/// A linear relation between coordinates of any number of bodies:
+/// `sum_k c_k (q_k - q_k0) = 0`, with `q_k0` the coordinate in the bodies'
+/// initial poses (1 equation). It ties a point of a linear structure given
+/// by its modes to the modal coordinates (`u = sum_i phi_i eta_i`: the
+/// point's coordinate with coefficient 1, each mode's with `-phi_i`), as
+/// Exudyn's `CoordinateVectorConstraint` does; its multiplier is the force
+/// on the coordinate of coefficient 1 [N or N m].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Linear {
+    /// `(body, coordinate, coefficient c_k)` of each term; every coordinate
+    /// free, none twice; the coefficients \[-\] in the units that make the
+    /// sum a length or an angle. The equation is paired, for the block
+    /// elimination, with the first term's coordinate that no other equation
+    /// has taken: put first a coordinate whose own mass is small (a point
+    /// that only follows the others), so its block holds the equation.
+    pub terms: Vec<(BodyId, Coord, f64)>,
+}
+
 /// Any constraint.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Constraint {
@@ -102,6 +120,8 @@ pub enum Constraint {
     Weld(Weld),
     /// See [`Driver`].
     Driver(Driver),
+    /// See [`Linear`].
+    Linear(Linear),
 }
 
 impl Constraint {
@@ -109,7 +129,7 @@ impl Constraint {
     pub fn equations(&self) -> usize {
         match self {
             Constraint::Revolute(_) | Constraint::Prismatic(_) => 2,
-            Constraint::PointOnLine(_) | Constraint::Driver(_) => 1,
+            Constraint::PointOnLine(_) | Constraint::Driver(_) | Constraint::Linear(_) => 1,
             Constraint::Weld(_) => 3,
         }
     }
@@ -122,17 +142,28 @@ impl Constraint {
             Constraint::PointOnLine(_) => "point-on-line",
             Constraint::Weld(_) => "weld",
             Constraint::Driver(_) => "driver",
+            Constraint::Linear(_) => "linear",
         }
     }
 
-    /// The bodies involved (the second is the ground for a driver).
-    pub fn bodies(&self) -> (BodyId, BodyId) {
+    /// The bodies involved (the ground for a driver's second; a linear
+    /// constraint's in the order of its terms, each once).
+    pub fn bodies(&self) -> Vec<BodyId> {
         match self {
-            Constraint::Revolute(c) => (c.body_a, c.body_b),
-            Constraint::Prismatic(c) => (c.slider, c.base),
-            Constraint::PointOnLine(c) => (c.body, c.line_body),
-            Constraint::Weld(c) => (c.body_a, c.body_b),
-            Constraint::Driver(c) => (c.body, BodyId::GROUND),
+            Constraint::Revolute(c) => vec![c.body_a, c.body_b],
+            Constraint::Prismatic(c) => vec![c.slider, c.base],
+            Constraint::PointOnLine(c) => vec![c.body, c.line_body],
+            Constraint::Weld(c) => vec![c.body_a, c.body_b],
+            Constraint::Driver(c) => vec![c.body, BodyId::GROUND],
+            Constraint::Linear(c) => {
+                let mut out: Vec<BodyId> = Vec::with_capacity(c.terms.len());
+                for &(b, _, _) in &c.terms {
+                    if !out.contains(&b) {
+                        out.push(b);
+                    }
+                }
+                out
+            }
         }
     }
 }

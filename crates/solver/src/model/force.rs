@@ -180,6 +180,11 @@ pub struct Contact {
     pub edge_normal: [f64; 2],
     /// The force law.
     pub law: ContactLaw,
+    /// The mass the law's restitution is set for \[kg\]; none: the reduced
+    /// mass of the two bodies (the ground's counts as infinite). A body that
+    /// stands for a point of a larger structure (a modal bridge's deck end)
+    /// has a mass that is not the one the impact meets.
+    pub reduced_mass: Option<f64>,
 }
 
 /// Spring and damper acting along the line between two points.

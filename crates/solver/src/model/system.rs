@@ -1,7 +1,7 @@
 //! The system description: bodies, force elements, constraints and loads.
 
 use super::body::{Body, BodyId};
-use super::constraint::{Constraint, ConstraintId};
+use super::constraint::{Constraint, ConstraintId, Linear};
 use super::force::{Excitation, ForceElement, ForceId};
 use crate::error::BuildError;
 
@@ -34,6 +34,7 @@ impl System {
             velocity: [0.0; 3],
             free: [false; 3],
             tolerance_scale: 1.0,
+            base_mass: None,
         };
         Self { bodies: vec![ground], forces: Vec::new(), constraints: Vec::new(), excitation: Excitation::default() }
     }
@@ -214,6 +215,9 @@ impl System {
                     crate::model::force::ContactLaw::Hertz { stiffness, restitution, .. } => (stiffness, restitution),
                 };
                 positive(&what, "stiffness", k)?;
+                if let Some(m) = e.reduced_mass {
+                    positive(&what, "reduced_mass", m)?;
+                }
                 if !(r > 0.0 && r <= 1.0) {
                     return Err(BuildError::InvalidParameter {
                         what,
@@ -240,7 +244,8 @@ impl System {
 
     fn validate_constraint(&self, name: &str, c: &Constraint) -> Result<(), BuildError> {
         let what = format!("{} \"{name}\"", c.kind());
-        let (a, b) = c.bodies();
+        let bodies = c.bodies();
+        let (a, b) = (bodies[0], *bodies.get(1).unwrap_or(&BodyId::GROUND));
         match c {
             Constraint::Revolute(j) => {
                 self.check_pair(&what, a, b)?;
@@ -265,6 +270,35 @@ impl System {
                 self.check_free(&what, d.body, d.coord.slot())?;
                 d.motion.validate(&what)?;
             }
+            Constraint::Linear(l) => self.validate_linear(&what, l)?,
+        }
+        Ok(())
+    }
+
+    fn validate_linear(&self, what: &str, l: &Linear) -> Result<(), BuildError> {
+        if l.terms.is_empty() {
+            return Err(BuildError::NoFreeCoordinate { what: what.to_string(), detail: "it has no terms".to_string() });
+        }
+        for (k, &(body, coord, c)) in l.terms.iter().enumerate() {
+            self.check_body(what, body)?;
+            self.check_free(what, body, coord.slot())?;
+            finite(what, "coefficient", c)?;
+            if l.terms[..k].iter().any(|&(b, s, _)| b == body && s == coord) {
+                return Err(BuildError::InvalidParameter {
+                    what: what.to_string(),
+                    name: "terms",
+                    value: k as f64,
+                    reason: "a coordinate appears twice (term number given as the value)",
+                });
+            }
+        }
+        if l.terms.iter().all(|&(_, _, c)| c == 0.0) {
+            return Err(BuildError::InvalidParameter {
+                what: what.to_string(),
+                name: "coefficient",
+                value: 0.0,
+                reason: "every coefficient is zero",
+            });
         }
         Ok(())
     }
@@ -281,6 +315,9 @@ fn validate_body(index: usize, b: &Body) -> Result<(), BuildError> {
     finite_all(&what, "pose", &b.pose)?;
     finite_all(&what, "velocity", &b.velocity)?;
     positive(&what, "tolerance_scale", b.tolerance_scale)?;
+    if let Some(m) = b.base_mass {
+        finite_all(&what, "base_mass", &m)?;
+    }
     for (slot, free) in b.free.iter().enumerate() {
         if !free && b.velocity[slot] != 0.0 {
             return Err(BuildError::InvalidParameter {

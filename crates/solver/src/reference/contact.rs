@@ -23,6 +23,7 @@ fn faces(a: BodyId, b: BodyId, law: ContactLaw) -> ForceElement {
         edge_point: [-HALF_WIDTH, 0.0],
         edge_normal: [-1.0, 0.0],
         law,
+        reduced_mass: None,
     })
 }
 
@@ -113,6 +114,7 @@ impl PoundingOscillator {
                 edge_point: [self.gap, 0.0],
                 edge_normal: [-1.0, 0.0],
                 law: self.law,
+                reduced_mass: None,
             }),
         );
         sys.set_excitation(Excitation { ground_x: Some(ground.into()), ..Default::default() });

@@ -1,0 +1,371 @@
+//! A linear bridge given by its modes: the modes file (docs/bridge.md,
+//! "The modes file") and what a run takes from it.
+//!
+//! Each mode `i` is a coordinate `q_i` of
+//! `q_i'' + 2 zeta_i w_i q_i' + w_i^2 q_i = -Gamma_i a_g + sum_p phi_ip F_p`
+//! with mass-normalised shapes `phi_ip` at the file's points and the
+//! participation factors `Gamma_i = phi_i^T M r`; a point moves by
+//! `u_p = sum_i phi_ip q_i` relative to the ground.
+
+use std::path::Path;
+
+use quakejoint_solver::{
+    Assembly, Body, BodyId, Constraint, ConstraintId, Coord, CoordinateSpring, ForceElement, Linear, System,
+};
+use serde::Deserialize;
+
+use crate::config::ModalConfig;
+use crate::error::ModelError;
+
+/// The format tag the file must carry.
+pub const FORMAT: &str = "quakejoint-modes-1";
+
+/// A direction of a point's motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    /// Along the bridge.
+    X,
+    /// Across the bridge.
+    Y,
+}
+
+/// A point of the bridge whose motion the file gives.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModalPoint {
+    /// Its name, unique in the file (joints and outputs refer to it).
+    pub name: String,
+    /// The direction of the motion given.
+    pub direction: Direction,
+}
+
+/// One mode.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Mode {
+    /// Period \[s\].
+    pub period: f64,
+    /// Damping ratio [-]; none: the config's `bridge.damping`.
+    pub damping: Option<f64>,
+    /// Participation factor along x, `phi^T M r_x` \[kg^0.5\].
+    pub participation_x: f64,
+    /// Participation factor across, `phi^T M r_y` \[kg^0.5\].
+    #[serde(default)]
+    pub participation_y: f64,
+    /// Mass-normalised shape at the points, in their order \[kg^-0.5\].
+    pub shape: Vec<f64>,
+}
+
+/// The full model's static response at the points, for the correction of
+/// the modes left out (residual flexibility).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StaticResponse {
+    /// Displacement of each point (relative to the ground) under a
+    /// ground acceleration of 1 m/s^2 along x, `-K^-1 M r_x` \[s^2\].
+    pub ground_x: Vec<f64>,
+    /// Static flexibility between the points \[m/N\] (n x n).
+    #[serde(default)]
+    pub flexibility: Vec<Vec<f64>>,
+}
+
+/// The modes file.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModalBridge {
+    /// Must be [`FORMAT`].
+    pub format: String,
+    /// Where the modes come from (free text).
+    #[serde(default)]
+    pub source: String,
+    /// The mass a ground acceleration along x excites \[kg\]: with every
+    /// mode the sum of `Gamma_x^2` (a check of the file).
+    pub total_mass_x: Option<f64>,
+    /// The points, in the order of the shapes' values.
+    #[serde(rename = "point")]
+    pub points: Vec<ModalPoint>,
+    /// The modes.
+    #[serde(rename = "mode")]
+    pub modes: Vec<Mode>,
+    /// The static response, for the correction of the modes left out.
+    #[serde(rename = "static")]
+    pub static_response: Option<StaticResponse>,
+}
+
+impl ModalBridge {
+    /// Reads and checks a modes file.
+    pub fn read(path: &Path) -> Result<Self, ModelError> {
+        let file = path.display().to_string();
+        let text =
+            std::fs::read_to_string(path).map_err(|e| ModelError::Io { file: file.clone(), message: e.to_string() })?;
+        Self::parse(&text, &file)
+    }
+
+    /// Parses and checks a modes file's text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Self, ModelError> {
+        let bridge: Self =
+            toml::from_str(text).map_err(|e| ModelError::Parse { file: file.to_string(), message: e.to_string() })?;
+        bridge.check(file)?;
+        Ok(bridge)
+    }
+
+    fn check(&self, file: &str) -> Result<(), ModelError> {
+        let bad = |field: String, value: String, reason: &str| ModelError::Invalid {
+            field: format!("{file}: {field}"),
+            value,
+            reason: reason.to_string(),
+        };
+        if self.format != FORMAT {
+            return Err(bad("format".into(), format!("\"{}\"", self.format), "must be \"quakejoint-modes-1\""));
+        }
+        if self.points.is_empty() {
+            return Err(bad("point".into(), "[]".into(), "give at least one [[point]]"));
+        }
+        if self.modes.is_empty() {
+            return Err(bad("mode".into(), "[]".into(), "give at least one [[mode]]"));
+        }
+        for (k, p) in self.points.iter().enumerate() {
+            if p.name.trim().is_empty() {
+                return Err(bad(format!("point[{k}].name"), "\"\"".into(), "must not be empty"));
+            }
+            if self.points[..k].iter().any(|q| q.name == p.name) {
+                return Err(bad(format!("point[{k}].name"), format!("\"{}\"", p.name), "appears twice"));
+            }
+        }
+        let n = self.points.len();
+        for (i, m) in self.modes.iter().enumerate() {
+            let f = |name: &str| format!("mode[{i}].{name}");
+            if !(m.period.is_finite() && m.period > 0.0 && m.period <= 100.0) {
+                return Err(bad(f("period"), m.period.to_string(), "must be above 0 and at most 100 s"));
+            }
+            if let Some(z) = m.damping {
+                if !(z.is_finite() && (0.0..1.0).contains(&z)) {
+                    return Err(bad(f("damping"), z.to_string(), "must be at least 0 and below 1"));
+                }
+            }
+            for (name, v) in [("participation_x", m.participation_x), ("participation_y", m.participation_y)] {
+                if !v.is_finite() {
+                    return Err(bad(f(name), v.to_string(), "must be a finite number [kg^0.5]"));
+                }
+            }
+            if m.shape.len() != n {
+                return Err(bad(
+                    f("shape"),
+                    format!("{} values", m.shape.len()),
+                    &format!("must have one value per [[point]] ({n})"),
+                ));
+            }
+            if let Some(v) = m.shape.iter().find(|v| !v.is_finite()) {
+                return Err(bad(f("shape"), v.to_string(), "must hold finite numbers [kg^-0.5]"));
+            }
+        }
+        if let Some(m) = self.total_mass_x {
+            if !(m.is_finite() && m > 0.0) {
+                return Err(bad("total_mass_x".into(), m.to_string(), "must be a positive mass [kg]"));
+            }
+        }
+        if let Some(s) = &self.static_response {
+            if s.ground_x.len() != n || s.ground_x.iter().any(|v| !v.is_finite()) {
+                return Err(bad(
+                    "static.ground_x".into(),
+                    format!("{} values", s.ground_x.len()),
+                    &format!("must have one finite value per [[point]] ({n})"),
+                ));
+            }
+            if !s.flexibility.is_empty()
+                && (s.flexibility.len() != n
+                    || s.flexibility.iter().any(|r| r.len() != n || r.iter().any(|v| !v.is_finite())))
+            {
+                return Err(bad(
+                    "static.flexibility".into(),
+                    format!("{} rows", s.flexibility.len()),
+                    &format!("must be {n} x {n} finite values [m/N]"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The index of the point `name` (along `direction`), or an error that
+    /// names `field` and lists the file's points.
+    pub fn point(&self, name: &str, direction: Direction, field: &str) -> Result<usize, ModelError> {
+        self.points.iter().position(|p| p.name == name && p.direction == direction).ok_or_else(|| {
+            let names: Vec<String> =
+                self.points.iter().map(|p| format!("\"{}\" ({:?})", p.name, p.direction)).collect();
+            ModelError::Invalid {
+                field: field.to_string(),
+                value: format!("\"{name}\""),
+                reason: format!(
+                    "the modes file has no such point along {}; its points: {}",
+                    if direction == Direction::X { "x" } else { "y" },
+                    names.join(", ")
+                ),
+            }
+        })
+    }
+
+    /// The modes a run keeps: the `count` longest periods (all if none),
+    /// in order of decreasing period, each period times `period_scale`
+    /// (stiffness scaled, masses kept), with the damping ratio `damping`
+    /// where the file gives none.
+    pub fn kept(&self, count: Option<usize>, period_scale: f64, damping: f64) -> Vec<KeptMode> {
+        let mut order: Vec<usize> = (0..self.modes.len()).collect();
+        // (stable: equal periods keep the file's order)
+        order.sort_by(|&a, &b| self.modes[b].period.total_cmp(&self.modes[a].period));
+        order.truncate(count.unwrap_or(usize::MAX));
+        order
+            .into_iter()
+            .map(|i| {
+                let m = &self.modes[i];
+                KeptMode {
+                    index: i,
+                    omega: 2.0 * std::f64::consts::PI / (m.period * period_scale),
+                    damping: m.damping.unwrap_or(damping),
+                    gamma: [m.participation_x, m.participation_y],
+                    shape: m.shape.clone(),
+                }
+            })
+            .collect()
+    }
+
+    /// The sum of the kept modes' effective masses `Gamma_x^2` over
+    /// `total_mass_x` [-] (none when the file gives no total).
+    pub fn mass_ratio_x(&self, kept: &[KeptMode]) -> Option<f64> {
+        self.total_mass_x.map(|m| kept.iter().map(|k| k.gamma[0] * k.gamma[0]).sum::<f64>() / m)
+    }
+}
+
+/// A mode as a run uses it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KeptMode {
+    /// Its index in the file.
+    pub index: usize,
+    /// Circular frequency [rad/s].
+    pub omega: f64,
+    /// Damping ratio [-].
+    pub damping: f64,
+    /// Participation factors along x and y \[kg^0.5\].
+    pub gamma: [f64; 2],
+    /// Mass-normalised shape at the file's points \[kg^-0.5\].
+    pub shape: Vec<f64>,
+}
+
+/// The kept modes of `[bridge.modal]` (with the damping ratio `damping`
+/// where the file gives none) and the index of its joint point.
+pub fn kept_modes(m: &ModalConfig, damping: f64) -> Result<(Vec<KeptMode>, usize), ModelError> {
+    let data = m.loaded.as_ref().ok_or_else(|| ModelError::Invalid {
+        field: "bridge.modal.modes".to_string(),
+        value: format!("\"{}\"", m.modes),
+        reason: "the modes file was not read with the config (Config::from_file or Config::load_modes)".to_string(),
+    })?;
+    let point = data.point(&m.joint_point, Direction::X, "bridge.modal.joint_point")?;
+    Ok((data.kept(m.modes_used, m.scale(), damping), point))
+}
+
+/// A mode as a body of the solver system: its coordinate `y = s q` is the
+/// mode's largest displacement at the file's points \[m\] (`s` the largest
+/// `|phi|`), so its mass is `1/s^2` \[kg\], its spring `w^2/s^2` \[N/m\], its
+/// damper `2 zeta w/s^2` \[N s/m\] and the ground acts on `Gamma/s` \[kg\].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalBody {
+    /// The body.
+    pub body: BodyId,
+    /// Mass \[kg\].
+    pub mass: f64,
+    /// Spring \[N/m\].
+    pub stiffness: f64,
+    /// Damper \[N s/m\].
+    pub damper: f64,
+    /// The mass the ground's acceleration along x acts on \[kg\].
+    pub base_mass: f64,
+    /// The joint point's displacement per unit of `y` [-], `phi_p / s`.
+    pub at_joint: f64,
+}
+
+/// The modes in the solver system and the deck end the joint moves with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalDeck {
+    /// The deck end: a body in x whose coordinate is the joint point's
+    /// displacement, tied to the modes by [`ModalDeck::link`].
+    pub deck: BodyId,
+    /// `u_p - sum_i (phi_ip / s_i) y_i = 0`; its multiplier is the force
+    /// the deck end passes to the modes \[N\].
+    pub link: ConstraintId,
+    /// The modes.
+    pub modes: Vec<ModalBody>,
+}
+
+/// The deck end's own mass, relative to the kept modes' effective mass
+/// along x [-]: the modes hold all of the bridge's mass, the deck end
+/// needs a mass only to be a body; at 1e-9 of the bridge it changes the
+/// response by as much.
+pub const DECK_END_MASS_RATIO: f64 = 1e-9;
+
+/// Adds the kept modes and the deck end at `point` to `sys`.
+pub fn add_modes(sys: &mut System, kept: &[KeptMode], point: usize) -> ModalDeck {
+    let effective: f64 = kept.iter().map(|k| k.gamma[0] * k.gamma[0]).sum();
+    let scales: Vec<f64> = kept
+        .iter()
+        .map(|k| {
+            let s = k.shape.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if s > 0.0 {
+                s
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let fallback: f64 = scales.iter().map(|s| 1.0 / (s * s)).sum();
+    let end_mass = DECK_END_MASS_RATIO * if effective > 0.0 { effective } else { fallback };
+    let deck = sys.add_body(Body::new("deck end", end_mass, 1.0, [0.0; 3]).only(&[Coord::X]));
+    let mut terms = vec![(deck, Coord::X, 1.0)];
+    let mut modes = Vec::with_capacity(kept.len());
+    for (k, s) in kept.iter().zip(scales) {
+        let m = ModalBody {
+            body: BodyId::GROUND,
+            mass: 1.0 / (s * s),
+            stiffness: k.omega * k.omega / (s * s),
+            damper: 2.0 * k.damping * k.omega / (s * s),
+            base_mass: k.gamma[0] / s,
+            at_joint: k.shape[point] / s,
+        };
+        let body = sys.add_body(
+            Body::new(format!("mode {}", k.index + 1), m.mass, 1.0, [0.0; 3])
+                .only(&[Coord::X])
+                .with_base_mass([m.base_mass, 0.0]),
+        );
+        sys.add_force_named(
+            format!("mode {} spring and damper", k.index + 1),
+            ForceElement::CoordinateSpring(CoordinateSpring {
+                body,
+                coord: Coord::X,
+                stiffness: m.stiffness,
+                damping: m.damper,
+                rest: 0.0,
+            }),
+        );
+        terms.push((body, Coord::X, -m.at_joint));
+        modes.push(ModalBody { body, ..m });
+    }
+    let link = sys.add_constraint_named("deck end on the modes", Constraint::Linear(Linear { terms }));
+    ModalDeck { deck, link, modes }
+}
+
+impl ModalDeck {
+    /// The deck end's absolute acceleration \[m/s^2\] at the state `(q, v)`
+    /// with the ground's acceleration `ag` \[m/s^2\]: the modes'
+    /// accelerations from their equations, with `lambda` \[N\] the force the
+    /// deck end passes to the modes (the link's multiplier: the link's
+    /// reaction on the deck end is `-lambda`), summed at the joint point,
+    /// plus `ag`.
+    pub fn a_abs(&self, asm: &Assembly, q: &[f64], v: &[f64], lambda: f64, ag: f64) -> f64 {
+        let mut a = ag;
+        for m in &self.modes {
+            let c = asm.coordinate(m.body, Coord::X).expect("a mode's x is free");
+            let acc = (-m.stiffness * q[c] - m.damper * v[c] - m.base_mass * ag + m.at_joint * lambda) / m.mass;
+            a += m.at_joint * acc;
+        }
+        a
+    }
+}
