@@ -36,3 +36,14 @@ python_package() {
   echo "== installing the Python package quakejoint into .venv (builds the engine)"
   .venv/bin/python3 -m pip install --quiet --disable-pip-version-check ".[test]"
 }
+
+# opensees_env: openseespy (scripts/opensees/requirements.txt), the
+# independent engine of the bridge checks, into .venv; on Debian it needs
+# the BLAS and LAPACK libraries
+opensees_env() {
+  if ! dpkg -s libblas3 > /dev/null 2>&1 || ! dpkg -s liblapack3 > /dev/null 2>&1; then
+    echo "== installing libblas3 and liblapack3 (for openseespy)"
+    apt_install libblas3 liblapack3
+  fi
+  .venv/bin/python3 -m pip install --quiet --disable-pip-version-check -r scripts/opensees/requirements.txt
+}

@@ -16,7 +16,9 @@
 #    what to install; here they must run).
 # 4. The Python package (pip install ".[test]" into .venv, which builds the
 #    engine with maturin) and its tests, python/tests: values against the
-#    command line and closed forms, every plot script, the examples.
+#    command line and closed forms, every plot script, the examples; with
+#    openseespy (scripts/opensees/requirements.txt; Debian's libblas3 and
+#    liblapack3), the three-span bridge rebuilt and checked in OpenSees.
 # 5. The cluster tests on a real one-node SLURM on localhost
 #    (tests/slurm/start.sh, test_start.sh, test_array.sh, stop.sh). It needs root; set
 #    QJ_SKIP_SLURM=1 to leave it out where that is impossible (it is then
@@ -39,8 +41,9 @@ echo "== cargo test --workspace"
 QJ_REQUIRE_PYTHON=1 cargo test --workspace
 
 python_package
+opensees_env
 echo "== pytest python/tests"
-QUAKEJOINT_BIN="$PWD/target/debug/quakejoint" .venv/bin/python3 -m pytest -q python/tests
+QUAKEJOINT_BIN="$PWD/target/debug/quakejoint" QJ_REQUIRE_OPENSEES=1 .venv/bin/python3 -m pytest -q python/tests
 
 echo "== cluster test on a real SLURM"
 if [ "${QJ_SKIP_SLURM:-0}" = 1 ]; then

@@ -69,6 +69,13 @@ fn full() -> Config {
         period_ratio: Some(1.0),
         damping: Some(0.05),
     });
+    c.bridge.modal = Some(quakejoint_model::config::ModalConfig {
+        modes: "modes.toml".to_string(),
+        joint_point: "right end".to_string(),
+        modes_used: Some(3),
+        period_scale: Some(1.0),
+        loaded: None,
+    });
     c.simulation.duration = Some(1.0);
     c.simulation.h_max = Some(1.0);
     c.simulation.max_wall_time = Some(1.0);

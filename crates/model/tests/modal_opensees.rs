@@ -1,0 +1,110 @@
+//! The three-span bridge of `tests/data/three_span/` against OpenSees.
+//!
+//! A continuous girder of 40-60-40 m on two piers, built in openseespy
+//! (`scripts/opensees/three_span.py`), its 124 modes exported to
+//! `tests/data/three_span/modes.toml` and its response to Loma Prieta
+//! Corralitos 090 computed by OpenSees' own linear transient analysis with
+//! 5 % modal damping (`opensees_corralitos090.csv`; its README says how
+//! each file was made). Without joints, the deck ends' displacement and
+//! absolute acceleration from the modes file must agree with OpenSees' to
+//! 1 % of their peaks with enough modes: by exact modal superposition and
+//! through the multibody solver (the modes as bodies, the deck end tied to
+//! them). The errors are printed against the number of modes.
+
+mod common;
+
+use std::path::PathBuf;
+
+use quakejoint_model::linear::modal_history;
+use quakejoint_model::modal::{Direction, ModalBridge};
+use quakejoint_model::run::{load_records, simulate_records, RunOptions};
+use quakejoint_model::Config;
+
+fn data() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/three_span")
+}
+
+/// OpenSees' histories: time, then (u, a_abs) of each point in the modes
+/// file's order.
+fn opensees() -> (Vec<f64>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(data().join("opensees_corralitos090.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert!(header[1].starts_with("left end u") && header[3].starts_with("right end u"), "{header:?}");
+    let mut t = Vec::new();
+    let mut cols = vec![Vec::new(); header.len() - 1];
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        t.push(v[0]);
+        for (c, x) in cols.iter_mut().zip(&v[1..]) {
+            c.push(*x);
+        }
+    }
+    (t, cols)
+}
+
+/// max |a - b| over the common samples / max |b| there.
+fn error(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let peak = b[..n].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    a[..n].iter().zip(&b[..n]).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / peak
+}
+
+fn config(modes_used: usize, point: &str) -> Config {
+    let text = format!(
+        "[record]\nfile = \"{}\"\n[bridge]\ndamping = 0.05\n[bridge.modal]\nmodes = \"modes.toml\"\n\
+         joint_point = \"{point}\"\nmodes_used = {modes_used}\n[joint]\nenabled = false\n",
+        common::configs_dir().join("../ground_motions/RSN753_LOMAP_CLS090-hor2.AT2").display()
+    );
+    let mut c = Config::from_toml(&text, "three_span.toml").unwrap();
+    c.load_modes(&data()).unwrap();
+    c
+}
+
+#[test]
+fn deck_ends_agree_with_opensees_without_joints() {
+    let bridge = ModalBridge::read(&data().join("modes.toml")).unwrap();
+    let (t, os) = opensees();
+    let (x, _) = load_records(&config(124, "left end"), &common::configs_dir()).unwrap();
+    let record = &x.record;
+    assert!((t[1] - t[0] - record.dt).abs() < 1e-12, "OpenSees' output step is the record's");
+    let mut table = Vec::new();
+    for count in [1, 3, 5, 10, 20, bridge.modes.len()] {
+        let kept = bridge.kept(Some(count), 1.0, 0.05);
+        let mut worst = (0.0f64, 0.0f64);
+        for (k, name) in ["left end", "right end"].into_iter().enumerate() {
+            let p = bridge.point(name, Direction::X, "point").unwrap();
+            let h = modal_history(record, &kept, p);
+            worst.0 = worst.0.max(error(&h.u, &os[2 * k]));
+            worst.1 = worst.1.max(error(&h.a_abs, &os[2 * k + 1]));
+        }
+        table.push((count, worst));
+    }
+    for (count, (u, a)) in &table {
+        eprintln!(
+            "{count:>4} modes: deck ends' u within {:.3} %, a_abs within {:.3} % of their peaks",
+            u * 100.0,
+            a * 100.0
+        );
+    }
+    // three modes are enough for 1 %; all of them reach OpenSees' own time-stepping error
+    let three = table[1].1;
+    assert!(three.0 < 0.01 && three.1 < 0.01, "3 modes: {three:?}");
+    let all = table.last().unwrap().1;
+    assert!(all.0 < 1e-3 && all.1 < 1e-3, "all modes: {all:?}");
+
+    // the multibody solver with 20 modes: the deck end's peaks
+    let multibody = config(20, "right end");
+    let r = simulate_records(&multibody, record, None, &RunOptions::default()).unwrap();
+    let peak = |c: &[f64]| c.iter().take(record.acceleration.len()).fold(0.0f64, |m, x| m.max(x.abs()));
+    let (sd, sa) = (peak(&os[2]), peak(&os[3]));
+    let (du, da) = ((r.sd - sd).abs() / sd, (r.sa - sa).abs() / sa);
+    eprintln!(
+        "multibody, 20 modes, right end: Sd {:.6} m vs OpenSees {sd:.6} m ({:.3} %), Sa {:.5} vs {sa:.5} m/s^2 ({:.3} %)",
+        r.sd,
+        du * 100.0,
+        r.sa,
+        da * 100.0
+    );
+    assert!(du < 0.01 && da < 0.01, "multibody: Sd {du:e}, Sa {da:e}");
+}
