@@ -417,7 +417,7 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         let provenance = provenance_of(&a.config, &text, config, records, warnings);
         quakejoint_io::run_h5::write_run(path, &provenance, result).context("writing the time histories")?;
     }
-    output::run_result(&a.config, &lx, result, config.bridge.modal.as_ref(), a.print.json);
+    output::run_result(&a.config, &lx, result, config, a.print.json);
     Ok(if result.validity.flags.is_flagged() { ExitCode::from(FLAGGED) } else { ExitCode::SUCCESS })
 }
 

@@ -15,9 +15,8 @@ macro_rules! out {
 
 use std::path::Path;
 
-use quakejoint_model::config::ModalConfig;
 use quakejoint_model::generator::JointModel;
-use quakejoint_model::run::RunResult;
+use quakejoint_model::run::{PlacedJointResult, RunResult};
 use quakejoint_model::service::ServiceResult;
 use quakejoint_model::validity::Flags;
 use quakejoint_model::Config;
@@ -102,6 +101,52 @@ fn fields_json(r: &RunResult) -> serde_json::Value {
     serde_json::Value::Object(map)
 }
 
+/// The lines of one more joint of `[[joints]]`.
+fn placed_joint_lines(j: &PlacedJointResult) {
+    out!("joint \"{}\"", j.name);
+    out!("  its deck point: Sa {:.5} m/s^2 at t = {:.3} s, Sd {:.6} m, Sv {:.5} m/s", j.sa, j.t_sa, j.sd, j.sv);
+    out!("  peak joint force on the deck  {:>12.1} N", j.peak_joint_force);
+    if let (Some(lo), Some(hi), Some(dev)) = (j.min_subgap, j.max_subgap, j.max_subgap_deviation) {
+        out!(
+            "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm)",
+            lo * 1e3,
+            hi * 1e3,
+            dev * 1e3
+        );
+    }
+    let p = &j.pounding;
+    if p.impacts == 0 {
+        out!("  pounding                      none (no sub-gap closed)");
+    } else {
+        out!("  impacts                       {:>12} (beam ends)", p.impacts);
+        out!("  peak contact force            {:>12.1} N at t = {:.3} s", p.peak_contact_force, p.peak_contact_time);
+        out!("  closed joint on the deck      {:>12.1} N", p.peak_deck_contact_force);
+    }
+    out!("  validity: {}", j.validity.flags.label());
+}
+
+/// One more joint of `[[joints]]` as JSON.
+fn placed_joint_json(j: &PlacedJointResult) -> serde_json::Value {
+    json!({
+        "name": j.name,
+        "sa": j.sa,
+        "t_sa": j.t_sa,
+        "sd": j.sd,
+        "sv": j.sv,
+        "peak_joint_force": j.peak_joint_force,
+        "min_subgap": j.min_subgap,
+        "max_subgap": j.max_subgap,
+        "max_subgap_deviation": j.max_subgap_deviation,
+        "impacts": j.pounding.impacts,
+        "peak_contact_force": j.pounding.peak_contact_force,
+        "peak_deck_contact_force": j.pounding.peak_deck_contact_force,
+        "max_penetration": j.pounding.max_penetration,
+        "validity": j.validity.flags.0,
+        "validity_label": j.validity.flags.label(),
+        "findings": j.validity.findings,
+    })
+}
+
 /// Merges the fields of `more` into the object `v`.
 fn extend(v: &mut serde_json::Value, more: serde_json::Value) {
     if let (Some(obj), serde_json::Value::Object(more)) = (v.as_object_mut(), more) {
@@ -113,7 +158,11 @@ fn extend(v: &mut serde_json::Value, more: serde_json::Value) {
 /// it) are `null` in JSON and left out of the table.
 /// With `modal`, the deck's values are those of the joint's point of the
 /// modes file.
-pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, modal: Option<&ModalConfig>, json: bool) {
+pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Config, json: bool) {
+    let modal = config.bridge.modal.as_ref();
+    // the point the deck's values are at: the joint's, or the first of [[joints]]'
+    let point =
+        modal.and_then(|m| m.joint_point.clone()).or_else(|| config.joints.first().map(|j| j.deck_point.clone()));
     let v = &r.validity;
     let record = &loaded.record;
     if json {
@@ -134,13 +183,19 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, modal: Opti
             "peak_contact_place": r.pounding.peak_contact_place.map(|p| json!({"gap": p.gap, "end": p.end})),
             "bridge_model": if modal.is_some() { "modal" } else { "single-DOF" },
             "modes_file": modal.map(|m| m.modes.clone()),
-            "joint_point": modal.map(|m| m.joint_point.clone()),
+            "joint_point": point,
+            "joint_name": config.joints.first().map(|j| j.name.clone()),
+            "joints": r.joints.iter().map(placed_joint_json).collect::<Vec<_>>(),
         });
         extend(&mut out, fields_json(r));
         out!("{out}");
         return;
     }
-    let mode = if r.exact_linear { "bridge alone (exact linear solution)" } else { "bridge with joint" };
+    let mode = match (r.exact_linear, r.joints.len()) {
+        (true, _) => "bridge alone (exact linear solution)".to_string(),
+        (false, 0) => "bridge with joint".to_string(),
+        (false, n) => format!("bridge with {} joints", n + 1),
+    };
     out!("{} under {}: {mode}", path.display(), record.name);
     out!("  {}", record_line(loaded));
     let period = 2.0 * std::f64::consts::PI / r.omega;
@@ -151,7 +206,7 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, modal: Opti
                 "  modal bridge: {kept} modes of {} (longest period {period:.4} s), values at its point \"{}\", \
                  {:.2} s simulated",
                 m.modes,
-                m.joint_point,
+                point.unwrap_or_default(),
                 r.duration
             );
         }
@@ -189,7 +244,8 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, modal: Opti
             y.peak_joint_force
         );
     }
-    out!("joint demands");
+    let first = config.joints.first().map_or_else(|| "joint demands".to_string(), |j| format!("joint \"{}\"", j.name));
+    out!("{first}");
     out!("  peak joint force on the deck  {:>12.1} N", r.peak_joint_force);
     out!("  peak bushing force            {:>12.1} N", r.peak_bushing_force);
     out!("  peak friction force           {:>12.1} N", r.peak_friction_force);
@@ -217,6 +273,12 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, modal: Opti
         );
         out!("  contact energy                {:>12.1} J (dissipated by the impacts)", p.contact_energy);
         out!("  deepest penetration           {:>12.3} mm", p.max_penetration * 1e3);
+    }
+    for j in &r.joints {
+        placed_joint_lines(j);
+    }
+    if !r.joints.is_empty() {
+        out!("  (bushing and friction peaks, friction and contact energy: all joints together)");
     }
     validity_lines(v);
     out!("quality");

@@ -31,6 +31,51 @@ pub struct Config {
     pub service: ServiceConfig,
     /// A spectrum sweep (used by `quakejoint sweep`).
     pub sweep: Option<toml::Table>,
+    /// Several joints on a bridge given by its modes (`[[joints]]`,
+    /// docs/bridge.md): each placed at points of the modes file; empty: the
+    /// one joint of `[joint]` at `bridge.modal.joint_point` (or on the
+    /// single-DOF deck).
+    pub joints: Vec<PlacedJointConfig>,
+}
+
+/// Which side of a placed joint the deck is on, along the bridge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+pub enum DeckSide {
+    /// The deck lies toward +x of the joint's abutment side (a joint at the
+    /// bridge's start: the deck moving +x opens it).
+    #[serde(rename = "+x")]
+    PlusX,
+    /// The deck lies toward -x (a joint at the bridge's end): the joint is
+    /// the same joint turned half a turn about the vertical.
+    #[serde(rename = "-x")]
+    MinusX,
+}
+
+impl DeckSide {
+    /// +1 or -1: the joint's own x along the bridge's.
+    pub fn sign(self) -> f64 {
+        match self {
+            DeckSide::PlusX => 1.0,
+            DeckSide::MinusX => -1.0,
+        }
+    }
+}
+
+/// One joint of `[[joints]]`.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlacedJointConfig {
+    /// Its name in the results (unique).
+    pub name: String,
+    /// The point of the modes file (along x) its deck side moves with.
+    pub deck_point: String,
+    /// Which side of the joint the deck is on.
+    pub deck_side: DeckSide,
+    /// The point of the modes file its abutment side moves with (a joint
+    /// at an in-span hinge between two frames); none: the ground.
+    pub abutment_point: Option<String>,
+    /// The joint (`[joints.joint]`, the keys of `[joint]`); none: `[joint]`.
+    pub joint: Option<JointConfig>,
 }
 
 /// The swivel-joist joint.
@@ -351,8 +396,9 @@ pub struct ModalConfig {
     /// The modes file (relative to the config's folder; docs/bridge.md,
     /// "The modes file").
     pub modes: String,
-    /// The point of the modes file the joint's deck side moves with (along x).
-    pub joint_point: String,
+    /// The point of the modes file the joint's deck side moves with (along
+    /// x); required without `[[joints]]`, not with them.
+    pub joint_point: Option<String>,
     /// How many modes a run keeps, the longest periods first (default: all).
     pub modes_used: Option<usize>,
     /// A factor on every period of the bridge [-] (stiffness scaled, masses
@@ -548,7 +594,15 @@ impl Config {
             },
             other => other,
         })?;
-        bridge.point(&m.joint_point, crate::modal::Direction::X, "bridge.modal.joint_point")?;
+        if let Some(p) = &m.joint_point {
+            bridge.point(p, crate::modal::Direction::X, "bridge.modal.joint_point")?;
+        }
+        for (k, j) in self.joints.iter().enumerate() {
+            bridge.point(&j.deck_point, crate::modal::Direction::X, &format!("joints[{k}].deck_point"))?;
+            if let Some(a) = &j.abutment_point {
+                bridge.point(a, crate::modal::Direction::X, &format!("joints[{k}].abutment_point"))?;
+            }
+        }
         m.loaded = Some(std::sync::Arc::new(bridge));
         Ok(())
     }
@@ -750,15 +804,32 @@ fn check_modal(config: &Config, m: &ModalConfig) -> Result<(), ModelError> {
     if b.far.is_some() {
         return Err(refuse("bridge.far", "an adjacent single-DOF segment"));
     }
+    match (&m.joint_point, config.joints.is_empty()) {
+        (None, true) => {
+            return Err(ModelError::Invalid {
+                field: "bridge.modal.joint_point".to_string(),
+                value: "missing".to_string(),
+                reason: "say which point of the modes file the joint's deck side moves with (or place joints \
+                         with [[joints]])"
+                    .to_string(),
+            })
+        }
+        (Some(p), false) => {
+            return Err(ModelError::Invalid {
+                field: "bridge.modal.joint_point".to_string(),
+                value: format!("\"{p}\""),
+                reason: "with [[joints]] each joint names its own deck_point".to_string(),
+            })
+        }
+        _ => {}
+    }
     if let Some(n) = m.modes_used {
         if n == 0 {
             return Err(invalid("bridge.modal.modes_used", 0.0, "keep at least one mode"));
         }
     }
     if let Some(f) = m.period_scale {
-        if !(f.is_finite() && (0.1..=10.0).contains(&f)) {
-            return Err(invalid("bridge.modal.period_scale", f, "must be within 0.1 <= x <= 10"));
-        }
+        check("bridge.modal.period_scale", f)?;
     }
     Ok(())
 }

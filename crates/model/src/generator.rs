@@ -129,15 +129,17 @@ fn contact_law(config: &Config) -> ContactLaw {
 }
 
 /// The contacts of the joint: at both ends of every sub-gap.
-/// `deck_impact`: the mass the restitution of the contacts on the deck is
-/// set for \[kg\] (none: the reduced mass of the beam and the deck).
+/// `impacts`: the masses the restitution of the contacts on the
+/// abutment's and on the deck's edge beam is set for \[kg\] (none: the
+/// reduced mass of the beam and the body); `prefix` starts every name.
 fn add_contacts(
     sys: &mut System,
     model: &mut JointModel,
     geo: &Geometry,
     law: ContactLaw,
     abutment: BodyId,
-    deck_impact: Option<f64>,
+    impacts: [Option<f64>; 2],
+    prefix: &str,
 ) {
     let (half_w, half_l) = (0.5 * geo.width, geo.half_length);
     let nc = model.center_beams.len();
@@ -152,7 +154,7 @@ fn add_contacts(
                 g => (model.center_beams[g - 1], [half_w, y], model.center_beams[g], [-half_w, 0.0], [-1.0, 0.0]),
             };
             sys.add_force_named(
-                format!("contact {gap}/{end}"),
+                format!("{prefix}contact {gap}/{end}"),
                 ForceElement::Contact(Contact {
                     body,
                     point,
@@ -160,10 +162,176 @@ fn add_contacts(
                     edge_point,
                     edge_normal,
                     law,
-                    reduced_mass: if gap == nc { deck_impact } else { None },
+                    reduced_mass: match gap {
+                        0 => impacts[0],
+                        g if g == nc => impacts[1],
+                        _ => None,
+                    },
                 }),
             );
             model.contacts.push(ContactPlace { gap, end, center_beams: nc });
+        }
+    }
+}
+
+/// Adds the bodies of the joint of `config` (`[joint]`) with their
+/// bushings, friction elements and sliding joints to `sys`; `sign` -1
+/// turns the joint half a turn about the vertical (its bodies then feel the
+/// ground's acceleration reversed), `prefix` starts every name.
+fn add_joint_bodies(
+    sys: &mut System,
+    model: &mut JointModel,
+    config: &Config,
+    bearing_joint: BearingJoint,
+    sign: f64,
+    prefix: &str,
+) -> Result<(), ModelError> {
+    let j = &config.joint;
+    let geo = Geometry::new(config)?;
+    let cb = &j.center_beam;
+    let cb_inertia = cb.inertia();
+    for (i, &x) in geo.center_x.iter().enumerate() {
+        model.center_beams.push(sys.add_body(turned(
+            Body::new(format!("{prefix}center beam {}", i + 1), cb.mass, cb_inertia, [x, 0.0, 0.0]),
+            sign,
+        )));
+    }
+    let sbc = &j.support_beam;
+    let sb_inertia = sbc.inertia();
+    for (k, s) in geo.supports.iter().enumerate() {
+        let name = match s.kind {
+            SupportKind::Guide => format!("{prefix}guide {k}"),
+            SupportKind::Joist => format!("{prefix}joist {k}"),
+        };
+        // the bearings turning with the beam, when they are not bodies of their own
+        let inertia = match bearing_joint {
+            BearingJoint::Translational => sb_inertia + geo.center_x.len() as f64 * j.bearing.inertia,
+            BearingJoint::Prismatic => sb_inertia,
+        };
+        let body = sys.add_body(turned(Body::new(name, sbc.mass, inertia, [s.centre[0], s.centre[1], s.theta]), sign));
+        model.supports.push(body);
+    }
+    let law = match j.friction.law {
+        LawConfig::Linear => FrictionLaw::Linear,
+        LawConfig::Smooth => FrictionLaw::Smooth,
+    };
+    for (i, &x) in geo.center_x.iter().enumerate() {
+        let mut row = Vec::with_capacity(geo.supports.len());
+        for (k, s) in geo.supports.iter().enumerate() {
+            let y = geo.bearing_y[i][k];
+            let body =
+                Body::new(format!("{prefix}bearing {}/{k}", i + 1), j.bearing.mass, j.bearing.inertia, [x, y, s.theta])
+                    .with_tolerance_scale(config.simulation.bearing_atol_factor);
+            let bearing = sys.add_body(turned(
+                match bearing_joint {
+                    BearingJoint::Translational => body.only(&[Coord::X, Coord::Y]),
+                    BearingJoint::Prismatic => body,
+                },
+                sign,
+            ));
+            sys.add_force_named(
+                format!("{prefix}bushing {}/{k}", i + 1),
+                ForceElement::Bushing(Bushing {
+                    frame_body: model.center_beams[i],
+                    frame_point: [0.0, y],
+                    body: bearing,
+                    point: [0.0, 0.0],
+                    stiffness: [j.bushing.kx, j.bushing.ky],
+                    damping: [j.bushing.cx, j.bushing.cy],
+                    rest: [0.0, 0.0],
+                }),
+            );
+            sys.add_force_named(
+                format!("{prefix}friction {}/{k}", i + 1),
+                ForceElement::Friction(Friction {
+                    slider: bearing,
+                    point: [0.0, 0.0],
+                    base: model.supports[k],
+                    mu: j.friction.mu,
+                    normal_force: j.friction.normal_force,
+                    surfaces: j.friction.surfaces,
+                    v_eps: j.friction.v_eps,
+                    law,
+                }),
+            );
+            let slide = match bearing_joint {
+                BearingJoint::Translational => quakejoint_solver::Constraint::PointOnLine(PointOnLine {
+                    body: bearing,
+                    point: [0.0, 0.0],
+                    line_body: model.supports[k],
+                    line_point: [0.0, 0.0],
+                    line_direction: [1.0, 0.0],
+                }),
+                BearingJoint::Prismatic => quakejoint_solver::Constraint::Prismatic(Prismatic {
+                    slider: bearing,
+                    point: [0.0, 0.0],
+                    base: model.supports[k],
+                    axis_point: [0.0, 0.0],
+                    axis_direction: [1.0, 0.0],
+                }),
+            };
+            sys.add_constraint_named(format!("{prefix}slide {}/{k}", i + 1), slide);
+            row.push(bearing);
+        }
+        model.bearings.push(row);
+    }
+    model.geometry = Some(geo);
+    Ok(())
+}
+
+/// `body`, turned half a turn when `sign` is -1: its x and y point the
+/// other way, so the ground's acceleration acts on it reversed.
+fn turned(body: Body, sign: f64) -> Body {
+    if sign < 0.0 {
+        let m = body.mass;
+        body.with_base_mass([-m, -m])
+    } else {
+        body
+    }
+}
+
+/// Connects the joint's support beams to its abutment side (joist pivots,
+/// guide welds) and its joists to the deck (joist boxes).
+fn connect_joint(sys: &mut System, model: &mut JointModel, deck: BodyId, abutment: BodyId, prefix: &str) {
+    let Some(geo) = model.geometry.clone() else { return };
+    for (k, s) in geo.supports.iter().enumerate() {
+        let body = model.supports[k];
+        match s.kind {
+            SupportKind::Joist => {
+                let pivot = sys.add_constraint_named(
+                    format!("{prefix}pivot {k}"),
+                    quakejoint_solver::Constraint::Revolute(Revolute {
+                        body_a: body,
+                        point_a: [-s.half_span, 0.0],
+                        body_b: abutment,
+                        point_b: [0.0, s.y0],
+                    }),
+                );
+                model.abutment_links.push(pivot);
+                let c = sys.add_constraint_named(
+                    format!("{prefix}joist box {k}"),
+                    quakejoint_solver::Constraint::PointOnLine(PointOnLine {
+                        body: deck,
+                        point: [geo.gap, s.y0 + s.box_dy],
+                        line_body: body,
+                        line_point: [0.0, 0.0],
+                        line_direction: [1.0, 0.0],
+                    }),
+                );
+                model.joist_boxes.push(c);
+            }
+            SupportKind::Guide => {
+                let weld = sys.add_constraint_named(
+                    format!("{prefix}guide weld {k}"),
+                    quakejoint_solver::Constraint::Weld(Weld {
+                        body_a: body,
+                        point_a: [0.0, 0.0],
+                        body_b: abutment,
+                        point_b: s.centre,
+                    }),
+                );
+                model.abutment_links.push(weld);
+            }
         }
     }
 }
@@ -214,6 +382,22 @@ pub struct JointModel {
     pub modal: Option<ModalDeck>,
     /// Size of the model.
     pub counts: Counts,
+    /// The joint's name (`[[joints]]`; "joint" for the one of `[joint]`).
+    pub name: String,
+    /// The solver's number of the joint's first contact.
+    pub first_contact: usize,
+    /// +1, or -1 for a joint turned half a turn (`deck_side = "-x"`).
+    pub sign: f64,
+    /// The other joints of `[[joints]]`, each with its parts (their
+    /// `system` empty: all are in this one's).
+    pub others: Vec<JointModel>,
+}
+
+impl JointModel {
+    /// This joint and the others.
+    pub fn joints(&self) -> impl Iterator<Item = &JointModel> {
+        std::iter::once(self).chain(&self.others)
+    }
 }
 
 /// Builds the model of `config` with the bridge frequency `omega` [rad/s]
@@ -231,7 +415,6 @@ pub fn build_with(
     bearing_joint: BearingJoint,
 ) -> Result<JointModel, ModelError> {
     config.validate()?;
-    let j = &config.joint;
     let bridge = Bridge {
         mass: config.bridge.mass,
         omega: omega.unwrap_or_else(|| config.bridge.omega()),
@@ -242,119 +425,42 @@ pub fn build_with(
     let bridge = Bridge { far: config.bridge.far_segment(bridge.omega), ..bridge };
     let modes = config.bridge.modal.as_ref().map(|m| crate::modal::kept_modes(m, config.bridge.damping)).transpose()?;
     let bridge = match &modes {
-        Some((kept, _)) => Bridge { omega: kept[0].omega, damping: kept[0].damping, ..bridge },
+        Some(kept) => Bridge { omega: kept[0].omega, damping: kept[0].damping, ..bridge },
         None => bridge,
     };
     if !(bridge.omega.is_finite() && bridge.omega > 0.0) {
         return Err(crate::config::invalid("bridge.w0", bridge.omega, "must be positive"));
     }
     let mut sys = System::new();
-    let mut model = JointModel {
-        system: System::new(),
-        geometry: None,
-        deck: BodyId::GROUND,
-        center_beams: Vec::new(),
-        supports: Vec::new(),
-        bearings: Vec::new(),
-        joist_boxes: Vec::new(),
-        far_deck: None,
-        abutment_links: Vec::new(),
-        contacts: Vec::new(),
-        driver: None,
-        bridge,
-        modal: None,
-        counts: Counts { bodies: 0, coordinates: 0, constraints: 0, dof: 0 },
-    };
-    if j.enabled {
-        let geo = Geometry::new(config)?;
-        let cb = &j.center_beam;
-        let cb_inertia = cb.inertia();
-        for (i, &x) in geo.center_x.iter().enumerate() {
-            model.center_beams.push(sys.add_body(Body::new(
-                format!("center beam {}", i + 1),
-                cb.mass,
-                cb_inertia,
-                [x, 0.0, 0.0],
-            )));
-        }
-        let sbc = &j.support_beam;
-        let sb_inertia = sbc.inertia();
-        for (k, s) in geo.supports.iter().enumerate() {
-            let name = match s.kind {
-                SupportKind::Guide => format!("guide {k}"),
-                SupportKind::Joist => format!("joist {k}"),
-            };
-            // the bearings turning with the beam, when they are not bodies of their own
-            let inertia = match bearing_joint {
-                BearingJoint::Translational => sb_inertia + geo.center_x.len() as f64 * j.bearing.inertia,
-                BearingJoint::Prismatic => sb_inertia,
-            };
-            let body = sys.add_body(Body::new(name, sbc.mass, inertia, [s.centre[0], s.centre[1], s.theta]));
-            model.supports.push(body);
-        }
-        let law = match j.friction.law {
-            LawConfig::Linear => FrictionLaw::Linear,
-            LawConfig::Smooth => FrictionLaw::Smooth,
+    let places = crate::placement::places(config)?;
+    let mut models = Vec::with_capacity(places.len());
+    for place in &places {
+        let mut model = JointModel {
+            system: System::new(),
+            geometry: None,
+            deck: BodyId::GROUND,
+            center_beams: Vec::new(),
+            supports: Vec::new(),
+            bearings: Vec::new(),
+            joist_boxes: Vec::new(),
+            far_deck: None,
+            abutment_links: Vec::new(),
+            contacts: Vec::new(),
+            driver: None,
+            bridge,
+            modal: None,
+            counts: Counts { bodies: 0, coordinates: 0, constraints: 0, dof: 0 },
+            name: place.name.clone(),
+            first_contact: 0,
+            sign: place.sign,
+            others: Vec::new(),
         };
-        for (i, &x) in geo.center_x.iter().enumerate() {
-            let mut row = Vec::with_capacity(geo.supports.len());
-            for (k, s) in geo.supports.iter().enumerate() {
-                let y = geo.bearing_y[i][k];
-                let body =
-                    Body::new(format!("bearing {}/{k}", i + 1), j.bearing.mass, j.bearing.inertia, [x, y, s.theta])
-                        .with_tolerance_scale(config.simulation.bearing_atol_factor);
-                let bearing = sys.add_body(match bearing_joint {
-                    BearingJoint::Translational => body.only(&[Coord::X, Coord::Y]),
-                    BearingJoint::Prismatic => body,
-                });
-                sys.add_force_named(
-                    format!("bushing {}/{k}", i + 1),
-                    ForceElement::Bushing(Bushing {
-                        frame_body: model.center_beams[i],
-                        frame_point: [0.0, y],
-                        body: bearing,
-                        point: [0.0, 0.0],
-                        stiffness: [j.bushing.kx, j.bushing.ky],
-                        damping: [j.bushing.cx, j.bushing.cy],
-                        rest: [0.0, 0.0],
-                    }),
-                );
-                sys.add_force_named(
-                    format!("friction {}/{k}", i + 1),
-                    ForceElement::Friction(Friction {
-                        slider: bearing,
-                        point: [0.0, 0.0],
-                        base: model.supports[k],
-                        mu: j.friction.mu,
-                        normal_force: j.friction.normal_force,
-                        surfaces: j.friction.surfaces,
-                        v_eps: j.friction.v_eps,
-                        law,
-                    }),
-                );
-                let slide = match bearing_joint {
-                    BearingJoint::Translational => quakejoint_solver::Constraint::PointOnLine(PointOnLine {
-                        body: bearing,
-                        point: [0.0, 0.0],
-                        line_body: model.supports[k],
-                        line_point: [0.0, 0.0],
-                        line_direction: [1.0, 0.0],
-                    }),
-                    BearingJoint::Prismatic => quakejoint_solver::Constraint::Prismatic(Prismatic {
-                        slider: bearing,
-                        point: [0.0, 0.0],
-                        base: model.supports[k],
-                        axis_point: [0.0, 0.0],
-                        axis_direction: [1.0, 0.0],
-                    }),
-                };
-                sys.add_constraint_named(format!("slide {}/{k}", i + 1), slide);
-                row.push(bearing);
-            }
-            model.bearings.push(row);
+        if place.config.joint.enabled {
+            add_joint_bodies(&mut sys, &mut model, &place.config, bearing_joint, place.sign, &place.prefix)?;
         }
-        model.geometry = Some(geo);
+        models.push(model);
     }
+    let model = &mut models[0];
     // the abutment, or the adjacent segment's deck the joint rests on there
     let abutment = match bridge.far {
         Some((mass, w, zeta)) => {
@@ -374,67 +480,49 @@ pub fn build_with(
         }
         None => BodyId::GROUND,
     };
-    let deck = match &modes {
-        Some((kept, point)) => {
-            let m = add_modes(&mut sys, kept, *point);
-            let deck = m.deck;
-            model.modal = Some(m);
-            deck
+    // the decks (and the abutment sides at in-span hinges)
+    let (decks, hinges) = match &modes {
+        Some(kept) => {
+            let mut ends: Vec<(String, usize, f64)> =
+                places.iter().map(|p| (format!("{}deck end", p.prefix), p.deck_point, p.sign)).collect();
+            let mut hinges = Vec::new();
+            for p in &places {
+                hinges.push(p.abutment_point.map(|a| {
+                    ends.push((format!("{}abutment end", p.prefix), a, p.sign));
+                    ends.len() - 1
+                }));
+            }
+            let parts = std::sync::Arc::new(add_modes(&mut sys, kept, &ends));
+            for (k, m) in models.iter_mut().enumerate() {
+                m.modal = Some(ModalDeck { parts: parts.clone(), end: k });
+            }
+            let decks = parts.ends[..places.len()].iter().map(|e| e.body).collect::<Vec<_>>();
+            (decks, hinges.into_iter().map(|h| h.map(|e| parts.ends[e].body)).collect::<Vec<_>>())
         }
         None => {
             let deck_coords: &[Coord] = if bridge.transverse.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
-            sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords))
+            (vec![sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords))], vec![None])
         }
     };
-    model.deck = deck;
-    if let Some(geo) = &model.geometry {
-        for (k, s) in geo.supports.iter().enumerate() {
-            let body = model.supports[k];
-            match s.kind {
-                SupportKind::Joist => {
-                    let pivot = sys.add_constraint_named(
-                        format!("pivot {k}"),
-                        quakejoint_solver::Constraint::Revolute(Revolute {
-                            body_a: body,
-                            point_a: [-s.half_span, 0.0],
-                            body_b: abutment,
-                            point_b: [0.0, s.y0],
-                        }),
-                    );
-                    model.abutment_links.push(pivot);
-                    let c = sys.add_constraint_named(
-                        format!("joist box {k}"),
-                        quakejoint_solver::Constraint::PointOnLine(PointOnLine {
-                            body: deck,
-                            point: [geo.gap, s.y0 + s.box_dy],
-                            line_body: body,
-                            line_point: [0.0, 0.0],
-                            line_direction: [1.0, 0.0],
-                        }),
-                    );
-                    model.joist_boxes.push(c);
-                }
-                SupportKind::Guide => {
-                    let weld = sys.add_constraint_named(
-                        format!("guide weld {k}"),
-                        quakejoint_solver::Constraint::Weld(Weld {
-                            body_a: body,
-                            point_a: [0.0, 0.0],
-                            body_b: abutment,
-                            point_b: s.centre,
-                        }),
-                    );
-                    model.abutment_links.push(weld);
-                }
-            }
+    let mut contacts = 0;
+    for (k, (model, place)) in models.iter_mut().zip(&places).enumerate() {
+        let abutment = hinges[k].unwrap_or(if k == 0 { abutment } else { BodyId::GROUND });
+        model.deck = decks[k];
+        connect_joint(&mut sys, model, decks[k], abutment, &place.prefix);
+        let j = &place.config.joint;
+        if let (true, Some(geo)) = (j.enabled && j.contact.enabled, model.geometry.clone()) {
+            // a modal end weighs nothing of its own: the impact on it meets
+            // the bridge, many times the center beam's mass
+            let beam = Some(j.center_beam.mass);
+            let impacts = [hinges[k].and(beam), model.modal.as_ref().and(beam)];
+            model.first_contact = contacts;
+            add_contacts(&mut sys, model, &geo, contact_law(&place.config), abutment, impacts, &place.prefix);
+            contacts += model.contacts.len();
         }
     }
-    if let (true, Some(geo)) = (j.enabled && j.contact.enabled, model.geometry.clone()) {
-        // a modal deck end weighs nothing of its own: the impact on it meets
-        // the bridge, many times the center beam's mass
-        let deck_impact = model.modal.as_ref().map(|_| j.center_beam.mass);
-        add_contacts(&mut sys, &mut model, &geo, contact_law(config), abutment, deck_impact);
-    }
+    let deck = decks[0];
+    let mut model = models.remove(0);
+    model.others = models;
     if model.modal.is_none() {
         sys.add_force_named(
             "bridge spring and damper",

@@ -19,6 +19,7 @@ pub mod history;
 pub mod limits;
 pub mod linear;
 pub mod modal;
+pub mod placement;
 pub mod pounding;
 pub mod resources;
 pub mod run;

@@ -113,6 +113,8 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     ("bridge.period", "s", closed(PERIOD_RANGE.0, PERIOD_RANGE.1)),
     // bridges with added dampers reach about 0.3
     ("bridge.damping", "1", closed(0.0, 0.3)),
+    // a bridge's periods a tenth to ten times those of its model
+    ("bridge.modal.period_scale", "1", closed(0.1, 10.0)),
     ("bridge.transverse_period", "s", closed(PERIOD_RANGE.0, PERIOD_RANGE.1)),
     ("bridge.transverse_damping", "1", closed(0.0, 0.3)),
     ("bridge.far.mass", "kg", closed(1e4, 1e10)),

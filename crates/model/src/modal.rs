@@ -8,9 +8,10 @@
 //! `u_p = sum_i phi_ip q_i` relative to the ground.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use quakejoint_solver::{
-    Assembly, Body, BodyId, Constraint, ConstraintId, Coord, CoordinateSpring, ForceElement, Linear, System,
+    Assembly, Body, BodyId, Constraint, ConstraintId, Coord, CoordinateSpring, ForceElement, Linear, System, Workspace,
 };
 use serde::Deserialize;
 
@@ -251,16 +252,19 @@ pub struct KeptMode {
     pub shape: Vec<f64>,
 }
 
-/// The kept modes of `[bridge.modal]` (with the damping ratio `damping`
-/// where the file gives none) and the index of its joint point.
-pub fn kept_modes(m: &ModalConfig, damping: f64) -> Result<(Vec<KeptMode>, usize), ModelError> {
-    let data = m.loaded.as_ref().ok_or_else(|| ModelError::Invalid {
+/// The kept modes of `[bridge.modal]`, with the damping ratio `damping`
+/// where the file gives none.
+pub fn kept_modes(m: &ModalConfig, damping: f64) -> Result<Vec<KeptMode>, ModelError> {
+    Ok(loaded(m)?.kept(m.modes_used, m.scale(), damping))
+}
+
+/// The modes file read with `[bridge.modal]`.
+pub fn loaded(m: &ModalConfig) -> Result<&ModalBridge, ModelError> {
+    m.loaded.as_deref().ok_or_else(|| ModelError::Invalid {
         field: "bridge.modal.modes".to_string(),
         value: format!("\"{}\"", m.modes),
         reason: "the modes file was not read with the config (Config::from_file or Config::load_modes)".to_string(),
-    })?;
-    let point = data.point(&m.joint_point, Direction::X, "bridge.modal.joint_point")?;
-    Ok((data.kept(m.modes_used, m.scale(), damping), point))
+    })
 }
 
 /// A mode as a body of the solver system: its coordinate `y = s q` is the
@@ -279,21 +283,43 @@ pub struct ModalBody {
     pub damper: f64,
     /// The mass the ground's acceleration along x acts on \[kg\].
     pub base_mass: f64,
-    /// The joint point's displacement per unit of `y` [-], `phi_p / s`.
-    pub at_joint: f64,
+    /// Each point's displacement per unit of `y` [-], `phi_p / s`, in the
+    /// modes file's order.
+    pub at_point: Vec<f64>,
 }
 
-/// The modes in the solver system and the deck end the joint moves with.
+/// A point of the modes file a joint moves with: a body in x whose
+/// coordinate is the point's displacement in the joint's own x (`sign`
+/// times the bridge's), tied to the modes by a linear constraint.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ModalDeck {
-    /// The deck end: a body in x whose coordinate is the joint point's
-    /// displacement, tied to the modes by [`ModalDeck::link`].
-    pub deck: BodyId,
-    /// `u_p - sum_i (phi_ip / s_i) y_i = 0`; its multiplier is the force
-    /// the deck end passes to the modes \[N\].
+pub struct ModalEnd {
+    /// The body.
+    pub body: BodyId,
+    /// `u - sign sum_i (phi_ip / s_i) y_i = 0`; its multiplier is the
+    /// force the end passes to the modes in the joint's x \[N\].
     pub link: ConstraintId,
+    /// The point, in the modes file's order.
+    pub point: usize,
+    /// +1, or -1 for a joint turned half a turn.
+    pub sign: f64,
+}
+
+/// The modes in the solver system and the points the joints move with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalParts {
     /// The modes.
     pub modes: Vec<ModalBody>,
+    /// The joints' points.
+    pub ends: Vec<ModalEnd>,
+}
+
+/// A joint's view of the modes: all of them and which end is its deck.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalDeck {
+    /// The modes and every end.
+    pub parts: Arc<ModalParts>,
+    /// Which of `parts.ends` is this joint's deck side.
+    pub end: usize,
 }
 
 /// The deck end's own mass, relative to the kept modes' effective mass
@@ -302,8 +328,9 @@ pub struct ModalDeck {
 /// response by as much.
 pub const DECK_END_MASS_RATIO: f64 = 1e-9;
 
-/// Adds the kept modes and the deck end at `point` to `sys`.
-pub fn add_modes(sys: &mut System, kept: &[KeptMode], point: usize) -> ModalDeck {
+/// Adds the kept modes and one end per `(name, point, sign)` of `ends` to
+/// `sys` (the ends' bodies first).
+pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[(String, usize, f64)]) -> ModalParts {
     let effective: f64 = kept.iter().map(|k| k.gamma[0] * k.gamma[0]).sum();
     let scales: Vec<f64> = kept
         .iter()
@@ -318,23 +345,28 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], point: usize) -> ModalDeck
         .collect();
     let fallback: f64 = scales.iter().map(|s| 1.0 / (s * s)).sum();
     let end_mass = DECK_END_MASS_RATIO * if effective > 0.0 { effective } else { fallback };
-    let deck = sys.add_body(Body::new("deck end", end_mass, 1.0, [0.0; 3]).only(&[Coord::X]));
-    let mut terms = vec![(deck, Coord::X, 1.0)];
+    let bodies: Vec<BodyId> = ends
+        .iter()
+        .map(|(name, _, sign)| {
+            let body = Body::new(name.clone(), end_mass, 1.0, [0.0; 3]).only(&[Coord::X]);
+            sys.add_body(if *sign < 0.0 { body.with_base_mass([-end_mass, -end_mass]) } else { body })
+        })
+        .collect();
     let mut modes = Vec::with_capacity(kept.len());
     for (k, s) in kept.iter().zip(scales) {
+        let body = sys.add_body(
+            Body::new(format!("mode {}", k.index + 1), 1.0 / (s * s), 1.0, [0.0; 3])
+                .only(&[Coord::X])
+                .with_base_mass([k.gamma[0] / s, 0.0]),
+        );
         let m = ModalBody {
-            body: BodyId::GROUND,
+            body,
             mass: 1.0 / (s * s),
             stiffness: k.omega * k.omega / (s * s),
             damper: 2.0 * k.damping * k.omega / (s * s),
             base_mass: k.gamma[0] / s,
-            at_joint: k.shape[point] / s,
+            at_point: k.shape.iter().map(|phi| phi / s).collect(),
         };
-        let body = sys.add_body(
-            Body::new(format!("mode {}", k.index + 1), m.mass, 1.0, [0.0; 3])
-                .only(&[Coord::X])
-                .with_base_mass([m.base_mass, 0.0]),
-        );
         sys.add_force_named(
             format!("mode {} spring and damper", k.index + 1),
             ForceElement::CoordinateSpring(CoordinateSpring {
@@ -345,27 +377,65 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], point: usize) -> ModalDeck
                 rest: 0.0,
             }),
         );
-        terms.push((body, Coord::X, -m.at_joint));
-        modes.push(ModalBody { body, ..m });
+        modes.push(m);
     }
-    let link = sys.add_constraint_named("deck end on the modes", Constraint::Linear(Linear { terms }));
-    ModalDeck { deck, link, modes }
+    let ends = ends
+        .iter()
+        .zip(bodies)
+        .map(|((name, point, sign), body)| {
+            let mut terms = vec![(body, Coord::X, 1.0)];
+            terms.extend(modes.iter().map(|m| (m.body, Coord::X, -sign * m.at_point[*point])));
+            let link = sys.add_constraint_named(format!("{name} on the modes"), Constraint::Linear(Linear { terms }));
+            ModalEnd { body, link, point: *point, sign: *sign }
+        })
+        .collect();
+    ModalParts { modes, ends }
 }
 
-impl ModalDeck {
-    /// The deck end's absolute acceleration \[m/s^2\] at the state `(q, v)`
-    /// with the ground's acceleration `ag` \[m/s^2\]: the modes'
-    /// accelerations from their equations, with `lambda` \[N\] the force the
-    /// deck end passes to the modes (the link's multiplier: the link's
-    /// reaction on the deck end is `-lambda`), summed at the joint point,
-    /// plus `ag`.
-    pub fn a_abs(&self, asm: &Assembly, q: &[f64], v: &[f64], lambda: f64, ag: f64) -> f64 {
-        let mut a = ag;
+impl ModalParts {
+    /// Each mode's acceleration `y''` \[m/s^2\] at the state `(q, v)` with
+    /// the ground's acceleration `ag` \[m/s^2\], from its equation with the
+    /// forces every end passes to it (their links' multipliers, from the
+    /// links' reactions on the ends), into `out`.
+    pub fn accelerations(&self, asm: &Assembly, ws: &mut Workspace, at: Instant<'_>, out: &mut Vec<f64>) {
+        let Instant { t, q, v, lam, ag } = at;
+        let lambdas: Vec<f64> =
+            self.ends.iter().map(|e| -e.sign * asm.reaction_sum(ws, t, q, lam, &[e.link], e.body)[0]).collect();
+        out.clear();
         for m in &self.modes {
             let c = asm.coordinate(m.body, Coord::X).expect("a mode's x is free");
-            let acc = (-m.stiffness * q[c] - m.damper * v[c] - m.base_mass * ag + m.at_joint * lambda) / m.mass;
-            a += m.at_joint * acc;
+            let ends: f64 = self.ends.iter().zip(&lambdas).map(|(e, l)| m.at_point[e.point] * l).sum();
+            out.push((-m.stiffness * q[c] - m.damper * v[c] - m.base_mass * ag + ends) / m.mass);
         }
-        a
     }
+
+    /// Point `p`'s displacement, velocity (relative to the ground, along the
+    /// bridge's x) \[m, m/s\] and absolute acceleration \[m/s^2\], with the
+    /// modes' accelerations `acc` ([`ModalParts::accelerations`]).
+    pub fn point(&self, asm: &Assembly, p: usize, q: &[f64], v: &[f64], acc: &[f64], ag: f64) -> [f64; 3] {
+        let mut out = [0.0, 0.0, ag];
+        for (m, a) in self.modes.iter().zip(acc) {
+            let c = asm.coordinate(m.body, Coord::X).expect("a mode's x is free");
+            let phi = m.at_point[p];
+            out[0] += phi * q[c];
+            out[1] += phi * v[c];
+            out[2] += phi * a;
+        }
+        out
+    }
+}
+
+/// A state of the solver system at one time.
+#[derive(Debug, Clone, Copy)]
+pub struct Instant<'a> {
+    /// Time \[s\].
+    pub t: f64,
+    /// Positions.
+    pub q: &'a [f64],
+    /// Velocities.
+    pub v: &'a [f64],
+    /// Multipliers.
+    pub lam: &'a [f64],
+    /// The ground's acceleration \[m/s^2\].
+    pub ag: f64,
 }

@@ -94,6 +94,11 @@ pub(crate) struct ContactWatch {
     /// The sub-gap at the deck (Nc).
     deck_gap: usize,
     values: Vec<ContactValue>,
+    /// The solver's number of the joint's first contact.
+    first: usize,
+    /// Every contact of the system, when other joints have some (else
+    /// empty: `values` are all of them).
+    all: Vec<ContactValue>,
     /// Interpolated positions, velocities and multipliers.
     scratch: Option<StateBuffer>,
     /// Largest contact force across each sub-gap since the last output
@@ -107,8 +112,9 @@ pub(crate) struct ContactWatch {
 }
 
 impl ContactWatch {
-    /// The watch of `model`'s contacts (None when it has none).
-    pub fn new(model: &JointModel) -> Option<Self> {
+    /// The watch of `model`'s contacts (None when it has none), among the
+    /// `total` contacts of the system.
+    pub fn new(model: &JointModel, total: usize) -> Option<Self> {
         if model.contacts.is_empty() {
             return None;
         }
@@ -116,6 +122,8 @@ impl ContactWatch {
             places: model.contacts.clone(),
             deck_gap: model.center_beams.len(),
             values: vec![ContactValue::default(); model.contacts.len()],
+            first: model.first_contact,
+            all: if total > model.contacts.len() { vec![ContactValue::default(); total] } else { Vec::new() },
             scratch: None,
             interval_peak: vec![0.0; model.center_beams.len() + 1],
             per_gap: vec![0.0; model.center_beams.len() + 1],
@@ -129,15 +137,16 @@ impl ContactWatch {
     /// [`INTERIOR`] points inside the step (an impact's peak falls between
     /// step ends).
     pub fn step(&mut self, view: &mut StepView<'_>, mut monitor: Option<&mut Monitor>) {
-        for e in view.events {
+        let own = self.first..self.first + self.places.len();
+        for e in view.events.iter().filter(|e| own.contains(&e.contact)) {
             if let ContactEventKind::Onset { speed } = e.kind {
                 self.result.impacts += u64::from(speed >= IMPACT_SPEED);
                 if let Some(log) = &mut self.log {
-                    log.push(Impact { time: e.time, place: self.places[e.contact], speed });
+                    log.push(Impact { time: e.time, place: self.places[e.contact - self.first], speed });
                 }
             }
         }
-        view.assembly.contacts(view.workspace, view.q, view.v, &mut self.values);
+        self.load(view.assembly, view.workspace, view.q, view.v);
         let closed = self.values.iter().any(|c| c.closed);
         let peak_before = self.result.peak_contact_force;
         self.take(view.t, monitor.as_deref_mut());
@@ -147,7 +156,7 @@ impl ContactWatch {
             for k in 1..=INTERIOR {
                 let t = view.t_prev + dt * k as f64;
                 view.state_at(t, &mut s).expect(DENSE_OUTPUT);
-                view.assembly.contacts(view.workspace, &s.q, &s.v, &mut self.values);
+                self.load(view.assembly, view.workspace, &s.q, &s.v);
                 self.take(t, monitor.as_deref_mut());
             }
             if self.result.peak_contact_force > peak_before {
@@ -171,7 +180,7 @@ impl ContactWatch {
         let Some(i) = self.places.iter().position(|p| *p == place) else { return };
         let mut force_at = |t: f64| {
             view.state_at(t, s).expect(DENSE_OUTPUT);
-            view.assembly.contacts(view.workspace, &s.q, &s.v, &mut self.values);
+            self.load(view.assembly, view.workspace, &s.q, &s.v);
             let c = self.values[i];
             if c.closed {
                 c.force
@@ -198,6 +207,17 @@ impl ContactWatch {
         if f > self.result.peak_contact_force {
             self.result.peak_contact_force = f;
             self.result.peak_contact_time = t;
+        }
+    }
+
+    /// The joint's contacts' states at `(q, v)` into `self.values`.
+    fn load(&mut self, asm: &Assembly, ws: &mut Workspace, q: &[f64], v: &[f64]) {
+        if self.all.is_empty() {
+            asm.contacts(ws, q, v, &mut self.values);
+        } else {
+            asm.contacts(ws, q, v, &mut self.all);
+            let n = self.values.len();
+            self.values.copy_from_slice(&self.all[self.first..self.first + n]);
         }
     }
 
@@ -246,7 +266,7 @@ impl ContactWatch {
     /// `per_gap`, if given, the largest contact force across each sub-gap
     /// (both ends) since the last output time, this one included.
     pub fn at(&mut self, asm: &Assembly, ws: &mut Workspace, q: &[f64], v: &[f64], per_gap: Option<&mut [f64]>) -> f64 {
-        asm.contacts(ws, q, v, &mut self.values);
+        self.load(asm, ws, q, v);
         self.gap_forces();
         if let Some(out) = per_gap {
             for ((o, peak), f) in out.iter_mut().zip(&mut self.interval_peak).zip(&self.per_gap) {

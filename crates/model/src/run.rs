@@ -166,6 +166,37 @@ pub struct RunResult {
     pub duration: f64,
     /// Time histories, if requested.
     pub histories: Option<Histories>,
+    /// The other joints of `[[joints]]` (the values above are the first
+    /// one's, its deck point's and the whole system's; `validity` holds
+    /// every joint's flags).
+    pub joints: Vec<PlacedJointResult>,
+}
+
+/// The results of one more joint of `[[joints]]` (SI units).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PlacedJointResult {
+    /// Its name.
+    pub name: String,
+    /// Peak absolute acceleration of its deck point [m/s^2].
+    pub sa: f64,
+    /// Time of `sa` \[s\].
+    pub t_sa: f64,
+    /// Peak displacement of its deck point relative to the ground \[m\].
+    pub sd: f64,
+    /// Peak velocity of its deck point relative to the ground [m/s].
+    pub sv: f64,
+    /// Peak force of the joint on the deck \[N\].
+    pub peak_joint_force: f64,
+    /// Smallest clear sub-gap \[m\].
+    pub min_subgap: Option<f64>,
+    /// Largest clear sub-gap \[m\].
+    pub max_subgap: Option<f64>,
+    /// Largest deviation of a sub-gap from equal spacing \[m\].
+    pub max_subgap_deviation: Option<f64>,
+    /// Its pounding (the contact energy is the whole system's).
+    pub pounding: Pounding,
+    /// Whether it stayed inside what the model can stand behind.
+    pub validity: Validity,
 }
 
 impl RunResult {
@@ -303,15 +334,21 @@ pub fn simulate_records(
     let start = Instant::now();
     let cpu = crate::resources::CpuClock::start();
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
-    let mut obs = EarthquakeObserver::new(&model, &asm, gx, record_x.dt, options.histories)?;
-    obs.monitor = Monitor::new(&model, &asm, config)?;
-    obs.progress = options.progress.clone();
-    obs.cancel = options.cancel.clone();
-    obs.deadline = config.simulation.max_wall_time.map(|s| (start, s));
-    obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), &asm, &mut asm.workspace());
+    let places = crate::placement::places(config)?;
+    let mut joints = Vec::with_capacity(places.len());
+    for (jm, place) in model.joints().zip(&places) {
+        let mut obs = EarthquakeObserver::new(jm, &asm, gx.clone(), record_x.dt, options.histories)?;
+        obs.monitor = Monitor::new(jm, &asm, &place.config)?;
+        obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), &asm, &mut asm.workspace());
+        joints.push(obs);
+    }
+    let mut obs = Observers { joints, progress: options.progress.clone(), cancel: options.cancel.clone() };
+    obs.joints[0].deadline = config.simulation.max_wall_time.map(|s| (start, s));
     if !sim.run(duration, &mut obs)? {
-        return Err(match obs.deadline {
-            Some((_, limit_s)) if obs.out_of_time => SolverError::WallClockLimit { limit_s, time: sim.time() }.into(),
+        return Err(match obs.joints[0].deadline {
+            Some((_, limit_s)) if obs.joints[0].out_of_time => {
+                SolverError::WallClockLimit { limit_s, time: sim.time() }.into()
+            }
             _ => ModelError::Interrupted { time: sim.time() },
         });
     }
@@ -319,12 +356,36 @@ pub fn simulate_records(
     let cpu_time_s = cpu.elapsed_s();
     let e = sim.energy();
     let energy_error = e.error_relative_to_input();
-    let validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
-    let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
-    pounding.contact_energy = e.contact;
-    if let (Some(h), Some(log)) = (&mut obs.histories, obs.contacts.as_mut().and_then(|c| c.log.take())) {
-        h.impacts = log;
+    let mut results = obs.joints.into_iter().zip(model.joints()).map(|(mut obs, jm)| {
+        let validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
+        let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
+        pounding.contact_energy = e.contact;
+        if let (Some(h), Some(log)) = (&mut obs.histories, obs.contacts.as_mut().and_then(|c| c.log.take())) {
+            h.impacts = log;
+        }
+        JointResult {
+            name: jm.name.clone(),
+            sa: obs.sa.value,
+            t_sa: obs.sa.time,
+            sd: obs.sd.value,
+            sv: obs.sv.value,
+            peak_joint_force: obs.joint_force.value,
+            min_subgap: obs.gaps.as_ref().map(|g| g.min),
+            max_subgap: obs.gaps.as_ref().map(|g| g.max),
+            max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
+            pounding,
+            validity,
+            observer: obs,
+        }
+    });
+    let first = results.next().expect("a run has a joint");
+    let others: Vec<JointResult> = results.collect();
+    let mut validity = first.validity.clone();
+    for j in &others {
+        validity.flags = crate::validity::Flags(validity.flags.0 | j.validity.flags.0);
+        validity.findings.extend(j.validity.findings.iter().map(|f| format!("{}: {f}", j.name)));
     }
+    let obs = first.observer;
     let w = model.bridge.omega;
     let transverse = model.bridge.transverse.map(|(wy, zeta)| {
         let [sa, sd, sv, f] = obs.across;
@@ -371,10 +432,10 @@ pub fn simulate_records(
         friction_energy: e.friction,
         damping_energy: e.damping,
         earthquake_work: e.base,
-        min_subgap: obs.gaps.as_ref().map(|g| g.min),
-        max_subgap: obs.gaps.as_ref().map(|g| g.max),
-        max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
-        pounding,
+        min_subgap: first.min_subgap,
+        max_subgap: first.max_subgap,
+        max_subgap_deviation: first.max_subgap_deviation,
+        pounding: first.pounding,
         transverse,
         far,
         energy_error,
@@ -386,7 +447,68 @@ pub fn simulate_records(
         cpu_time_s,
         duration,
         histories: obs.histories,
+        joints: others
+            .into_iter()
+            .map(|j| PlacedJointResult {
+                name: j.name,
+                sa: j.sa,
+                t_sa: j.t_sa,
+                sd: j.sd,
+                sv: j.sv,
+                peak_joint_force: j.peak_joint_force,
+                min_subgap: j.min_subgap,
+                max_subgap: j.max_subgap,
+                max_subgap_deviation: j.max_subgap_deviation,
+                pounding: j.pounding,
+                validity: j.validity,
+            })
+            .collect(),
     })
+}
+
+/// One joint's results with its observer (for the first joint's
+/// histories and bridge-level peaks).
+struct JointResult {
+    name: String,
+    sa: f64,
+    t_sa: f64,
+    sd: f64,
+    sv: f64,
+    peak_joint_force: f64,
+    min_subgap: Option<f64>,
+    max_subgap: Option<f64>,
+    max_subgap_deviation: Option<f64>,
+    pounding: Pounding,
+    validity: Validity,
+    observer: EarthquakeObserver,
+}
+
+/// The observers of every joint of a run, stepped together; the first
+/// reports progress and watches the wall-clock limit.
+struct Observers {
+    joints: Vec<EarthquakeObserver>,
+    progress: Option<ProgressFn>,
+    cancel: Option<Arc<AtomicBool>>,
+}
+
+impl Observer for Observers {
+    fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        if self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return false;
+        }
+        if let Some(p) = &self.progress {
+            let first = &mut self.joints[0];
+            if view.t >= first.last_report + 0.1 {
+                first.last_report = view.t;
+                p(view.t);
+            }
+        }
+        let mut go_on = true;
+        for j in &mut self.joints {
+            go_on &= j.step(view);
+        }
+        go_on
+    }
 }
 
 /// Longest interval between two checks of the sub-gaps and the validity
@@ -428,6 +550,8 @@ struct EarthquakeObserver {
     bridge: Bridge,
     /// The modes, when the bridge is given by them.
     modal: Option<crate::modal::ModalDeck>,
+    /// Scratch: the modes' accelerations at a sample.
+    modal_acc: Vec<f64>,
     ground: TimeSeries,
     dt: f64,
     /// The output times: the record's samples after the first.
@@ -448,8 +572,6 @@ struct EarthquakeObserver {
     /// Scratch: contact force per sub-gap at a sample.
     gap_forces: Vec<f64>,
     histories: Option<Histories>,
-    progress: Option<ProgressFn>,
-    cancel: Option<Arc<AtomicBool>>,
     /// Interval of the sub-gap and validity checks between output times
     /// [s]: the record's time step divided into pieces of at most
     /// [`CHECK_INTERVAL`] (a coarse record must not hide a collision).
@@ -477,7 +599,7 @@ impl EarthquakeObserver {
             .coordinate(model.deck, quakejoint_solver::Coord::X)
             .ok_or_else(|| ModelError::Geometry("the deck has no x coordinate".into()))?;
         let gaps = Gaps::new(model, asm)?;
-        let mut contacts = ContactWatch::new(model);
+        let mut contacts = ContactWatch::new(model, asm.contact_count());
         if let (true, Some(c)) = (histories, &mut contacts) {
             c.log = Some(Vec::new());
         }
@@ -506,6 +628,7 @@ impl EarthquakeObserver {
             boxes: model.joist_boxes.clone(),
             bridge: model.bridge,
             modal: model.modal.clone(),
+            modal_acc: Vec::new(),
             ground,
             dt,
             outputs: grid(dt)?,
@@ -523,8 +646,6 @@ impl EarthquakeObserver {
             histories,
             check_dt,
             checks: grid(check_dt)?,
-            progress: None,
-            cancel: None,
             deadline: None,
             out_of_time: false,
             monitor: None,
@@ -577,8 +698,12 @@ impl EarthquakeObserver {
         let b = &self.bridge;
         let a_abs = match &self.modal {
             Some(m) => {
-                let lambda = -asm.reaction_sum(ws, t, q, lam, &[m.link], m.deck)[0];
-                m.a_abs(asm, q, v, lambda, self.ground.value(t))
+                let ag = self.ground.value(t);
+                let mut acc = std::mem::take(&mut self.modal_acc);
+                m.parts.accelerations(asm, ws, crate::modal::Instant { t, q, v, lam, ag }, &mut acc);
+                let a = m.parts.point(asm, m.parts.ends[m.end].point, q, v, &acc, ag)[2];
+                self.modal_acc = acc;
+                a
             }
             None => (-b.stiffness() * u - b.damper() * ud + fj) / b.mass,
         };
@@ -646,15 +771,6 @@ impl EarthquakeObserver {
 
 impl Observer for EarthquakeObserver {
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
-        if self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed)) {
-            return false;
-        }
-        if let Some(p) = &self.progress {
-            if view.t >= self.last_report + 0.1 {
-                self.last_report = view.t;
-                p(view.t);
-            }
-        }
         self.check_between(view);
         if let Some(c) = &mut self.contacts {
             c.step(view, self.monitor.as_mut());

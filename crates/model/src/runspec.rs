@@ -46,6 +46,9 @@ pub struct Overrides {
     pub record: Option<RecordSpec>,
     /// Run the bridge alone, exactly (no joint).
     pub alone: bool,
+    /// A factor on every period of a bridge given by its modes \[-\]
+    /// (replaces `bridge.modal.period_scale`).
+    pub period_scale: Option<Named<f64>>,
 }
 
 /// A run: the config with every override applied and checked.
@@ -85,6 +88,17 @@ impl RunSpec {
                 });
             }
         }
+        if let Some(f) = &overrides.period_scale {
+            let Some(m) = &mut config.bridge.modal else {
+                return Err(ModelError::Override {
+                    name: f.name.clone(),
+                    value: quakejoint_motion::number(f.value),
+                    reason: "a period scale applies to a bridge given by its modes ([bridge.modal])".to_string(),
+                });
+            };
+            check_override("bridge.modal.period_scale", &f.name, f.value)?;
+            m.period_scale = Some(f.value);
+        }
         if let Some(p) = &overrides.period {
             check_override("bridge.period", &p.name, p.value)?;
             (config.bridge.period, config.bridge.w0) = (Some(p.value), None);
@@ -101,7 +115,7 @@ impl RunSpec {
         }
         config.validate()?;
         let period = match &config.bridge.modal {
-            Some(m) => 2.0 * std::f64::consts::PI / kept_modes(m, config.bridge.damping)?.0[0].omega,
+            Some(m) => 2.0 * std::f64::consts::PI / kept_modes(m, config.bridge.damping)?[0].omega,
             None => overrides.period.as_ref().map_or_else(|| config.bridge.natural_period(), |p| p.value),
         };
         Ok(RunSpec { config, alone: overrides.alone, period })
@@ -124,7 +138,9 @@ impl RunSpec {
     ) -> Result<RunResult, ModelError> {
         let reference = Reference::for_run(&self.config, record_x, record_x);
         if let Some(m) = &self.config.bridge.modal {
-            let (kept, point) = kept_modes(m, self.config.bridge.damping)?;
+            let kept = kept_modes(m, self.config.bridge.damping)?;
+            // the first joint's deck point
+            let point = crate::placement::places(&self.config)?[0].deck_point;
             let mut result = if self.alone {
                 crate::linear::modal_response(reference.window(), &kept, point, options.histories)
             } else {

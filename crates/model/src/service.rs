@@ -389,7 +389,7 @@ pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
         deck,
         gaps,
         monitor,
-        contacts: ContactWatch::new(&model),
+        contacts: ContactWatch::new(&model, model.contacts.len()),
         beams,
         center_beams: [vec![Vec::new(); nb], vec![Vec::new(); nb], vec![Vec::new(); nb]],
         deck_body: model.deck,

@@ -71,7 +71,7 @@ fn full() -> Config {
     });
     c.bridge.modal = Some(quakejoint_model::config::ModalConfig {
         modes: "modes.toml".to_string(),
-        joint_point: "right end".to_string(),
+        joint_point: Some("right end".to_string()),
         modes_used: Some(3),
         period_scale: Some(1.0),
         loaded: None,
@@ -214,7 +214,9 @@ fn every_range_is_documented_and_enforced() {
                 if is_int && (v.floor() as i64) < 0 {
                     continue; // not representable in the key's unsigned type: refused by the parser
                 }
-                format!("[{section}]\n{field} = {value}\n")
+                // (a modal bridge's table needs its modes file named)
+                let required = if section == "bridge.modal" { "modes = \"m.toml\"\njoint_point = \"a\"\n" } else { "" };
+                format!("[{section}]\n{required}{field} = {value}\n")
             };
             match Config::from_toml(&text, "test.toml") {
                 Ok(_) => problems.push(format!("{key} = {v:e} is accepted, outside {}", bound.describe())),

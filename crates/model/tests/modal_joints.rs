@@ -1,0 +1,112 @@
+//! Two joints on one bridge given by its modes (`[[joints]]`).
+//!
+//! The three-span girder bridge of `tests/data/three_span` (OpenSees'
+//! modes, symmetric about midspan) carries the small joint of
+//! configs/small.toml at each abutment: at the left end with the deck on
+//! its +x side, at the right end turned half a turn (`deck_side = "-x"`).
+//! Mirroring the bridge about midspan swaps the two joints and reverses
+//! the ground motion along the bridge, so the left joint under a record
+//! must do exactly what the right joint does under the same record
+//! reversed, and the other way round: the same deck-point peaks, joint
+//! forces, cell openings and impacts, to the integrator's accuracy. The
+//! energy balance (the joints' friction and impacts, the modal and bushing
+//! damping against the earthquake's work on the modes and the joints'
+//! bodies) must close as it does with one joint.
+
+mod common;
+
+use std::path::PathBuf;
+
+use quakejoint_model::run::{load_records, simulate_records, PlacedJointResult, RunOptions, RunResult};
+use quakejoint_model::Config;
+
+fn data() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/three_span")
+}
+
+fn run(scale: f64) -> RunResult {
+    let small = std::fs::read_to_string(common::configs_dir().join("small.toml")).unwrap();
+    // the small joint's tables, without its [record]
+    let joint = &small[small.find("\n[joint]\n").unwrap()..small.find("\n[record]\n").unwrap()];
+    let text = format!(
+        "{joint}\n[record]\nfile = \"{}\"\nscale = {scale}\n[bridge]\ndamping = 0.05\n\
+         [bridge.modal]\nmodes = \"modes.toml\"\nmodes_used = 20\n\
+         [[joints]]\nname = \"left\"\ndeck_point = \"left end\"\ndeck_side = \"+x\"\n\
+         [[joints]]\nname = \"right\"\ndeck_point = \"right end\"\ndeck_side = \"-x\"\n",
+        common::configs_dir().join("../ground_motions/RSN753_LOMAP_CLS090-hor2.AT2").display()
+    );
+    let mut config = Config::from_toml(&text, "two_joints.toml").unwrap();
+    config.load_modes(&data()).unwrap();
+    let (x, _) = load_records(&config, &common::configs_dir()).unwrap();
+    simulate_records(&config, &x.record, None, &RunOptions::default()).unwrap()
+}
+
+/// The first joint's values as a [`PlacedJointResult`].
+fn first(r: &RunResult) -> PlacedJointResult {
+    PlacedJointResult {
+        name: "left".into(),
+        sa: r.sa,
+        t_sa: r.t_sa,
+        sd: r.sd,
+        sv: r.sv,
+        peak_joint_force: r.peak_joint_force,
+        min_subgap: r.min_subgap,
+        max_subgap: r.max_subgap,
+        max_subgap_deviation: r.max_subgap_deviation,
+        pounding: r.pounding,
+        validity: Default::default(),
+    }
+}
+
+/// Largest relative difference of two joints' values.
+fn difference(a: &PlacedJointResult, b: &PlacedJointResult) -> f64 {
+    let pairs = [
+        (a.sd, b.sd),
+        (a.sv, b.sv),
+        (a.sa, b.sa),
+        (a.peak_joint_force, b.peak_joint_force),
+        (a.max_subgap.unwrap(), b.max_subgap.unwrap()),
+        (a.min_subgap.unwrap(), b.min_subgap.unwrap()),
+    ];
+    pairs.iter().map(|(x, y)| ((x - y) / y).abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn mirrored_bridge_swaps_the_two_joints() {
+    for scale in [0.15, 0.6] {
+        let (a, b) = (run(scale), run(-scale));
+        assert_eq!(a.joints.len(), 1);
+        let (left_a, right_a) = (first(&a), a.joints[0].clone());
+        let (left_b, right_b) = (first(&b), b.joints[0].clone());
+        let d1 = difference(&left_a, &right_b);
+        let d2 = difference(&right_a, &left_b);
+        eprintln!(
+            "scale {scale}: left under +a_g: Sd {:.6} m, joint force {:.1} N, widest cell {:.2} mm, {} impacts; \
+             right under -a_g: {:.6} m, {:.1} N, {:.2} mm, {} impacts; largest relative differences {d1:.1e}, {d2:.1e}; \
+             energy balance {:.1e}, {:.1e}",
+            left_a.sd,
+            left_a.peak_joint_force,
+            left_a.max_subgap.unwrap() * 1e3,
+            left_a.pounding.impacts,
+            right_b.sd,
+            right_b.peak_joint_force,
+            right_b.max_subgap.unwrap() * 1e3,
+            right_b.pounding.impacts,
+            a.energy_error,
+            b.energy_error
+        );
+        // the same equations in mirrored coordinates: equal but for the order of
+        // floating-point operations and the modes file's last digits
+        let band = 1e-6;
+        assert!(d1 < band && d2 < band, "scale {scale}: {d1:e}, {d2:e}");
+        assert_eq!(left_a.pounding.impacts > 0, right_b.pounding.impacts > 0);
+        assert!(
+            a.energy_error < 1e-5 && b.energy_error < 1e-5,
+            "energy balance {:e}, {:e}",
+            a.energy_error,
+            b.energy_error
+        );
+        // the two ends differ: one opens as the other closes
+        assert!((left_a.max_subgap.unwrap() - right_a.max_subgap.unwrap()).abs() > 1e-4);
+    }
+}
