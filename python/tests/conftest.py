@@ -175,3 +175,35 @@ def one_record_sweep(cli, tmp_path_factory):
     code, _, err = run_cli(cli, "sweep", d / "one.toml", "--output", d / "one.h5", "--progress", "none", check=False)
     assert code == 3, err
     return d / "one.h5"
+
+
+#: the small joint at both ends of the three-span bridge of
+#: tests/data/three_span (OpenSees' modes), under 6 s of Corralitos at 0.6
+#: times its strength: the joints pound
+TWO_JOINTS = SMALL_JOINT + f"""[record]
+file = "{RECORD}"
+scale = 0.6
+[simulation]
+duration = 6.0
+[bridge.modal]
+modes = "{ROOT / 'tests' / 'data' / 'three_span' / 'modes.toml'}"
+modes_used = 20
+[[joints]]
+name = "left abutment"
+deck_point = "left end"
+deck_side = "+x"
+[[joints]]
+name = "right abutment"
+deck_point = "right end"
+deck_side = "-x"
+"""
+
+
+@pytest.fixture(scope="session")
+def two_joints(cli, tmp_path_factory):
+    """`simulate --output` of the two joints on the modal bridge: (config, run file)."""
+    d = tmp_path_factory.mktemp("modal")
+    config = d / "two_joints.toml"
+    config.write_text(TWO_JOINTS)
+    run_cli(cli, "simulate", config, "--output", d / "two.h5")
+    return config, d / "two.h5"

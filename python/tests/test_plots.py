@@ -246,3 +246,30 @@ def test_an_incomplete_file_says_so(quick_sweep, study_sweep, tmp_path):
             f.attrs["complete"] = np.uint8(0)
         fig = script("plot_spectrum").figure(path)
         assert "INCOMPLETE" in fig.axes[0].get_title(), name
+
+
+def test_bridge_draws_each_joint_and_the_points(two_joints):
+    _, path = two_joints
+    fig = script("plot_bridge").figure(path)
+    ax_u, ax_f, ax_g, ax_t = fig.axes
+    with h5py.File(path) as f:
+        u_left = f["history/u"][()]
+        u_right = f["joints/1/history/u"][()]
+        force_right = f["joints/1/history/joint_force"][()]
+        names = [n.decode() for n in f["points/name"][()]]
+        sd = f["points/sd"][()]
+    assert labels(ax_u) == ["left abutment", "right abutment"]
+    np.testing.assert_allclose(line(ax_u, "left abutment").get_ydata(), u_left * 1e3)
+    np.testing.assert_allclose(line(ax_u, "right abutment").get_ydata(), u_right * 1e3)
+    np.testing.assert_allclose(line(ax_f, "right abutment").get_ydata(), force_right / 1e3)
+    assert "capacity 80 mm" in labels(ax_g)
+    assert ax_u.get_ylabel().startswith("deck point u [mm]")
+    cells = {(r, c): t.get_text().get_text() for (r, c), t in ax_t.tables[0].get_celld().items()}
+    assert [cells[(r + 1, 0)] for r in range(len(names))] == names
+    assert cells[(1, 1)] == f"{sd[0] * 1e3:.1f}"
+
+
+def test_bridge_refuses_a_single_dof_run(run_h5):
+    run, _ = run_h5
+    with pytest.raises(SystemExit, match="no histories of a modal bridge"):
+        script("plot_bridge").figure(run)

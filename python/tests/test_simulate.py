@@ -144,3 +144,29 @@ def test_the_joint_between_two_segments(short_config):
     assert run.max_relative_displacement > 0 and run.energy_error < 1e-6
     alone = qj.simulate(qj.Config.from_file(short_config), period=1.2, history=False)
     assert np.isnan(alone.sa_far)
+
+
+def test_two_joints_on_a_modal_bridge_in_the_cli_python_and_the_run_file(cli, two_joints):
+    """The same run through the command (JSON and its HDF5 file) and
+    Python: each joint's values and each point's, the same numbers."""
+    import h5py
+
+    config, path = two_joints
+    out = cli_json(cli, "simulate", config)
+    assert out["bridge_model"] == "modal" and out["joint_name"] == "left abutment"
+    assert [j["name"] for j in out["joints"]] == ["right abutment"]
+    assert [p["name"] for p in out["points"]] == ["left end", "right end", "pier 1 top", "pier 2 top"]
+    r = qj.simulate(qj.Config.from_file(config))
+    assert r.sa == out["sa"] and r.base_shear == out["base_shear"]
+    assert r.joints[0]["name"] == "right abutment"
+    assert r.joints[0]["peak_joint_force"] == out["joints"][0]["peak_joint_force"]
+    assert r.joints[0]["impacts"] == out["joints"][0]["impacts"]
+    assert [p["sd"] for p in r.points] == [p["sd"] for p in out["points"]]
+    with h5py.File(path) as f:
+        assert f["joints/1"].attrs["name"] == "right abutment"
+        assert f["joints/1/peak_joint_force"][()] == out["joints"][0]["peak_joint_force"]
+        assert f["points/sa_without_joint"][()].tolist() == [p["sa_without_joint"] for p in out["points"]]
+        assert f["result/sa"][()] == out["sa"]
+    # the joints pound at this strength, and every output says so
+    flags = out["validity_label"]
+    assert r.flagged == (flags != "ok")

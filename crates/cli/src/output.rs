@@ -125,6 +125,37 @@ fn placed_joint_lines(j: &PlacedJointResult) {
     out!("  validity: {}", j.validity.flags.label());
 }
 
+/// A modal bridge's points and base shear, with the joints and without.
+fn bridge_lines(r: &RunResult) {
+    if r.points.is_empty() {
+        return;
+    }
+    if r.exact_linear {
+        out!("the bridge's points (along x)");
+        for p in &r.points {
+            out!("  {:<24} Sd {:>9.5} m  Sa {:>9.4} m/s^2", p.name, p.sd, p.sa);
+        }
+        if let Some(v) = r.base_shear {
+            out!("  base shear (kept modes)    {:>14.1} kN", v / 1e3);
+        }
+        return;
+    }
+    out!("the bridge's points (along x)          with the joints         without");
+    for p in &r.points {
+        out!(
+            "  {:<24} Sd {:>9.5} m  Sa {:>9.4} m/s^2   Sd {:>9.5} m  Sa {:>9.4} m/s^2",
+            p.name,
+            p.sd,
+            p.sa,
+            p.sd_without,
+            p.sa_without
+        );
+    }
+    if let (Some(v), Some(w)) = (r.base_shear, r.base_shear_without) {
+        out!("  base shear (kept modes)    {:>14.1} kN {:>27.1} kN", v / 1e3, w / 1e3);
+    }
+}
+
 /// One more joint of `[[joints]]` as JSON.
 fn placed_joint_json(j: &PlacedJointResult) -> serde_json::Value {
     json!({
@@ -186,6 +217,12 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
             "joint_point": point,
             "joint_name": config.joints.first().map(|j| j.name.clone()),
             "joints": r.joints.iter().map(placed_joint_json).collect::<Vec<_>>(),
+            "points": r.points.iter().map(|p| json!({
+                "name": p.name, "sd": p.sd, "t_sd": p.t_sd, "sa": p.sa, "t_sa": p.t_sa,
+                "sd_without_joint": p.sd_without, "sa_without_joint": p.sa_without,
+            })).collect::<Vec<_>>(),
+            "base_shear": r.base_shear,
+            "base_shear_without_joint": r.base_shear_without,
         });
         extend(&mut out, fields_json(r));
         out!("{out}");
@@ -217,6 +254,7 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
     out!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);
     out!("  Sv   {:>12.5} m/s    at t = {:.3} s", r.sv, r.t_sv);
     if r.exact_linear {
+        bridge_lines(r);
         out!("validity: not checked (no joint)");
         return;
     }
@@ -277,6 +315,7 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
     for j in &r.joints {
         placed_joint_lines(j);
     }
+    bridge_lines(r);
     if !r.joints.is_empty() {
         out!("  (bushing and friction peaks, friction and contact energy: all joints together)");
     }

@@ -10,7 +10,7 @@ use quakejoint_model::service::ServiceResult;
 use quakejoint_motion::Record;
 
 use crate::error::OutputError;
-use crate::h5::{array, attr_str, dataset_1d, dataset_2d, scalar, write_atomically, VERSION};
+use crate::h5::{array, attr_str, dataset_1d, dataset_2d, scalar, strings_1d, write_atomically, VERSION};
 
 /// A record as used by a run: enough to find the very file again and to
 /// know how its numbers were read.
@@ -123,6 +123,8 @@ pub fn write_run(path: &Path, provenance: &Provenance, result: &RunResult) -> Re
         for (name, value, units) in result.scalars() {
             scalar(&res, name, value, units)?;
         }
+        write_points(file, result)?;
+        write_joints(file, result)?;
         if let Some(h) = &result.histories {
             write_history(&file.create_group("history")?, h)?;
             if !h.contact_force.is_empty() {
@@ -137,6 +139,65 @@ pub fn write_run(path: &Path, provenance: &Provenance, result: &RunResult) -> Re
         }
         Ok(())
     })
+}
+
+/// A modal bridge's points (`/points`): their names and peaks with the
+/// joints and without, and the base shear.
+fn write_points(file: &hdf5::File, r: &RunResult) -> hdf5::Result<()> {
+    if r.points.is_empty() {
+        return Ok(());
+    }
+    let g = file.create_group("points")?;
+    let names: Vec<String> = r.points.iter().map(|p| p.name.clone()).collect();
+    strings_1d(&g, "name", &names)?;
+    let col = |f: fn(&quakejoint_model::modal::PointPeaks) -> f64| r.points.iter().map(f).collect::<Vec<_>>();
+    dataset_1d(&g, "sd", &col(|p| p.sd), "m")?;
+    dataset_1d(&g, "t_sd", &col(|p| p.t_sd), "s")?;
+    dataset_1d(&g, "sa", &col(|p| p.sa), "m/s^2")?;
+    dataset_1d(&g, "t_sa", &col(|p| p.t_sa), "s")?;
+    dataset_1d(&g, "sd_without_joint", &col(|p| p.sd_without), "m")?;
+    dataset_1d(&g, "sa_without_joint", &col(|p| p.sa_without), "m/s^2")?;
+    scalar(&g, "base_shear", r.base_shear.unwrap_or(f64::NAN), "N")?;
+    scalar(&g, "base_shear_without_joint", r.base_shear_without.unwrap_or(f64::NAN), "N")?;
+    Ok(())
+}
+
+/// The joints after the first of `[[joints]]` (`/joints/<k>`, k from 1):
+/// name, peaks, validity and histories.
+fn write_joints(file: &hdf5::File, r: &RunResult) -> hdf5::Result<()> {
+    if r.joints.is_empty() {
+        return Ok(());
+    }
+    let all = file.create_group("joints")?;
+    for (k, j) in r.joints.iter().enumerate() {
+        let g = all.create_group(&(k + 1).to_string())?;
+        attr_str(&g, "name", &j.name)?;
+        let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
+        let p = &j.pounding;
+        for (name, value, units) in [
+            ("sa", j.sa, "m/s^2"),
+            ("t_sa", j.t_sa, "s"),
+            ("sd", j.sd, "m"),
+            ("sv", j.sv, "m/s"),
+            ("peak_joint_force", j.peak_joint_force, "N"),
+            ("min_subgap", opt(j.min_subgap), "m"),
+            ("max_subgap", opt(j.max_subgap), "m"),
+            ("max_subgap_deviation", opt(j.max_subgap_deviation), "m"),
+            ("impacts", p.impacts as f64, "1"),
+            ("peak_contact_force", p.peak_contact_force, "N"),
+            ("peak_deck_contact_force", p.peak_deck_contact_force, "N"),
+            ("max_penetration", p.max_penetration, "m"),
+            ("validity", f64::from(j.validity.flags.0), "1"),
+        ] {
+            scalar(&g, name, value, units)?;
+        }
+        attr_str(&g, "validity_label", &j.validity.flags.label())?;
+        attr_str(&g, "validity_findings", &j.validity.message())?;
+        if let Some(h) = &j.histories {
+            write_history(&g.create_group("history")?, h)?;
+        }
+    }
+    Ok(())
 }
 
 /// Writes the series of `h` into `g`, each with its units: those a run did

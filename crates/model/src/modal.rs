@@ -439,3 +439,39 @@ pub struct Instant<'a> {
     /// The ground's acceleration \[m/s^2\].
     pub ag: f64,
 }
+
+/// The peaks at one point of the modes file over a run (SI units).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PointPeaks {
+    /// The point's name.
+    pub name: String,
+    /// Peak displacement relative to the ground along the bridge \[m\].
+    pub sd: f64,
+    /// Time of `sd` \[s\].
+    pub t_sd: f64,
+    /// Peak absolute acceleration along the bridge \[m/s^2\].
+    pub sa: f64,
+    /// Time of `sa` \[s\].
+    pub t_sa: f64,
+    /// `sd` of the bridge alone (exact modal superposition) \[m\].
+    pub sd_without: f64,
+    /// `sa` of the bridge alone \[m/s^2\].
+    pub sa_without: f64,
+}
+
+impl ModalParts {
+    /// The base shear along the bridge \[N\]: the kept modes' elastic and
+    /// damping forces summed over the supports,
+    /// `sum_i Gamma_i (w_i^2 q_i + 2 zeta_i w_i q_i')` (in the bodies' units
+    /// `sum_i (Gamma_i / s_i) (k_i y_i + c_i y_i') / m_i`), at the state
+    /// `(q, v)`.
+    pub fn base_shear(&self, asm: &Assembly, q: &[f64], v: &[f64]) -> f64 {
+        self.modes
+            .iter()
+            .map(|m| {
+                let c = asm.coordinate(m.body, Coord::X).expect("a mode's x is free");
+                m.base_mass * (m.stiffness * q[c] + m.damper * v[c]) / m.mass
+            })
+            .sum()
+    }
+}

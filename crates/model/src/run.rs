@@ -166,6 +166,14 @@ pub struct RunResult {
     pub duration: f64,
     /// Time histories, if requested.
     pub histories: Option<Histories>,
+    /// A modal bridge's points: peaks with the joints and, filled in by
+    /// [`crate::runspec::RunSpec::run`], of the bridge alone.
+    pub points: Vec<crate::modal::PointPeaks>,
+    /// A modal bridge's peak base shear along the bridge \[N\] (the kept
+    /// modes' forces on the supports).
+    pub base_shear: Option<f64>,
+    /// The same, of the bridge alone \[N\].
+    pub base_shear_without: Option<f64>,
     /// The other joints of `[[joints]]` (the values above are the first
     /// one's, its deck point's and the whole system's; `validity` holds
     /// every joint's flags).
@@ -197,6 +205,9 @@ pub struct PlacedJointResult {
     pub pounding: Pounding,
     /// Whether it stayed inside what the model can stand behind.
     pub validity: Validity,
+    /// Its time histories (its deck point's motion in its own x, its force
+    /// on the deck, its cells), if requested.
+    pub histories: Option<Histories>,
 }
 
 impl RunResult {
@@ -336,9 +347,20 @@ pub fn simulate_records(
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
     let places = crate::placement::places(config)?;
     let mut joints = Vec::with_capacity(places.len());
-    for (jm, place) in model.joints().zip(&places) {
+    let point_names: Vec<String> = config
+        .bridge
+        .modal
+        .as_ref()
+        .map(crate::modal::loaded)
+        .transpose()?
+        .map(|b| b.points.iter().map(|p| p.name.clone()).collect())
+        .unwrap_or_default();
+    for (k, (jm, place)) in model.joints().zip(&places).enumerate() {
         let mut obs = EarthquakeObserver::new(jm, &asm, gx.clone(), record_x.dt, options.histories)?;
         obs.monitor = Monitor::new(jm, &asm, &place.config)?;
+        if k == 0 {
+            obs.points = vec![[Peak::default(); 2]; point_names.len()];
+        }
         obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), &asm, &mut asm.workspace());
         joints.push(obs);
     }
@@ -446,6 +468,21 @@ pub fn simulate_records(
         wall_time_s: wall,
         cpu_time_s,
         duration,
+        points: point_names
+            .into_iter()
+            .zip(&obs.points)
+            .map(|(name, [d, a])| crate::modal::PointPeaks {
+                name,
+                sd: d.value,
+                t_sd: d.time,
+                sa: a.value,
+                t_sa: a.time,
+                sd_without: f64::NAN,
+                sa_without: f64::NAN,
+            })
+            .collect(),
+        base_shear: (!obs.points.is_empty()).then_some(obs.base_shear.value),
+        base_shear_without: None,
         histories: obs.histories,
         joints: others
             .into_iter()
@@ -461,6 +498,8 @@ pub fn simulate_records(
                 max_subgap_deviation: j.max_subgap_deviation,
                 pounding: j.pounding,
                 validity: j.validity,
+                // (the friction power is the whole system's: the first joint's history has it)
+                histories: j.observer.histories.map(|h| Histories { friction_power: Vec::new(), ..h }),
             })
             .collect(),
     })
@@ -562,6 +601,10 @@ struct EarthquakeObserver {
     joint_force: Peak,
     /// Across the bridge: Sa, Sd, Sv and the joint's force.
     across: [Peak; 4],
+    /// A modal bridge's points (displacement and absolute acceleration) and
+    /// base shear, watched by the first joint's observer only.
+    points: Vec<[Peak; 2]>,
+    base_shear: Peak,
     /// The adjacent segment: Sa, Sd, the joint's force on it and the decks'
     /// relative displacement.
     far_peaks: [Peak; 4],
@@ -637,6 +680,8 @@ impl EarthquakeObserver {
             sv: Peak::default(),
             joint_force: Peak::default(),
             across: [Peak::default(); 4],
+            points: Vec::new(),
+            base_shear: Peak::default(),
             far_peaks: [Peak::default(); 4],
             bushing: 0.0,
             friction: 0.0,
@@ -702,6 +747,14 @@ impl EarthquakeObserver {
                 let mut acc = std::mem::take(&mut self.modal_acc);
                 m.parts.accelerations(asm, ws, crate::modal::Instant { t, q, v, lam, ag }, &mut acc);
                 let a = m.parts.point(asm, m.parts.ends[m.end].point, q, v, &acc, ag)[2];
+                for (p, peaks) in self.points.iter_mut().enumerate() {
+                    let [up, _, ap] = m.parts.point(asm, p, q, v, &acc, ag);
+                    peaks[0].update(up, t);
+                    peaks[1].update(ap, t);
+                }
+                if !self.points.is_empty() {
+                    self.base_shear.update(m.parts.base_shear(asm, q, v), t);
+                }
                 self.modal_acc = acc;
                 a
             }

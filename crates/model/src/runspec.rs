@@ -146,6 +146,28 @@ impl RunSpec {
             } else {
                 simulate_records(&self.config, record_x, record_y, options)?
             };
+            let names: Vec<String> = crate::modal::loaded(m)?.points.iter().map(|p| p.name.clone()).collect();
+            let (alone, shear) = crate::linear::modal_alone(reference.window(), &kept, names.len());
+            if self.alone {
+                // the run is the bridge alone: its values are those
+                result.points = names
+                    .into_iter()
+                    .zip(&alone)
+                    .map(|(name, &[sd, sa])| crate::modal::PointPeaks {
+                        name,
+                        sd,
+                        sa,
+                        t_sd: f64::NAN,
+                        t_sa: f64::NAN,
+                        ..Default::default()
+                    })
+                    .collect();
+                result.base_shear = Some(shear);
+            }
+            for (p, [sd, sa]) in result.points.iter_mut().zip(alone) {
+                (p.sd_without, p.sa_without) = (sd, sa);
+            }
+            result.base_shear_without = Some(shear);
             if let Some(h) = &mut result.histories {
                 let mut a = crate::linear::modal_history(reference.window(), &kept, point).a_abs;
                 a.resize(h.t.len(), f64::NAN);

@@ -55,6 +55,7 @@ fn first(r: &RunResult) -> PlacedJointResult {
         max_subgap_deviation: r.max_subgap_deviation,
         pounding: r.pounding,
         validity: Default::default(),
+        histories: None,
     }
 }
 

@@ -107,4 +107,15 @@ fn deck_ends_agree_with_opensees_without_joints() {
         da * 100.0
     );
     assert!(du < 0.01 && da < 0.01, "multibody: Sd {du:e}, Sa {da:e}");
+    // every point and the base shear: the solver's modes against the exact
+    // superposition of the same 20 modes
+    let kept = bridge.kept(Some(20), 1.0, 0.05);
+    let (alone, shear) = quakejoint_model::linear::modal_alone(record, &kept, bridge.points.len());
+    for (p, [sd, sa]) in r.points.iter().zip(&alone) {
+        let (ed, ea) = ((p.sd - sd).abs() / sd, (p.sa - sa).abs() / sa);
+        assert!(ed < 1e-4 && ea < 1e-4, "{}: Sd {ed:e}, Sa {ea:e}", p.name);
+    }
+    let v = r.base_shear.unwrap();
+    eprintln!("base shear, 20 modes: {:.1} kN (multibody) vs {:.1} kN (exact)", v / 1e3, shear / 1e3);
+    assert!((v - shear).abs() / shear < 1e-4, "base shear {v} vs {shear}");
 }

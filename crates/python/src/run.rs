@@ -85,6 +85,17 @@ pub struct PyRunResult {
     /// stand behind.
     #[pyo3(get)]
     flagged: bool,
+    /// A modal bridge's points (`[bridge.modal]`): a list of dicts with
+    /// name, sd [m], sa [m/s^2], their times [s] and the bridge alone's
+    /// sd_without_joint, sa_without_joint; empty on a single-DOF deck.
+    #[pyo3(get)]
+    points: Py<PyList>,
+    /// The joints after the first of `[[joints]]`: a list of dicts with
+    /// name, the deck point's sa, sd, sv, the joint's demands
+    /// (peak_joint_force, min/max_subgap, impacts, ...), validity and
+    /// history (a dict of arrays, or None).
+    #[pyo3(get)]
+    joints: Py<PyList>,
 }
 
 #[pymethods]
@@ -98,7 +109,9 @@ impl PyRunResult {
 
     fn __dir__(&self, py: Python<'_>) -> PyResult<Vec<String>> {
         let mut names: Vec<String> = self.scalars.bind(py).keys().extract()?;
-        names.extend(["history", "impacts_log", "flags", "findings", "flagged", "as_dict"].map(String::from));
+        names.extend(
+            ["history", "impacts_log", "flags", "findings", "flagged", "points", "joints", "as_dict"].map(String::from),
+        );
         Ok(names)
     }
 
@@ -137,6 +150,10 @@ fn scalars<'py>(py: Python<'py>, r: &RunResult, record: &LoadedRecord) -> PyResu
     // the values of a run file's /result, with its names
     for (k, v, _units) in r.scalars() {
         d.set_item(k, v)?;
+    }
+    if let (Some(v), Some(w)) = (r.base_shear, r.base_shear_without) {
+        d.set_item("base_shear", v)?;
+        d.set_item("base_shear_without_joint", w)?;
     }
     Ok(d)
 }
@@ -250,8 +267,52 @@ fn simulate(
         d.set_item("speed", i.speed)?;
         impacts.append(d)?;
     }
+    let points = PyList::empty(py);
+    for p in &result.points {
+        let d = PyDict::new(py);
+        d.set_item("name", &p.name)?;
+        for (k, v) in [
+            ("sd", p.sd),
+            ("t_sd", p.t_sd),
+            ("sa", p.sa),
+            ("t_sa", p.t_sa),
+            ("sd_without_joint", p.sd_without),
+            ("sa_without_joint", p.sa_without),
+        ] {
+            d.set_item(k, v)?;
+        }
+        points.append(d)?;
+    }
+    let joints = PyList::empty(py);
+    for j in &result.joints {
+        let d = PyDict::new(py);
+        d.set_item("name", &j.name)?;
+        let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
+        for (k, v) in [
+            ("sa", j.sa),
+            ("t_sa", j.t_sa),
+            ("sd", j.sd),
+            ("sv", j.sv),
+            ("peak_joint_force", j.peak_joint_force),
+            ("min_subgap", opt(j.min_subgap)),
+            ("max_subgap", opt(j.max_subgap)),
+            ("max_subgap_deviation", opt(j.max_subgap_deviation)),
+            ("peak_contact_force", j.pounding.peak_contact_force),
+            ("peak_deck_contact_force", j.pounding.peak_deck_contact_force),
+            ("max_penetration", j.pounding.max_penetration),
+        ] {
+            d.set_item(k, v)?;
+        }
+        d.set_item("impacts", j.pounding.impacts)?;
+        d.set_item("flags", j.validity.flags.names())?;
+        d.set_item("findings", j.validity.findings.clone())?;
+        d.set_item("history", j.histories.as_ref().map(|h| history_dict(py, h, true)).transpose()?)?;
+        joints.append(d)?;
+    }
     let flags = result.validity.flags;
     Ok(PyRunResult {
+        points: points.unbind(),
+        joints: joints.unbind(),
         scalars: scalars(py, &result, &lx)?.unbind(),
         history,
         impacts_log: impacts.unbind(),
