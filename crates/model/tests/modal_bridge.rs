@@ -8,7 +8,7 @@
 //! factor `Gamma = phi M 1 = sqrt(M)`. With the joint on it, the two
 //! descriptions are the same equations in other coordinates (the modal
 //! coordinate, a deck end tied to it by a linear constraint and of mass
-//! 1e-9 M): the deck's spectral values, the joint's forces, friction work,
+//! 1e-6 M): the deck's spectral values, the joint's forces, friction work,
 //! openings and impacts must agree to the integrator's accuracy, and
 //! closer at tighter tolerances. Checked on the small joint (configs/small.toml)
 //! on a light deck where the joint matters, with the record scaled so that

@@ -7,6 +7,7 @@
 //! `docs/verification.md` is made from them and their results (a test keeps
 //! it current).
 
+pub mod modal;
 mod problems;
 
 use std::path::Path;

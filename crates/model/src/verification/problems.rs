@@ -100,6 +100,33 @@ pub const PROBLEMS: &[Problem] = &[
         band: Band::Relative(5e-3),
         run: service_friction_work,
     },
+    Problem {
+        id: "three-span-against-opensees",
+        layer: "model",
+        title: "the three-span girder bridge of tests/data/three_span (40-60-40 m on two piers, OpenSees' modes) without joints, 20 modes through the multibody solver (the modes as bodies, the deck end tied to them), under Corralitos 090",
+        source: "second method: OpenSees 3.7.1's own linear transient of the same model with 5 % modal damping (tests/data/three_span/README.md)",
+        quantity: "peak displacement of the right deck end relative to the ground [m]",
+        band: Band::Relative(1e-2),
+        run: super::modal::three_span_against_opensees,
+    },
+    Problem {
+        id: "one-mode-equals-single-dof",
+        layer: "model",
+        title: "the small joint (3 center beams) on a bridge of one mode (T = 1 s, 5 %, phi = 1/sqrt(M), Gamma = sqrt(M), M = 2e6 kg) under Corralitos 090 x 0.15",
+        source: "second method: the same joint on the single-DOF deck of mass M, period 1 s and 5 % damping",
+        quantity: "Sa of the deck [m/s^2]",
+        band: Band::Relative(2e-3),
+        run: super::modal::one_mode_equals_single_dof,
+    },
+    Problem {
+        id: "mirrored-joints",
+        layer: "model",
+        title: "the small joint at both ends of the three-span bridge (20 modes; the right one turned half a turn) under 8 s of Corralitos 090 x 0.6, pounding",
+        source: "symmetry: mirroring the bridge about midspan swaps the joints and reverses the ground motion, so the left joint under the record does what the right joint does under the record reversed",
+        quantity: "peak force of the left joint on the deck, against the right joint's under the reversed record [N]",
+        band: Band::Relative(1e-6),
+        run: super::modal::mirrored_joints,
+    },
 ];
 
 fn config(root: &Path, name: &str) -> Result<Config, String> {

@@ -432,6 +432,10 @@ fn compile_linear(asm: &mut Assembly, layout: &Layout, bodies: &[Body], ci: usiz
         offset += c * bodies[b].pose[slot];
     }
     asm.eq_angular[eq as usize] = terms.iter().all(|&(_, s, _, _)| s == 2);
+    // (scaled by the heaviest of its coordinates: the one it is paired with
+    // may be a point of almost no mass of its own, whose scale would leave
+    // the equation's row too small for the block elimination's pivots)
+    asm.eq_mref[eq as usize] = terms.iter().map(|&(_, _, c, _)| asm.coord_mass[c as usize]).fold(0.0, f64::max);
     asm.linear.push(LinearK { eq, terms, offset, g_start });
     asm.constraint_prims[ci].push(PrimRef::Linear(asm.linear.len() as u32 - 1));
 }
