@@ -130,6 +130,38 @@ fn bridge_lines(r: &RunResult) {
     if r.points.is_empty() {
         return;
     }
+    if let Some((check, warnings)) = &r.mode_check {
+        let mass =
+            check.mass_ratio.map_or("no total_mass_x in the file".to_string(), |m| format!("{:.1} %", m * 100.0));
+        let flex: Vec<String> = r
+            .points
+            .iter()
+            .zip(&check.flexibility)
+            .filter(|(_, f)| f.is_finite())
+            .map(|(p, f)| format!("{} {:.1} %", p.name, f * 100.0))
+            .collect();
+        out!(
+            "the kept modes hold: mass along x {mass}; static flexibility {}",
+            if flex.is_empty() {
+                "not known (no [static] table in the modes file)".to_string()
+            } else {
+                flex.join(", ")
+            }
+        );
+        for &(p, q, f) in &check.between {
+            if f.is_finite() {
+                out!(
+                    "  and {:.1} % of the flexibility between {} and {}",
+                    f * 100.0,
+                    r.points[p].name,
+                    r.points[q].name
+                );
+            }
+        }
+        for w in warnings {
+            eprintln!("warning: {w}");
+        }
+    }
     if r.exact_linear {
         out!("the bridge's points (along x)");
         for p in &r.points {
@@ -222,6 +254,9 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
                 "sd_without_joint": p.sd_without, "sa_without_joint": p.sa_without,
             })).collect::<Vec<_>>(),
             "base_shear": r.base_shear,
+            "mass_ratio": r.mode_check.as_ref().and_then(|(c, _)| c.mass_ratio),
+            "flexibility_captured": r.mode_check.as_ref().map(|(c, _)| c.flexibility.clone()),
+            "warnings": r.mode_check.as_ref().map(|(_, w)| w.clone()).unwrap_or_default(),
             "base_shear_without_joint": r.base_shear_without,
         });
         extend(&mut out, fields_json(r));

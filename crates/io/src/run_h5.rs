@@ -158,6 +158,11 @@ fn write_points(file: &hdf5::File, r: &RunResult) -> hdf5::Result<()> {
     dataset_1d(&g, "sd_without_joint", &col(|p| p.sd_without), "m")?;
     dataset_1d(&g, "sa_without_joint", &col(|p| p.sa_without), "m/s^2")?;
     scalar(&g, "base_shear", r.base_shear.unwrap_or(f64::NAN), "N")?;
+    if let Some((check, warnings)) = &r.mode_check {
+        dataset_1d(&g, "flexibility_captured", &check.flexibility, "1")?;
+        scalar(&g, "mass_ratio", check.mass_ratio.unwrap_or(f64::NAN), "1")?;
+        attr_str(&g, "warnings", &warnings.join("\n"))?;
+    }
     scalar(&g, "base_shear_without_joint", r.base_shear_without.unwrap_or(f64::NAN), "N")?;
     Ok(())
 }

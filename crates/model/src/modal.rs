@@ -479,3 +479,101 @@ impl ModalParts {
             .sum()
     }
 }
+
+/// How much of the bridge the kept modes hold: the check of how many modes
+/// are enough (docs/bridge.md, "How many modes").
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ModeCheck {
+    /// The kept modes' effective mass along x over `total_mass_x` [-] (none
+    /// without a total in the file).
+    pub mass_ratio: Option<f64>,
+    /// At each point of the file, the kept modes' share of the full model's
+    /// static flexibility there, `sum_kept phi_p^2 / w^2` over
+    /// `static.flexibility[p][p]` [-] (NaN without a `[static]` table): how
+    /// well the kept modes let a joint's force move its point.
+    pub flexibility: Vec<f64>,
+    /// For each pair `(p, q)` of the joints' points, the kept modes' share of
+    /// the flexibility between them, `sum_kept (phi_p - phi_q)^2 / w^2`
+    /// over `F_pp + F_qq - 2 F_pq` [-]: how well they let two joints'
+    /// opposite forces stretch or squeeze the deck between them (NaN
+    /// without a `[static]` table).
+    pub between: Vec<(usize, usize, f64)>,
+}
+
+/// Below this share of the mass or of a joint point's flexibility, a run
+/// warns that more modes are needed [-].
+pub const ENOUGH: f64 = 0.9;
+
+impl ModalBridge {
+    /// How much of the bridge the `kept` modes hold (`joints`: the joints'
+    /// points, for the flexibility between them).
+    pub fn mode_check(&self, kept: &[KeptMode], joints: &[usize]) -> ModeCheck {
+        let full = |p: usize, q: usize| {
+            self.static_response.as_ref().and_then(|s| s.flexibility.get(p).and_then(|row| row.get(q).copied()))
+        };
+        let mut between = Vec::new();
+        for (i, &p) in joints.iter().enumerate() {
+            for &q in &joints[i + 1..] {
+                let share = match (full(p, p), full(q, q), full(p, q)) {
+                    (Some(a), Some(b), Some(c)) if a + b - 2.0 * c > 0.0 => {
+                        kept.iter().map(|k| (k.shape[p] - k.shape[q]).powi(2) / (k.omega * k.omega)).sum::<f64>()
+                            / (a + b - 2.0 * c)
+                    }
+                    _ => f64::NAN,
+                };
+                between.push((p, q, share));
+            }
+        }
+        let flexibility = (0..self.points.len())
+            .map(|p| {
+                let full = self.static_response.as_ref().and_then(|s| s.flexibility.get(p).map(|row| row[p]));
+                match full {
+                    Some(f) if f > 0.0 => {
+                        kept.iter().map(|k| k.shape[p] * k.shape[p] / (k.omega * k.omega)).sum::<f64>() / f
+                    }
+                    _ => f64::NAN,
+                }
+            })
+            .collect();
+        ModeCheck { mass_ratio: self.mass_ratio_x(kept), flexibility, between }
+    }
+}
+
+impl ModeCheck {
+    /// Warnings for the joints' points `points` (indices) where the kept
+    /// modes hold less than [`ENOUGH`], and for the mass.
+    pub fn warnings(&self, bridge: &ModalBridge, points: &[usize]) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(r) = self.mass_ratio.filter(|&r| r < ENOUGH) {
+            out.push(format!(
+                "the kept modes hold {:.1} % of the bridge's mass along x (bridge.modal.modes_used): the ground \
+                 motion excites the rest",
+                r * 100.0
+            ));
+        }
+        for &p in points {
+            let f = self.flexibility[p];
+            if f < ENOUGH {
+                out.push(format!(
+                    "at \"{}\" the kept modes hold {:.1} % of the static flexibility: the joint's force moves that \
+                     point less than the full model would (keep more modes: bridge.modal.modes_used)",
+                    bridge.points[p].name,
+                    f * 100.0
+                ));
+            }
+        }
+        for &(p, q, f) in &self.between {
+            if f < ENOUGH {
+                out.push(format!(
+                    "between \"{}\" and \"{}\" the kept modes hold {:.1} % of the static flexibility: joints \
+                     pushing the deck from both ends stretch or squeeze it less than the full model would (keep \
+                     more modes: bridge.modal.modes_used)",
+                    bridge.points[p].name,
+                    bridge.points[q].name,
+                    f * 100.0
+                ));
+            }
+        }
+        out
+    }
+}

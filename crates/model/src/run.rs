@@ -174,6 +174,9 @@ pub struct RunResult {
     pub base_shear: Option<f64>,
     /// The same, of the bridge alone \[N\].
     pub base_shear_without: Option<f64>,
+    /// How much of a modal bridge the kept modes hold, and the warnings
+    /// where they hold too little at the joints' points.
+    pub mode_check: Option<(crate::modal::ModeCheck, Vec<String>)>,
     /// The other joints of `[[joints]]` (the values above are the first
     /// one's, its deck point's and the whole system's; `validity` holds
     /// every joint's flags).
@@ -483,6 +486,7 @@ pub fn simulate_records(
             .collect(),
         base_shear: (!obs.points.is_empty()).then_some(obs.base_shear.value),
         base_shear_without: None,
+        mode_check: None,
         histories: obs.histories,
         joints: others
             .into_iter()

@@ -168,6 +168,14 @@ impl RunSpec {
                 (p.sd_without, p.sa_without) = (sd, sa);
             }
             result.base_shear_without = Some(shear);
+            let bridge = crate::modal::loaded(m)?;
+            let points: Vec<usize> = crate::placement::places(&self.config)?
+                .iter()
+                .flat_map(|p| std::iter::once(p.deck_point).chain(p.abutment_point))
+                .collect();
+            let check = bridge.mode_check(&kept, &points);
+            let warnings = check.warnings(bridge, &points);
+            result.mode_check = Some((check, warnings));
             if let Some(h) = &mut result.histories {
                 let mut a = crate::linear::modal_history(reference.window(), &kept, point).a_abs;
                 a.resize(h.t.len(), f64::NAN);

@@ -119,3 +119,30 @@ fn deck_ends_agree_with_opensees_without_joints() {
     eprintln!("base shear, 20 modes: {:.1} kN (multibody) vs {:.1} kN (exact)", v / 1e3, shear / 1e3);
     assert!((v - shear).abs() / shear < 1e-4, "base shear {v} vs {shear}");
 }
+
+/// The check of how many modes are enough, on the three-span bridge: the
+/// kept modes' share of the full model's static flexibility (from
+/// OpenSees' unit loads, the file's `[static]` table) at the deck ends and
+/// between them grows with the modes kept and is the whole with every
+/// mode; with 3 modes the deck's stretching between its ends is missing
+/// (its axial modes are above 12 Hz) and the run warns.
+#[test]
+fn kept_modes_share_of_the_static_flexibility() {
+    let bridge = ModalBridge::read(&data().join("modes.toml")).unwrap();
+    let (l, r) =
+        (bridge.point("left end", Direction::X, "p").unwrap(), bridge.point("right end", Direction::X, "p").unwrap());
+    let mut last = (0.0, 0.0);
+    for count in [3, 10, 20, 40, bridge.modes.len()] {
+        let kept = bridge.kept(Some(count), 1.0, 0.05);
+        let check = bridge.mode_check(&kept, &[l, r]);
+        let (end, between) = (check.flexibility[l], check.between[0].2);
+        eprintln!("{count:>4} modes: {:.1} % at the left end, {:.1} % between the ends", end * 100.0, between * 100.0);
+        assert!(end >= last.0 && between >= last.1, "{count} modes: {end}, {between} after {last:?}");
+        last = (end, between);
+        let warned = check.warnings(&bridge, &[l, r]).iter().any(|w| w.starts_with("between \"left end\""));
+        assert_eq!(warned, between < quakejoint_model::modal::ENOUGH, "{count} modes");
+    }
+    assert!((last.0 - 1.0).abs() < 1e-6 && (last.1 - 1.0).abs() < 1e-6, "every mode: {last:?}");
+    let three = bridge.mode_check(&bridge.kept(Some(3), 1.0, 0.05), &[l, r]);
+    assert!(three.between[0].2 < 0.01 && !three.warnings(&bridge, &[l, r]).is_empty());
+}

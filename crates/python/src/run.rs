@@ -155,6 +155,9 @@ fn scalars<'py>(py: Python<'py>, r: &RunResult, record: &LoadedRecord) -> PyResu
         d.set_item("base_shear", v)?;
         d.set_item("base_shear_without_joint", w)?;
     }
+    if let Some((check, _)) = &r.mode_check {
+        d.set_item("mass_ratio", check.mass_ratio.unwrap_or(f64::NAN))?;
+    }
     Ok(d)
 }
 
