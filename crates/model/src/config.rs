@@ -69,6 +69,9 @@ pub struct PlacedJointConfig {
     pub name: String,
     /// The point of the modes file (along x) its deck side moves with.
     pub deck_point: String,
+    /// The point of the modes file (across, direction "y") its deck side
+    /// moves with across the bridge; none: the deck end does not move across.
+    pub deck_point_y: Option<String>,
     /// Which side of the joint the deck is on.
     pub deck_side: DeckSide,
     /// The point of the modes file its abutment side moves with (a joint
@@ -399,6 +402,9 @@ pub struct ModalConfig {
     /// The point of the modes file the joint's deck side moves with (along
     /// x); required without `[[joints]]`, not with them.
     pub joint_point: Option<String>,
+    /// The point of the modes file (direction "y") the joint's deck side
+    /// moves with across the bridge; none: it does not move across.
+    pub joint_point_y: Option<String>,
     /// How many modes a run keeps, the longest periods first (default: all).
     pub modes_used: Option<usize>,
     /// A factor on every period of the bridge [-] (stiffness scaled, masses
@@ -597,8 +603,14 @@ impl Config {
         if let Some(p) = &m.joint_point {
             bridge.point(p, crate::modal::Direction::X, "bridge.modal.joint_point")?;
         }
+        if let Some(p) = &m.joint_point_y {
+            bridge.point(p, crate::modal::Direction::Y, "bridge.modal.joint_point_y")?;
+        }
         for (k, j) in self.joints.iter().enumerate() {
             bridge.point(&j.deck_point, crate::modal::Direction::X, &format!("joints[{k}].deck_point"))?;
+            if let Some(p) = &j.deck_point_y {
+                bridge.point(p, crate::modal::Direction::Y, &format!("joints[{k}].deck_point_y"))?;
+            }
             if let Some(a) = &j.abutment_point {
                 bridge.point(a, crate::modal::Direction::X, &format!("joints[{k}].abutment_point"))?;
             }

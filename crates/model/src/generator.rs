@@ -25,7 +25,7 @@ use quakejoint_solver::{
 use crate::config::{Config, ContactLawConfig, HertzDampingConfig, LawConfig, SupportKind};
 use crate::error::ModelError;
 use crate::geometry::Geometry;
-use crate::modal::{add_modes, ModalDeck};
+use crate::modal::{add_modes, EndSpec, ModalDeck};
 
 /// How a bearing's sliding joint on its support beam is written
 /// (`docs/model.md`, "Constraints").
@@ -284,7 +284,7 @@ fn add_joint_bodies(
 fn turned(body: Body, sign: f64) -> Body {
     if sign < 0.0 {
         let m = body.mass;
-        body.with_base_mass([-m, -m])
+        body.with_base_mass([[-m, 0.0], [0.0, -m]])
     } else {
         body
     }
@@ -483,12 +483,24 @@ pub fn build_with(
     // the decks (and the abutment sides at in-span hinges)
     let (decks, hinges) = match &modes {
         Some(kept) => {
-            let mut ends: Vec<(String, usize, f64)> =
-                places.iter().map(|p| (format!("{}deck end", p.prefix), p.deck_point, p.sign)).collect();
+            let mut ends: Vec<EndSpec> = places
+                .iter()
+                .map(|p| EndSpec {
+                    name: format!("{}deck end", p.prefix),
+                    point: p.deck_point,
+                    point_y: p.deck_point_y,
+                    sign: p.sign,
+                })
+                .collect();
             let mut hinges = Vec::new();
             for p in &places {
                 hinges.push(p.abutment_point.map(|a| {
-                    ends.push((format!("{}abutment end", p.prefix), a, p.sign));
+                    ends.push(EndSpec {
+                        name: format!("{}abutment end", p.prefix),
+                        point: a,
+                        point_y: None,
+                        sign: p.sign,
+                    });
                     ends.len() - 1
                 }));
             }

@@ -121,6 +121,13 @@ pub fn modal_response(record: &Record, kept: &[KeptMode], point: usize, historie
 
 /// The history of [`modal_response`] at the record's sample times.
 pub fn modal_history(record: &Record, kept: &[KeptMode], point: usize) -> History {
+    modal_history_in(record, kept, point, 0)
+}
+
+/// [`modal_history`] under a record along the ground's direction `dir`
+/// (0: x, 1: y, through the participation factors of that direction), at
+/// a point of the modes file along that direction.
+pub fn modal_history_in(record: &Record, kept: &[KeptMode], point: usize, dir: usize) -> History {
     let n = record.acceleration.len();
     let mut out = History { u: vec![0.0; n], v: vec![0.0; n], a_abs: record.acceleration.clone() };
     if let Some(a) = out.a_abs.first_mut() {
@@ -128,7 +135,7 @@ pub fn modal_history(record: &Record, kept: &[KeptMode], point: usize) -> Histor
         *a = 0.0;
     }
     for k in kept {
-        let factor = k.shape[point] * k.gamma[0];
+        let factor = k.shape[point] * k.gamma[dir];
         if factor == 0.0 {
             continue;
         }

@@ -130,8 +130,12 @@ impl ModalBridge {
             if p.name.trim().is_empty() {
                 return Err(bad(format!("point[{k}].name"), "\"\"".into(), "must not be empty"));
             }
-            if self.points[..k].iter().any(|q| q.name == p.name) {
-                return Err(bad(format!("point[{k}].name"), format!("\"{}\"", p.name), "appears twice"));
+            if self.points[..k].iter().any(|q| q.name == p.name && q.direction == p.direction) {
+                return Err(bad(
+                    format!("point[{k}].name"),
+                    format!("\"{}\"", p.name),
+                    "appears twice in one direction",
+                ));
             }
         }
         let n = self.points.len();
@@ -283,6 +287,8 @@ pub struct ModalBody {
     pub damper: f64,
     /// The mass the ground's acceleration along x acts on \[kg\].
     pub base_mass: f64,
+    /// The mass the ground's acceleration across acts on \[kg\].
+    pub base_mass_y: f64,
     /// Each point's displacement per unit of `y` [-], `phi_p / s`, in the
     /// modes file's order.
     pub at_point: Vec<f64>,
@@ -302,6 +308,10 @@ pub struct ModalEnd {
     pub point: usize,
     /// +1, or -1 for a joint turned half a turn.
     pub sign: f64,
+    /// The point across the bridge its y moves with, and the link that ties
+    /// it (`u_y - sign sum_i (phi_ip / s_i) y_i = 0`); none: the end does
+    /// not move across.
+    pub across: Option<(usize, ConstraintId)>,
 }
 
 /// The modes in the solver system and the points the joints move with.
@@ -332,9 +342,23 @@ pub struct ModalDeck {
 /// (`modal_joints::reference_joint_factorises_in_blocks` checks it).
 pub const DECK_END_MASS_RATIO: f64 = 1e-6;
 
-/// Adds the kept modes and one end per `(name, point, sign)` of `ends` to
-/// `sys` (the ends' bodies first).
-pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[(String, usize, f64)]) -> ModalParts {
+/// A joint's end to tie to the modes: its name, its point along x, its
+/// point across (if it moves across) and its sign.
+#[derive(Debug, Clone)]
+pub struct EndSpec {
+    /// The body's name.
+    pub name: String,
+    /// Its point along x.
+    pub point: usize,
+    /// Its point across, if it moves across.
+    pub point_y: Option<usize>,
+    /// +1, or -1 for a joint turned half a turn.
+    pub sign: f64,
+}
+
+/// Adds the kept modes and one end per [`EndSpec`] to `sys` (the ends'
+/// bodies first).
+pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[EndSpec]) -> ModalParts {
     let effective: f64 = kept.iter().map(|k| k.gamma[0] * k.gamma[0]).sum();
     let scales: Vec<f64> = kept
         .iter()
@@ -351,9 +375,11 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[(String, usize, f6
     let end_mass = DECK_END_MASS_RATIO * if effective > 0.0 { effective } else { fallback };
     let bodies: Vec<BodyId> = ends
         .iter()
-        .map(|(name, _, sign)| {
-            let body = Body::new(name.clone(), end_mass, 1.0, [0.0; 3]).only(&[Coord::X]);
-            sys.add_body(if *sign < 0.0 { body.with_base_mass([-end_mass, -end_mass]) } else { body })
+        .map(|e| {
+            let coords: &[Coord] = if e.point_y.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
+            let body = Body::new(e.name.clone(), end_mass, 1.0, [0.0; 3]).only(coords);
+            let m = e.sign * end_mass;
+            sys.add_body(if e.sign < 0.0 { body.with_base_mass([[m, 0.0], [0.0, m]]) } else { body })
         })
         .collect();
     let mut modes = Vec::with_capacity(kept.len());
@@ -361,7 +387,7 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[(String, usize, f6
         let body = sys.add_body(
             Body::new(format!("mode {}", k.index + 1), 1.0 / (s * s), 1.0, [0.0; 3])
                 .only(&[Coord::X])
-                .with_base_mass([k.gamma[0] / s, 0.0]),
+                .with_base_mass([[k.gamma[0] / s, k.gamma[1] / s], [0.0, 0.0]]),
         );
         let m = ModalBody {
             body,
@@ -369,6 +395,7 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[(String, usize, f6
             stiffness: k.omega * k.omega / (s * s),
             damper: 2.0 * k.damping * k.omega / (s * s),
             base_mass: k.gamma[0] / s,
+            base_mass_y: k.gamma[1] / s,
             at_point: k.shape.iter().map(|phi| phi / s).collect(),
         };
         sys.add_force_named(
@@ -386,11 +413,15 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[(String, usize, f6
     let ends = ends
         .iter()
         .zip(bodies)
-        .map(|((name, point, sign), body)| {
-            let mut terms = vec![(body, Coord::X, 1.0)];
-            terms.extend(modes.iter().map(|m| (m.body, Coord::X, -sign * m.at_point[*point])));
-            let link = sys.add_constraint_named(format!("{name} on the modes"), Constraint::Linear(Linear { terms }));
-            ModalEnd { body, link, point: *point, sign: *sign }
+        .map(|(e, body)| {
+            let mut link = |coord: Coord, point: usize, what: &str| {
+                let mut terms = vec![(body, coord, 1.0)];
+                terms.extend(modes.iter().map(|m| (m.body, Coord::X, -e.sign * m.at_point[point])));
+                sys.add_constraint_named(format!("{}{what} on the modes", e.name), Constraint::Linear(Linear { terms }))
+            };
+            let x = link(Coord::X, e.point, "");
+            let across = e.point_y.map(|p| (p, link(Coord::Y, p, " across")));
+            ModalEnd { body, link: x, point: e.point, sign: e.sign, across }
         })
         .collect();
     ModalParts { modes, ends }
@@ -398,18 +429,25 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[(String, usize, f6
 
 impl ModalParts {
     /// Each mode's acceleration `y''` \[m/s^2\] at the state `(q, v)` with
-    /// the ground's acceleration `ag` \[m/s^2\], from its equation with the
+    /// the ground's acceleration `ag` (x, y) \[m/s^2\], from its equation with the
     /// forces every end passes to it (their links' multipliers, from the
     /// links' reactions on the ends), into `out`.
     pub fn accelerations(&self, asm: &Assembly, ws: &mut Workspace, at: Instant<'_>, out: &mut Vec<f64>) {
         let Instant { t, q, v, lam, ag } = at;
-        let lambdas: Vec<f64> =
-            self.ends.iter().map(|e| -e.sign * asm.reaction_sum(ws, t, q, lam, &[e.link], e.body)[0]).collect();
+        // (the force each link passes to the modes, at its point)
+        let mut forces: Vec<(usize, f64)> = Vec::with_capacity(2 * self.ends.len());
+        for e in &self.ends {
+            forces.push((e.point, -e.sign * asm.reaction_sum(ws, t, q, lam, &[e.link], e.body)[0]));
+            if let Some((p, link)) = e.across {
+                forces.push((p, -e.sign * asm.reaction_sum(ws, t, q, lam, &[link], e.body)[1]));
+            }
+        }
         out.clear();
         for m in &self.modes {
             let c = asm.coordinate(m.body, Coord::X).expect("a mode's x is free");
-            let ends: f64 = self.ends.iter().zip(&lambdas).map(|(e, l)| m.at_point[e.point] * l).sum();
-            out.push((-m.stiffness * q[c] - m.damper * v[c] - m.base_mass * ag + ends) / m.mass);
+            let ends: f64 = forces.iter().map(|&(p, f)| m.at_point[p] * f).sum();
+            let ground = m.base_mass * ag[0] + m.base_mass_y * ag[1];
+            out.push((-m.stiffness * q[c] - m.damper * v[c] - ground + ends) / m.mass);
         }
     }
 
@@ -440,8 +478,8 @@ pub struct Instant<'a> {
     pub v: &'a [f64],
     /// Multipliers.
     pub lam: &'a [f64],
-    /// The ground's acceleration \[m/s^2\].
-    pub ag: f64,
+    /// The ground's acceleration along x and y \[m/s^2\].
+    pub ag: [f64; 2],
 }
 
 /// The peaks at one point of the modes file over a run (SI units).

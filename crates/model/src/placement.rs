@@ -20,6 +20,8 @@ pub struct Place {
     pub sign: f64,
     /// Its deck side's point in the modes file (0 on a single-DOF deck).
     pub deck_point: usize,
+    /// Its deck side's point across, if its deck end moves across.
+    pub deck_point_y: Option<usize>,
     /// Its abutment side's point at an in-span hinge; none: the ground.
     pub abutment_point: Option<usize>,
 }
@@ -33,12 +35,17 @@ pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
             (Some(b), Some(p)) => b.point(p, Direction::X, "bridge.modal.joint_point")?,
             _ => 0,
         };
+        let deck_point_y = match (modal, config.bridge.modal.as_ref().and_then(|m| m.joint_point_y.as_ref())) {
+            (Some(b), Some(p)) => Some(b.point(p, Direction::Y, "bridge.modal.joint_point_y")?),
+            _ => None,
+        };
         return Ok(vec![Place {
             name: "joint".to_string(),
             prefix: String::new(),
             config: config.clone(),
             sign: 1.0,
             deck_point,
+            deck_point_y,
             abutment_point: None,
         }]);
     }
@@ -65,6 +72,8 @@ pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
         }
         c.validate().map_err(|e| rename(e, k, j.joint.is_some()))?;
         let deck_point = bridge.point(&j.deck_point, Direction::X, &field("deck_point"))?;
+        let deck_point_y =
+            j.deck_point_y.as_ref().map(|p| bridge.point(p, Direction::Y, &field("deck_point_y"))).transpose()?;
         let abutment_point =
             j.abutment_point.as_ref().map(|a| bridge.point(a, Direction::X, &field("abutment_point"))).transpose()?;
         if abutment_point == Some(deck_point) {
@@ -80,6 +89,7 @@ pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
             config: c,
             sign: j.deck_side.sign(),
             deck_point,
+            deck_point_y,
             abutment_point,
         });
     }

@@ -342,6 +342,7 @@ pub fn simulate_records(
     check_run_length(config, record_x)?;
     let gx = series(record_x)?;
     let gy = record_y.map(series).transpose()?;
+    let gy_series = gy.clone();
     let model = build_with(config, None, Drive::Earthquake { x: gx.clone(), y: gy }, options.bearing_joint)?;
     let duration = run_duration(config, record_x);
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
@@ -361,6 +362,7 @@ pub fn simulate_records(
     for (k, (jm, place)) in model.joints().zip(&places).enumerate() {
         let mut obs = EarthquakeObserver::new(jm, &asm, gx.clone(), record_x.dt, options.histories)?;
         obs.monitor = Monitor::new(jm, &asm, &place.config)?;
+        obs.ground_y = gy_series.clone();
         if k == 0 {
             obs.points = vec![[Peak::default(); 2]; point_names.len()];
         }
@@ -427,6 +429,28 @@ pub fn simulate_records(
             peak_joint_force: f.value,
             sa_without,
         }
+    });
+    // across a modal bridge: the first joint's deck end, if it moves across
+    let transverse = transverse.or_else(|| {
+        let m = model.modal.as_ref()?;
+        let (py, _) = m.parts.ends[m.end].across?;
+        let [sa, sd, sv, f] = obs.across;
+        let sa_without = record_y.map_or(0.0, |r| {
+            let kept =
+                config.bridge.modal.as_ref().and_then(|c| crate::modal::kept_modes(c, config.bridge.damping).ok());
+            let window = crate::runspec::Reference::for_run(config, record_x, r);
+            let h = crate::linear::modal_history_in(window.window(), &kept.unwrap_or_default(), py, 1);
+            h.a_abs.iter().fold(0.0f64, |m, a| m.max(a.abs()))
+        });
+        Some(Transverse {
+            omega: f64::NAN,
+            sa: sa.value,
+            t_sa: sa.time,
+            sd: sd.value,
+            sv: sv.value,
+            peak_joint_force: f.value,
+            sa_without,
+        })
     });
     let far = model.bridge.far.map(|(_, wf, zeta)| {
         let [sa, sd, f, rel] = obs.far_peaks;
@@ -596,6 +620,8 @@ struct EarthquakeObserver {
     /// Scratch: the modes' accelerations at a sample.
     modal_acc: Vec<f64>,
     ground: TimeSeries,
+    /// The ground's acceleration across, if a record acts across.
+    ground_y: Option<TimeSeries>,
     dt: f64,
     /// The output times: the record's samples after the first.
     outputs: quakejoint_solver::OutputTimes,
@@ -677,6 +703,7 @@ impl EarthquakeObserver {
             modal: model.modal.clone(),
             modal_acc: Vec::new(),
             ground,
+            ground_y: None,
             dt,
             outputs: grid(dt)?,
             sa: Peak::default(),
@@ -745,14 +772,19 @@ impl EarthquakeObserver {
         let reaction = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body);
         let fj = reaction[0] + pushed;
         let b = &self.bridge;
+        // a modal deck end's absolute acceleration across, in the joint's y
+        let mut modal_ay = None;
         let a_abs = match &self.modal {
             Some(m) => {
-                let ag = self.ground.value(t);
+                let ag = [self.ground.value(t), self.ground_y.as_ref().map_or(0.0, |g| g.value(t))];
                 let mut acc = std::mem::take(&mut self.modal_acc);
                 m.parts.accelerations(asm, ws, crate::modal::Instant { t, q, v, lam, ag }, &mut acc);
-                let a = m.parts.point(asm, m.parts.ends[m.end].point, q, v, &acc, ag)[2];
+                let end = &m.parts.ends[m.end];
+                // (in the joint's own x and y)
+                let a = end.sign * m.parts.point(asm, end.point, q, v, &acc, ag[0])[2];
+                modal_ay = end.across.map(|(py, _)| end.sign * m.parts.point(asm, py, q, v, &acc, ag[1])[2]);
                 for (p, peaks) in self.points.iter_mut().enumerate() {
-                    let [up, _, ap] = m.parts.point(asm, p, q, v, &acc, ag);
+                    let [up, _, ap] = m.parts.point(asm, p, q, v, &acc, ag[0]);
                     peaks[0].update(up, t);
                     peaks[1].update(ap, t);
                 }
@@ -774,8 +806,15 @@ impl EarthquakeObserver {
             }
         }
         // across: the joist boxes alone hold the deck (contacts push along x)
-        let across = match (self.deck_y, b.transverse) {
-            (Some(c), Some((w, zeta))) => {
+        let across = match (self.deck_y, b.transverse, modal_ay) {
+            (Some(c), _, Some(a)) => {
+                let (uy, vy, fy) = (q[c], v[c], reaction[1]);
+                for (peak, x) in self.across.iter_mut().zip([a, uy, vy, fy]) {
+                    peak.update(x, t);
+                }
+                Some((uy, a, fy))
+            }
+            (Some(c), Some((w, zeta)), None) => {
                 let (uy, vy, fy) = (q[c], v[c], reaction[1]);
                 let a = (-b.mass * w * w * uy - 2.0 * zeta * b.mass * w * vy + fy) / b.mass;
                 for (peak, x) in self.across.iter_mut().zip([a, uy, vy, fy]) {

@@ -186,3 +186,63 @@ fn bad_modes_files_name_the_file_and_the_field() {
     assert!((kept[0].omega - std::f64::consts::PI).abs() < 1e-12 && kept[0].damping == 0.05);
     assert_eq!(ok.kept(None, 1.0, 0.02)[1].damping, 0.02);
 }
+
+/// Across the bridge: two modes, one along x and one across (each with its
+/// own point "deck end" in its direction, `phi = 1/sqrt(M)`, `Gamma =
+/// sqrt(M)` in its direction only), are the single-DOF deck with its
+/// transverse degree of freedom (`bridge.transverse_period`), the small
+/// joint on it, Corralitos 090 along and 000 across: the joint's force on
+/// the deck across and the deck's Sa across agree to the integrator's
+/// accuracy.
+#[test]
+fn a_mode_across_is_the_decks_transverse_dof() {
+    let (mass, tx, ty) = (2.0e6f64, 1.0, 0.6);
+    let dir = std::env::temp_dir().join(format!("qj-modal-across-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (phi, gamma) = (1.0 / mass.sqrt(), mass.sqrt());
+    std::fs::write(
+        dir.join("xy.toml"),
+        format!(
+            "format = \"quakejoint-modes-1\"\n\
+             [[point]]\nname = \"deck end\"\ndirection = \"x\"\n[[point]]\nname = \"deck end\"\ndirection = \"y\"\n\
+             [[mode]]\nperiod = {tx}\nparticipation_x = {gamma:e}\nshape = [{phi:e}, 0.0]\n\
+             [[mode]]\nperiod = {ty}\nparticipation_x = 0.0\nparticipation_y = {gamma:e}\nshape = [0.0, {phi:e}]\n"
+        ),
+    )
+    .unwrap();
+    let small = std::fs::read_to_string(common::configs_dir().join("small.toml")).unwrap();
+    let joint = &small[small.find("\n[joint]\n").unwrap()..small.find("\n[record]\n").unwrap()];
+    let records = format!(
+        "[record]\nfile = \"{0}/RSN753_LOMAP_CLS090-hor2.AT2\"\nscale = 0.15\n\
+         [record_y]\nfile = \"{0}/RSN753_LOMAP_CLS000-hor1.AT2\"\nscale = 0.15\n[simulation]\nduration = 15.0\n",
+        common::configs_dir().join("../ground_motions").display()
+    );
+    let sdof_text = format!(
+        "{joint}\n{records}[bridge]\nmass = {mass:e}\nperiod = {tx}\ntransverse_period = {ty}\ndamping = 0.05\n"
+    );
+    let modal_text = format!(
+        "{joint}\n{records}[bridge]\ndamping = 0.05\n[bridge.modal]\nmodes = \"xy.toml\"\n\
+         joint_point = \"deck end\"\njoint_point_y = \"deck end\"\n"
+    );
+    let run = |text: &str, modal: bool| {
+        let mut c = Config::from_toml(text, "across.toml").unwrap();
+        if modal {
+            c.load_modes(&dir).unwrap();
+        }
+        let (x, y) = quakejoint_model::run::load_records(&c, &common::configs_dir()).unwrap();
+        let y = y.unwrap();
+        RunSpec::new(c, &Overrides::default()).unwrap().run(&x.record, Some(&y.record), &RunOptions::default()).unwrap()
+    };
+    let (sdof, modal) = (run(&sdof_text, false), run(&modal_text, true));
+    let (a, b) = (sdof.transverse.unwrap(), modal.transverse.unwrap());
+    let rel = |x: f64, y: f64| ((x - y) / y).abs();
+    eprintln!(
+        "across: Sa {:.6} (modal) vs {:.6} m/s^2, joint force {:.2} vs {:.2} N, Sd {:.6} vs {:.6} m; without the joint \
+         {:.6} vs {:.6}",
+        b.sa, a.sa, b.peak_joint_force, a.peak_joint_force, b.sd, a.sd, b.sa_without, a.sa_without
+    );
+    assert!(rel(b.sa, a.sa) < 2e-3 && rel(b.sd, a.sd) < 2e-3, "Sa {:e}, Sd {:e}", rel(b.sa, a.sa), rel(b.sd, a.sd));
+    assert!(rel(b.peak_joint_force, a.peak_joint_force) < 1e-2);
+    assert!(rel(b.sa_without, a.sa_without) < 1e-6, "without the joint: {} vs {}", b.sa_without, a.sa_without);
+    assert!(rel(modal.sa, sdof.sa) < 2e-3);
+}

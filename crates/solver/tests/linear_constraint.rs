@@ -125,7 +125,8 @@ fn three_body_linear_constraint_moves_in_the_closed_form_mode() {
 fn base_mass_is_what_the_ground_acceleration_acts_on() {
     let (gamma, k, acc) = (40.0, 25.0, 0.5);
     let mut sys = System::new();
-    let q = sys.add_body(Body::new("mode", 1.0, 1.0, [0.0; 3]).only(&[Coord::X]).with_base_mass([gamma, 0.0]));
+    let q = sys
+        .add_body(Body::new("mode", 1.0, 1.0, [0.0; 3]).only(&[Coord::X]).with_base_mass([[gamma, 0.0], [0.0, 0.0]]));
     sys.add_force(ForceElement::CoordinateSpring(CoordinateSpring {
         body: q,
         coord: Coord::X,

@@ -72,6 +72,7 @@ fn full() -> Config {
     c.bridge.modal = Some(quakejoint_model::config::ModalConfig {
         modes: "modes.toml".to_string(),
         joint_point: Some("right end".to_string()),
+        joint_point_y: Some("right end".to_string()),
         modes_used: Some(3),
         period_scale: Some(1.0),
         loaded: None,

@@ -388,9 +388,18 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
 
     for (b, body) in bodies.iter().enumerate().skip(1) {
         for dir in 0..2 {
-            let c = layout.body_coord[b][dir];
-            if c != NONE {
-                asm.translational[dir].push((c, body.base_mass.map_or(body.mass, |m| m[dir])));
+            // the ground's direction `dir` on the body's x and y (without a
+            // base mass: its own mass on its own direction)
+            for slot in 0..2 {
+                let c = layout.body_coord[b][slot];
+                let m = match body.base_mass {
+                    Some(m) => m[slot][dir],
+                    None if slot == dir => body.mass,
+                    None => 0.0,
+                };
+                if c != NONE && m != 0.0 {
+                    asm.translational[dir].push((c, m));
+                }
             }
         }
     }

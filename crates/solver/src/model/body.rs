@@ -72,11 +72,14 @@ pub struct Body {
     /// own motion matters little, and which would otherwise set the step
     /// size by its number, can be held less tightly.
     pub tolerance_scale: f64,
-    /// The masses the ground's acceleration acts on along x and y \[kg\]: the
-    /// base-excitation load is `-m_b a_g`; none: the body's mass. A modal
-    /// coordinate's is its participation factor `Gamma = phi^T M r`
-    /// (in the units of its coordinate).
-    pub base_mass: Option<[f64; 2]>,
+    /// The masses the ground's acceleration acts through \[kg\]: the
+    /// base-excitation load on the body's x and y (rows) is
+    /// `-m_b[i][j] a_g[j]` from the ground's x and y (columns); none: the
+    /// body's mass on the diagonal. A modal coordinate (in x) takes its
+    /// participation factors `Gamma_x`, `Gamma_y = phi^T M r` in its first
+    /// row (in the units of its coordinate); a body turned half a turn,
+    /// `-m` on the diagonal.
+    pub base_mass: Option<[[f64; 2]; 2]>,
 }
 
 impl Body {
@@ -101,7 +104,7 @@ impl Body {
     }
 
     /// Sets the masses the ground's acceleration acts on ([`Body::base_mass`]).
-    pub fn with_base_mass(mut self, base_mass: [f64; 2]) -> Self {
+    pub fn with_base_mass(mut self, base_mass: [[f64; 2]; 2]) -> Self {
         self.base_mass = Some(base_mass);
         self
     }

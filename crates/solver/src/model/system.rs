@@ -316,7 +316,7 @@ fn validate_body(index: usize, b: &Body) -> Result<(), BuildError> {
     finite_all(&what, "velocity", &b.velocity)?;
     positive(&what, "tolerance_scale", b.tolerance_scale)?;
     if let Some(m) = b.base_mass {
-        finite_all(&what, "base_mass", &m)?;
+        finite_all(&what, "base_mass", &[m[0][0], m[0][1], m[1][0], m[1][1]])?;
     }
     for (slot, free) in b.free.iter().enumerate() {
         if !free && b.velocity[slot] != 0.0 {
