@@ -46,6 +46,16 @@ pub fn model_summary(path: &Path, config: &Config, model: &JointModel, asm: &Ass
             "gap": model.geometry.as_ref().map(|g| g.gap),
             "bridge_omega": model.bridge.omega,
             "bridge_period": 2.0 * std::f64::consts::PI / model.bridge.omega,
+            "bridge_model": if model.modal.is_some() { "modal" } else { "single-DOF" },
+            "modes": model.modal.as_ref().map(|m| m.parts.modes.len()),
+            "joints": model.joints().map(|j| json!({
+                "name": j.name,
+                "center_beams": j.center_beams.len(),
+                "support_beams": j.supports.len(),
+                "bearings": j.center_beams.len() * j.supports.len(),
+                "gap": j.geometry.as_ref().map(|g| g.gap),
+                "turned": j.sign < 0.0,
+            })).collect::<Vec<_>>(),
             "geometry": model.geometry.as_ref().map(|g| json!({
                 "gap": g.gap,
                 "pitch": g.pitch,
@@ -65,21 +75,55 @@ pub fn model_summary(path: &Path, config: &Config, model: &JointModel, asm: &Ass
         return;
     }
     out!("model {}", path.display());
-    out!("  rigid bodies          {:>8}  ({nc} center beams, {ns} support beams, {} bearings)", c.bodies, nc * ns);
+    match &model.modal {
+        None => out!(
+            "  rigid bodies          {:>8}  ({nc} center beams, {ns} support beams, {} bearings)",
+            c.bodies,
+            nc * ns
+        ),
+        Some(m) => {
+            out!(
+                "  rigid bodies          {:>8}  (the joints' below, {} modes and {} joint ends of the bridge)",
+                c.bodies,
+                m.parts.modes.len(),
+                m.parts.ends.len()
+            );
+            for j in model.joints() {
+                let (nc, ns) = (j.center_beams.len(), j.supports.len());
+                out!(
+                    "    joint \"{}\"{}: {nc} center beams, {ns} support beams, {} bearings{}",
+                    j.name,
+                    if j.sign < 0.0 { " (turned half a turn)" } else { "" },
+                    nc * ns,
+                    j.geometry.as_ref().map_or(String::new(), |g| format!(", gap G0 {:.4} m", g.gap))
+                );
+            }
+        }
+    }
     out!("  coordinates           {:>8}  (body coordinates and the deck's u)", c.coordinates);
     out!("  constraint equations  {:>8}", c.constraints);
     out!("  degrees of freedom    {:>8}", c.dof);
     out!("  Jacobian non-zeros    {:>8}  (iteration matrix, {} unknowns)", asm.jacobian_nnz(), asm.dim());
-    if let Some(g) = &model.geometry {
-        out!("  gap G0                {:>8.4} m", g.gap);
+    match (&model.modal, &config.bridge.modal) {
+        (Some(m), Some(c)) => out!(
+            "  bridge                given by its modes: {} modes of {} (longest period {:.4} s)",
+            m.parts.modes.len(),
+            c.modes,
+            2.0 * std::f64::consts::PI / model.bridge.omega
+        ),
+        _ => {
+            if let Some(g) = &model.geometry {
+                out!("  gap G0                {:>8.4} m", g.gap);
+            }
+            out!(
+                "  bridge                {:>8.3e} kg, w0 {:.4} rad/s (T {:.4} s), damping {}",
+                config.bridge.mass,
+                model.bridge.omega,
+                2.0 * std::f64::consts::PI / model.bridge.omega,
+                config.bridge.damping
+            );
+        }
     }
-    out!(
-        "  bridge                {:>8.3e} kg, w0 {:.4} rad/s (T {:.4} s), damping {}",
-        config.bridge.mass,
-        model.bridge.omega,
-        2.0 * std::f64::consts::PI / model.bridge.omega,
-        config.bridge.damping
-    );
 }
 
 /// The residuals of a run as JSON (each in its unit).
