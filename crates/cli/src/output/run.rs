@@ -1,0 +1,301 @@
+//! The results of one run (`quakejoint simulate`): table or JSON.
+
+use std::path::Path;
+
+use quakejoint_model::run::{PlacedJointResult, RunResult};
+use quakejoint_model::Config;
+use quakejoint_motion::LoadedRecord;
+use serde_json::json;
+
+use super::{extend, record_line, validity_lines};
+
+/// The residuals of a run as JSON (each in its unit).
+/// Every scalar result of a run ([`quakejoint_model::fields::FIELDS`]):
+/// counts as whole numbers, what the run did not compute (NaN) as null.
+fn fields_json(r: &RunResult) -> serde_json::Value {
+    let map = quakejoint_model::fields::FIELDS
+        .iter()
+        .map(|f| {
+            let x = (f.value)(r);
+            let value = match (x.is_finite(), f.count) {
+                (false, _) => serde_json::Value::Null,
+                (true, true) => json!(x as u64),
+                (true, false) => json!(x),
+            };
+            (f.name.to_string(), value)
+        })
+        .collect();
+    serde_json::Value::Object(map)
+}
+
+/// The lines of one more joint of `[[joints]]`.
+fn placed_joint_lines(j: &PlacedJointResult) {
+    out!("joint \"{}\"", j.name);
+    out!("  its deck point: Sa {:.5} m/s^2 at t = {:.3} s, Sd {:.6} m, Sv {:.5} m/s", j.sa, j.t_sa, j.sd, j.sv);
+    out!("  peak joint force on the deck  {:>12.1} N", j.peak_joint_force);
+    if let (Some(lo), Some(hi), Some(dev)) = (j.min_subgap, j.max_subgap, j.max_subgap_deviation) {
+        out!(
+            "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm)",
+            lo * 1e3,
+            hi * 1e3,
+            dev * 1e3
+        );
+    }
+    let p = &j.pounding;
+    if p.impacts == 0 {
+        out!("  pounding                      none (no sub-gap closed)");
+    } else {
+        out!("  impacts                       {:>12} (beam ends)", p.impacts);
+        out!("  peak contact force            {:>12.1} N at t = {:.3} s", p.peak_contact_force, p.peak_contact_time);
+        out!("  closed joint on the deck      {:>12.1} N", p.peak_deck_contact_force);
+    }
+    out!("  validity: {}", j.validity.flags.label());
+}
+
+/// A modal bridge's points and base shear, with the joints and without.
+fn bridge_lines(r: &RunResult) {
+    if r.points.is_empty() {
+        return;
+    }
+    if let Some((check, warnings)) = &r.mode_check {
+        let mass =
+            check.mass_ratio.map_or("no total_mass_x in the file".to_string(), |m| format!("{:.1} %", m * 100.0));
+        let flex: Vec<String> = r
+            .points
+            .iter()
+            .zip(&check.flexibility)
+            .filter(|(_, f)| f.is_finite())
+            .map(|(p, f)| format!("{} {:.1} %", p.name, f * 100.0))
+            .collect();
+        out!(
+            "the kept modes hold: mass along x {mass}; static flexibility {}",
+            if flex.is_empty() {
+                "not known (no [static] table in the modes file)".to_string()
+            } else {
+                flex.join(", ")
+            }
+        );
+        for &(p, q, f) in &check.between {
+            if f.is_finite() {
+                out!(
+                    "  and {:.1} % of the flexibility between {} and {}",
+                    f * 100.0,
+                    r.points[p].name,
+                    r.points[q].name
+                );
+            }
+        }
+        for w in warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    if r.exact_linear {
+        out!("the bridge's points (along x)");
+        for p in &r.points {
+            out!("  {:<24} Sd {:>9.5} m  Sa {:>9.4} m/s^2", p.name, p.sd, p.sa);
+        }
+        if let Some(v) = r.base_shear {
+            out!("  base shear (kept modes)    {:>14.1} kN", v / 1e3);
+        }
+        return;
+    }
+    out!("the bridge's points (along x)          with the joints         without");
+    for p in &r.points {
+        out!(
+            "  {:<24} Sd {:>9.5} m  Sa {:>9.4} m/s^2   Sd {:>9.5} m  Sa {:>9.4} m/s^2",
+            p.name,
+            p.sd,
+            p.sa,
+            p.sd_without,
+            p.sa_without
+        );
+    }
+    if let (Some(v), Some(w)) = (r.base_shear, r.base_shear_without) {
+        out!("  base shear (kept modes)    {:>14.1} kN {:>27.1} kN", v / 1e3, w / 1e3);
+    }
+}
+
+/// One more joint of `[[joints]]` as JSON.
+fn placed_joint_json(j: &PlacedJointResult) -> serde_json::Value {
+    json!({
+        "name": j.name,
+        "sa": j.sa,
+        "t_sa": j.t_sa,
+        "sd": j.sd,
+        "sv": j.sv,
+        "peak_joint_force": j.peak_joint_force,
+        "min_subgap": j.min_subgap,
+        "max_subgap": j.max_subgap,
+        "max_subgap_deviation": j.max_subgap_deviation,
+        "impacts": j.pounding.impacts,
+        "peak_contact_force": j.pounding.peak_contact_force,
+        "peak_deck_contact_force": j.pounding.peak_deck_contact_force,
+        "max_penetration": j.pounding.max_penetration,
+        "validity": j.validity.flags.0,
+        "validity_label": j.validity.flags.label(),
+        "findings": j.validity.findings,
+    })
+}
+
+/// `quakejoint simulate`. Quantities not computed (the joint's, without
+/// it) are `null` in JSON and left out of the table.
+/// With `modal`, the deck's values are those of the joint's point of the
+/// modes file.
+pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Config, json: bool) {
+    let modal = config.bridge.modal.as_ref();
+    // the point the deck's values are at: the joint's, or the first of [[joints]]'
+    let point =
+        modal.and_then(|m| m.joint_point.clone()).or_else(|| config.joints.first().map(|j| j.deck_point.clone()));
+    let v = &r.validity;
+    let record = &loaded.record;
+    if json {
+        let mut out = json!({
+            "config": path.display().to_string(),
+            "record": record.name,
+            "record_file": record.source,
+            "record_format": loaded.format.name(),
+            "record_file_units": record.units.name(),
+            "record_scale": record.user_scale,
+            "record_pga_g": record.pga() / quakejoint_motion::G,
+            "joint": !r.exact_linear,
+            "method": if r.exact_linear { "exact linear" } else { "multibody" },
+            "validity": v.flags.0,
+            "validity_label": v.flags.label(),
+            "flags": v.flags.names(),
+            "findings": v.findings,
+            "peak_contact_place": r.pounding.peak_contact_place.map(|p| json!({"gap": p.gap, "end": p.end})),
+            "bridge_model": if modal.is_some() { "modal" } else { "single-DOF" },
+            "modes_file": modal.map(|m| m.modes.clone()),
+            "joint_point": point,
+            "joint_name": config.joints.first().map(|j| j.name.clone()),
+            "joints": r.joints.iter().map(placed_joint_json).collect::<Vec<_>>(),
+            "points": r.points.iter().map(|p| json!({
+                "name": p.name, "sd": p.sd, "t_sd": p.t_sd, "sa": p.sa, "t_sa": p.t_sa,
+                "sd_without_joint": p.sd_without, "sa_without_joint": p.sa_without,
+            })).collect::<Vec<_>>(),
+            "base_shear": r.base_shear,
+            "mass_ratio": r.mode_check.as_ref().and_then(|(c, _)| c.mass_ratio),
+            "flexibility_captured": r.mode_check.as_ref().map(|(c, _)| c.flexibility.clone()),
+            "warnings": r.mode_check.as_ref().map(|(_, w)| w.clone()).unwrap_or_default(),
+            "base_shear_without_joint": r.base_shear_without,
+        });
+        extend(&mut out, fields_json(r));
+        out!("{out}");
+        return;
+    }
+    let mode = match (r.exact_linear, r.joints.len()) {
+        (true, _) => "bridge alone (exact linear solution)".to_string(),
+        (false, 0) => "bridge with joint".to_string(),
+        (false, n) => format!("bridge with {} joints", n + 1),
+    };
+    out!("{} under {}: {mode}", path.display(), record.name);
+    out!("  {}", record_line(loaded));
+    let period = 2.0 * std::f64::consts::PI / r.omega;
+    match modal {
+        Some(m) => {
+            let kept = m.loaded.as_ref().map_or(0, |b| m.modes_used.unwrap_or(b.modes.len()).min(b.modes.len()));
+            out!(
+                "  modal bridge: {kept} modes of {} (longest period {period:.4} s), values at its point \"{}\", \
+                 {:.2} s simulated",
+                m.modes,
+                point.unwrap_or_default(),
+                r.duration
+            );
+        }
+        None => out!("  w0 {:.4} rad/s, T {period:.4} s, {:.2} s simulated", r.omega, r.duration),
+    }
+    out!("  Sa   {:>12.5} m/s^2  at t = {:.3} s", r.sa, r.t_sa);
+    out!("  PSa  {:>12.5} m/s^2", r.psa);
+    out!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);
+    out!("  Sv   {:>12.5} m/s    at t = {:.3} s", r.sv, r.t_sv);
+    if r.exact_linear {
+        bridge_lines(r);
+        out!("validity: not checked (no joint)");
+        return;
+    }
+    if let Some(f) = &r.far {
+        out!(
+            "  adjacent segment: T {:.4} s, Sa {:.5} m/s^2 at t = {:.3} s (without the joint {:.5}), Sd {:.6} m; \
+             decks apart by up to {:.4} m",
+            2.0 * std::f64::consts::PI / f.omega,
+            f.sa,
+            f.t_sa,
+            f.sa_without,
+            f.sd,
+            f.max_relative_displacement
+        );
+    }
+    if let Some(y) = &r.transverse {
+        out!(
+            "  across: T_y {:.4} s, Sa_y {:.5} m/s^2 at t = {:.3} s (without the joint {:.5}), Sd_y {:.6} m, joint \
+             force across {:.1} N",
+            2.0 * std::f64::consts::PI / y.omega,
+            y.sa,
+            y.t_sa,
+            y.sa_without,
+            y.sd,
+            y.peak_joint_force
+        );
+    }
+    let first = config.joints.first().map_or_else(|| "joint demands".to_string(), |j| format!("joint \"{}\"", j.name));
+    out!("{first}");
+    out!("  peak joint force on the deck  {:>12.1} N", r.peak_joint_force);
+    out!("  peak bushing force            {:>12.1} N", r.peak_bushing_force);
+    out!("  peak friction force           {:>12.1} N", r.peak_friction_force);
+    out!("  friction energy               {:>12.1} J", r.friction_energy);
+    if let (Some(lo), Some(hi), Some(dev)) = (r.min_subgap, r.max_subgap, r.max_subgap_deviation) {
+        out!(
+            "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm)",
+            lo * 1e3,
+            hi * 1e3,
+            dev * 1e3
+        );
+    }
+    let p = &r.pounding;
+    if p.impacts == 0 {
+        out!("  pounding                      none (no sub-gap closed)");
+    } else {
+        out!("  impacts                       {:>12} (beam ends)", p.impacts);
+        out!("  peak contact force            {:>12.1} N at t = {:.3} s", p.peak_contact_force, p.peak_contact_time);
+        if let Some(place) = p.peak_contact_place {
+            out!("    between {}", place.describe());
+        }
+        out!(
+            "  closed joint on the deck      {:>12.1} N (peak, through the deck's edge beam)",
+            p.peak_deck_contact_force
+        );
+        out!("  contact energy                {:>12.1} J (dissipated by the impacts)", p.contact_energy);
+        out!("  deepest penetration           {:>12.3} mm", p.max_penetration * 1e3);
+    }
+    for j in &r.joints {
+        placed_joint_lines(j);
+    }
+    bridge_lines(r);
+    if !r.joints.is_empty() {
+        out!("  (bushing and friction peaks, friction and contact energy: all joints together)");
+    }
+    validity_lines(v);
+    out!("quality");
+    out!("  energy balance error          {:>12.2e} of the earthquake work", r.energy_error);
+    let res = &r.residuals;
+    out!(
+        "  constraint residuals          {:>12.2e} m, {:.2e} rad (|g|); {:.2e} m/s, {:.2e} rad/s (|G q'|)",
+        res.position,
+        res.angle,
+        res.velocity,
+        res.angular_velocity
+    );
+    let s = &r.stats;
+    out!(
+        "  steps {} (rejected {}, failed {}), Newton iterations {}, Jacobians {}, factorisations {}, {:.2} s wall, \
+         {:.2} s CPU",
+        s.steps,
+        s.rejected,
+        s.failed_attempts,
+        s.newton_iterations,
+        s.jacobian_evaluations,
+        s.factorizations,
+        r.wall_time_s,
+        r.cpu_time_s
+    );
+}
