@@ -78,10 +78,9 @@ def runs(f):
     number = lambda n: int(n.rsplit("_", 1)[-1]) if n.rsplit("_", 1)[-1].isdigit() else -1  # noqa: E731
     for name in sorted(jobs, key=number):
         g = jobs[name]
-        title = (
-            f"{text(g.attrs['case'])} / {text(g.attrs['record'])} / damping {g['damping'][()]:g} / "
-            f"T = {g['period'][()]:.4g} s"
-        )
+        # a sweep over a bridge given by its modes stores its period scale
+        axis = f"period scale {g['period_scale'][()]:g}" if "period_scale" in g else f"T = {g['period'][()]:.4g} s"
+        title = f"{text(g.attrs['case'])} / {text(g.attrs['record'])} / damping {g['damping'][()]:g} / {axis}"
         cap = capacity(configs.get(text(g.attrs["case"]), ""))
         yield title + flagged(g.attrs), True, dict(series(g), capacity=cap)
 

@@ -26,12 +26,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import plot_study  # noqa: E402
 import plot_suite  # noqa: E402
 from plotlib import (  # noqa: E402
-    accel_units, flag_names, incomplete, job_masks, mark_jobs, period_axes, save, sweep_parser, text,
+    accel_units, flag_names, incomplete, job_masks, mark_jobs, period_axes, refuse_modal, save, sweep_parser, text,
 )
 
 
 def read(src):
     with h5py.File(src, "r") as f:
+        refuse_modal(f, src)
         s = f["spectrum"]
         return {
             "periods": s["period"][:],

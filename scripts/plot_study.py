@@ -22,12 +22,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from plotlib import (  # noqa: E402
-    accel_units, case_parameter, flag_names, incomplete, job_masks, log_ticks, mark_jobs, save, sweep_parser, text,
+    accel_units, case_parameter, flag_names, incomplete, job_masks, log_ticks, mark_jobs, refuse_modal, save,
+    sweep_parser, text,
 )
 
 
 def figure(src, in_g=False):
     with h5py.File(src, "r") as f:
+        refuse_modal(f, src)
         s = f["spectrum"]
         periods, damping = s["period"][:], s["damping"][:]
         records = [text(r) for r in s["record"][:]]

@@ -23,10 +23,11 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from plotlib import accel_units, incomplete, period_axes, save, sweep_parser, text  # noqa: E402
+from plotlib import accel_units, incomplete, period_axes, refuse_modal, save, sweep_parser, text  # noqa: E402
 
 def load(src):
     with h5py.File(src, "r") as f:
+        refuse_modal(f, src)
         s = f["spectrum"]
         if "statistics" not in s or s["record"].shape[0] < 2:
             raise SystemExit(f"{src}: no statistics over records (a sweep of one record)")

@@ -67,6 +67,19 @@ def incomplete(complete):
     return "" if complete else " (INCOMPLETE: some jobs have not run)"
 
 
+def refuse_modal(f, src):
+    """Stops with a message for a sweep over a bridge given by its modes
+    (`/spectrum/period_scale`), whose period axis is a factor, not a
+    period: the spectrum, study and suite figures do not draw it yet."""
+    if "period_scale" in f.get("spectrum", {}):
+        raise SystemExit(
+            f"{src}: a sweep over a bridge given by its modes (its axis is sweep.period_scales, a factor on the "
+            "modes' periods): the spectrum, study and suite figures are not drawn for it yet; read it with "
+            "quakejoint.read_sweep (or h5py: /spectrum/period_scale, /spectrum/longest_period), and its stored "
+            "histories with scripts/plot_history.py"
+        )
+
+
 def sweep_parser(doc):
     """The command line of a sweep plot: input, optional output, --g."""
     parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)

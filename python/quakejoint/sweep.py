@@ -2,7 +2,12 @@
 
 A job is one (case, record, damping, period); results with the joint have
 the dimensions ("case", "record", "damping", "period"), the exact spectra
-without it ("record", "damping", "period"). Layout: docs/hdf5-layout.md.
+without it ("record", "damping", "period"). A sweep over a bridge given by
+its modes sweeps a factor on every period of its modes instead: its last
+dimension is "period_scale" (`Sweep.period_scales`; `Sweep.periods` holds
+the bridge's longest kept period at each scale), its bridge alone has the
+case dimension too, and `Sweep.joints` holds the values of its joints after
+the first. Layout: docs/hdf5-layout.md.
 `Sweep.to_xarray()` needs the extra `xarray`, `Sweep.to_dataframe()` the
 extra `pandas` (`pip install "quakejoint[xarray,pandas]"`).
 """
@@ -36,6 +41,14 @@ class Sweep:
     `flag_names`), `findings` and `reduction` = 1 - Sa with / Sa without.
     Jobs that failed or did not run hold NaN. `complete` is False for a
     checkpoint of a running sweep, an interrupted one or a partial merge.
+
+    A sweep over a bridge given by its modes (`period_scales` not None):
+    the last dimension is the period scale, `periods` the bridge's longest
+    kept period at each scale [s], `without_joint[name]` has the shape of
+    the results with the joint (each case's bridge alone: a case may keep
+    other modes), and `joints[name]` holds each joint after the first's
+    values by field (`sa`, `peak_joint_force`, `max_subgap`, ...,
+    `validity`), each of the results' shape.
     """
 
     path: str
@@ -67,11 +80,24 @@ class Sweep:
     #: ec8_satisfied, target_sa (at the swept periods) [m/s^2], fit_period,
     #: fit_target, fit_mean; None when the records are not a suite
     suite: Optional[dict] = None
+    #: a bridge given by its modes: the swept factors on its periods [-]
+    #: (the last dimension); None for a single-DOF bridge
+    period_scales: Optional[np.ndarray] = None
+    #: a bridge given by its modes: the joints after the first of
+    #: [[joints]], by name: {field: array of the results' shape}
+    joints: dict = field(default_factory=dict)
+
+    @property
+    def dims(self) -> tuple:
+        """The dimensions of the results with the joint: (case, record,
+        damping, period), or (..., period_scale) for a bridge given by its
+        modes."""
+        return DIMS if self.period_scales is None else DIMS[:3] + ("period_scale",)
 
     def __repr__(self) -> str:
         shape = (len(self.cases), len(self.records), len(self.damping), len(self.periods))
         return (
-            f"Sweep({self.path!r}, (case, record, damping, period) = {shape}, "
+            f"Sweep({self.path!r}, ({', '.join(self.dims)}) = {shape}, "
             f"{int(self.ok.sum())} ok, {int(self.flagged.sum())} flagged, {int(self.failed.sum())} failed, "
             f"complete={self.complete}{', suite' if self.suite else ''})"
         )
@@ -132,33 +158,41 @@ class Sweep:
         damping and period (needs the extra `xarray`:
         `pip install "quakejoint[xarray]"`)."""
         xr = _extra("xarray", "xarray", "Sweep.to_xarray")
-        coords = {"case": self.cases, "record": self.records, "damping": self.damping, "period": self.periods}
+        dims, last = self.dims, self.dims[3]
+        coords = {"case": self.cases, "record": self.records, "damping": self.damping}
+        if self.period_scales is None:
+            coords["period"] = self.periods
+        else:
+            coords["period_scale"] = self.period_scales
+            coords["longest_period"] = ("period_scale", self.periods, {"units": "s"})
         data = {}
         for name, a in self.with_joint.items():
             data[f"{name}_with_joint" if name in self.without_joint else name] = (
-                DIMS,
+                dims,
                 a,
                 {"units": self.units.get(name, "")},
             )
         for name, a in self.without_joint.items():
-            data[f"{name}_without_joint"] = (DIMS[1:], a, {"units": self.units.get(name, "")})
-        data["reduction"] = (DIMS, self.reduction, {"units": "1"})
-        data["status"] = (DIMS, self.status)
-        data["validity"] = (DIMS, self.validity)
-        data["message"] = (DIMS, self.message)
-        data["findings"] = (DIMS, self.findings)
+            data[f"{name}_without_joint"] = (dims[4 - a.ndim :], a, {"units": self.units.get(name, "")})
+        data["reduction"] = (dims, self.reduction, {"units": "1"})
+        data["status"] = (dims, self.status)
+        data["validity"] = (dims, self.validity)
+        data["message"] = (dims, self.message)
+        data["findings"] = (dims, self.findings)
+        for joint, arrays in self.joints.items():
+            for name, a in arrays.items():
+                data[f"{joint}:{name}"] = (dims, a, {"units": self.units.get(f"{joint}:{name}", "")})
         if self.statistics:
-            czt = ("case", "damping", "period")
+            czt = ("case", "damping", last)
             for group, arrays in self.statistics.items():
                 if isinstance(arrays, dict):
-                    dims = czt if group != "without_joint" else czt[1:]
                     for name, a in arrays.items():
-                        data[f"{group}_{name}"] = (dims, a)
+                        data[f"{group}_{name}"] = (czt[3 - a.ndim :], a)
                 else:
                     data[f"records_{group}"] = (czt, arrays)
         if self.suite:
             data["suite_factor"] = (("record",), self.suite["factor"], {"units": "1"})
-            data["target_sa"] = (("period",), self.suite["target_sa"], {"units": "m/s^2"})
+            data["target_sa"] = ((last,), self.suite["target_sa"], {"units": "m/s^2"})
         return xr.Dataset(data, coords=coords, attrs={k: v for k, v in self.attrs.items() if k != "config_file"})
 
     def _columns(self) -> dict[str, tuple[np.ndarray, str]]:
@@ -173,30 +207,39 @@ class Sweep:
         for name, a in self.with_joint.items():
             out[f"{name}_with_joint" if name in self.without_joint else name] = (a, self.units.get(name, ""))
         for name, a in self.without_joint.items():
-            out[f"{name}_without_joint"] = (np.broadcast_to(a[None], shape), self.units.get(name, ""))
+            out[f"{name}_without_joint"] = (np.broadcast_to(a if a.ndim == 4 else a[None], shape), self.units.get(name, ""))
         out["reduction"] = (self.reduction, "1")
+        for joint, arrays in self.joints.items():
+            for name, a in arrays.items():
+                out[f"{joint}:{name}"] = (a, self.units.get(f"{joint}:{name}", ""))
         return out
 
     def to_dataframe(self):
         """The results as a pandas.DataFrame in long format: one row per job
         (case, record, damping, period; the period fastest, as in the
         file's arrays) with the columns case, record, damping [-], period
-        [s], every result with and without the joint (named as in
-        `to_xarray`), reduction, status, validity, message and findings.
+        [s] (a bridge given by its modes: period_scale [-] and
+        longest_period [s]), every result with and without the joint (named
+        as in `to_xarray`; the joints after the first as `<joint>:<field>`),
+        reduction, status, validity, message and findings.
         Failed jobs and jobs that did not run hold NaN (see `status` and
         `message`). The units are in `df.attrs["units"]` (column ->
         units). Needs the extra `pandas`: `pip install "quakejoint[pandas]"`."""
         pd = _extra("pandas", "pandas", "Sweep.to_dataframe")
         shape = self.status.shape
+        axis = self.periods if self.period_scales is None else self.period_scales
         labels = np.meshgrid(
             np.array(self.cases, dtype=object),
             np.array(self.records, dtype=object),
             self.damping,
-            self.periods,
+            axis,
             indexing="ij",
         )
-        data = {name: values.ravel() for name, values in zip(DIMS, labels)}
-        units = {"damping": "1", "period": "s"}
+        data = {name: values.ravel() for name, values in zip(self.dims, labels)}
+        units = {"damping": "1", "period": "s", "period_scale": "1"}
+        if self.period_scales is not None:
+            data["longest_period"] = np.broadcast_to(self.periods, shape).ravel()
+            units["longest_period"] = "s"
         for name, (a, unit) in self._columns().items():
             data[name] = np.asarray(a).reshape(shape).ravel()
             units[name] = unit
@@ -257,12 +300,22 @@ def read_sweep(path) -> Sweep:
         without_joint = {k: woj[k][()] for k in woj}
         units = {k: str(wj[k].attrs.get("units", "")) for k in wj if k not in special}
         units.update({k: str(woj[k].attrs.get("units", "")) for k in woj})
+        modal = "period_scale" in s
+        joints = {}
+        if "joints" in f:
+            for k in range(1, len(f["joints"]) + 1):
+                g = f["joints"][str(k)]
+                name = str(g.attrs["name"])
+                joints[name] = {n: g[n][()] for n in g}
+                units.update({f"{name}:{n}": str(g[n].attrs.get("units", "")) for n in g if n != "validity"})
         sweep = Sweep(
             path=path,
             cases=list(_text(s["case"][()])),
             records=list(_text(s["record"][()])),
             damping=s["damping"][()],
-            periods=s["period"][()],
+            periods=s["longest_period" if modal else "period"][()],
+            period_scales=s["period_scale"][()] if modal else None,
+            joints=joints,
             with_joint=with_joint,
             without_joint=without_joint,
             units=units,
@@ -310,7 +363,8 @@ def _verify(f, path: str) -> None:
     s = f["spectrum"]
     sa, without = s["with_joint/sa"][()], s["without_joint/sa"][()]
     with np.errstate(divide="ignore", invalid="ignore"):
-        expected = 1.0 - sa / without[np.newaxis]
+        # (a bridge given by its modes: each case's bridge alone)
+        expected = 1.0 - sa / (without if without.ndim == sa.ndim else without[np.newaxis])
     if not np.array_equal(s["reduction"][()], expected, equal_nan=True):
         raise InputError(
             f"{path}: /spectrum/reduction does not match the spectra with and without the joint it is derived "

@@ -207,3 +207,40 @@ def two_joints(cli, tmp_path_factory):
     config.write_text(TWO_JOINTS)
     run_cli(cli, "simulate", config, "--output", d / "two.h5")
     return config, d / "two.h5"
+
+
+#: the small joint at both ends of the three-span bridge (all its modes)
+#: under 3 s of Corralitos at 0.15, swept by two period scales in two
+#: cases, one keeping 3 modes
+MODAL_SWEEP = SMALL_JOINT + f"""[record]
+file = "{RECORD}"
+scale = 0.15
+[simulation]
+duration = 3.0
+[bridge.modal]
+modes = "{ROOT / 'tests' / 'data' / 'three_span' / 'modes.toml'}"
+[[joints]]
+name = "left"
+deck_point = "left end"
+deck_side = "+x"
+[[joints]]
+name = "right"
+deck_point = "right end"
+deck_side = "-x"
+[sweep]
+period_scales = [0.8, 1.25]
+[[sweep.cases]]
+name = "all modes"
+[[sweep.cases]]
+name = "3 modes"
+bridge.modal.modes_used = 3
+"""
+
+
+@pytest.fixture(scope="session")
+def modal_sweep(cli, tmp_path_factory):
+    """A sweep over a bridge given by its modes (2 cases x 2 period scales)."""
+    d = tmp_path_factory.mktemp("modal_sweep")
+    (d / "modal.toml").write_text(MODAL_SWEEP)
+    run_cli(cli, "sweep", d / "modal.toml", "--output", d / "modal.h5", "--progress", "none")
+    return d / "modal.h5"

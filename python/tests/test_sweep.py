@@ -152,3 +152,32 @@ def test_a_missing_extra_is_named(quick_sweep, monkeypatch):
     with pytest.raises(ImportError) as e:
         s.to_dataframe()
     assert 'pip install "quakejoint[pandas]"' in str(e.value) and 'pip install ".[pandas]"' in str(e.value)
+
+
+def test_a_modal_sweep_reads_with_its_period_scales_and_joints(modal_sweep):
+    """A bridge given by its modes is swept by a factor on its periods: the
+    last axis is the factor (not a period), each case has its own bridge
+    alone, and the joints after the first are read by name."""
+    s = qj.read_sweep(modal_sweep)
+    assert s.dims == ("case", "record", "damping", "period_scale")
+    np.testing.assert_array_equal(s.period_scales, [0.8, 1.25])
+    np.testing.assert_allclose(s.periods, 0.7368132859282219 * s.period_scales, rtol=1e-14)
+    assert s["sa"].shape == s.without_joint["sa"].shape == (2, 1, 1, 2)
+    assert not np.array_equal(s.without_joint["sa"][0], s.without_joint["sa"][1]), "3 modes against all"
+    np.testing.assert_array_equal(s.reduction, 1 - s["sa"] / s.without_joint["sa"])
+    assert list(s.joints) == ["right"]
+    assert s.joints["right"]["max_subgap"].shape == (2, 1, 1, 2) and (s.joints["right"]["validity"] == 0).all()
+    with h5py.File(modal_sweep) as f:
+        assert "period" not in f["spectrum"]
+        np.testing.assert_array_equal(s.joints["right"]["peak_joint_force"], f["joints/1/peak_joint_force"][()])
+    pd = pytest.importorskip("pandas")
+    df = s.to_dataframe()
+    assert isinstance(df, pd.DataFrame) and len(df) == 4
+    assert list(df.columns[:5]) == ["case", "record", "damping", "period_scale", "longest_period"]
+    np.testing.assert_array_equal(df["right:sa"].to_numpy(), s.joints["right"]["sa"].ravel())
+    np.testing.assert_array_equal(df["sa_without_joint"].to_numpy(), s.without_joint["sa"].ravel())
+    xr = pytest.importorskip("xarray")
+    ds = s.to_xarray()
+    assert isinstance(ds, xr.Dataset)
+    assert ds["sa_with_joint"].dims == s.dims and ds["sa_without_joint"].dims == s.dims
+    np.testing.assert_array_equal(ds["longest_period"].values, s.periods)

@@ -10,7 +10,8 @@
 //! - NaN for what a run did not compute (the joint's quantities and the
 //!   solver counters of the exact solution without the joint).
 //! - The sweep's result arrays carry HDF5 dimension scales (case, record,
-//!   damping, period), read back by h5py.
+//!   damping, period; a bridge given by its modes: period scale), read
+//!   back by h5py.
 //! - Every dataset and group of the files is in `docs/hdf5-layout.md`, and
 //!   every path the document lists exists in a file.
 
@@ -220,6 +221,46 @@ fn every_file_says_what_produced_it_and_carries_units() {
                  print('ok')",
             )
             .arg(&sweep_h5)
+            .output()
+            .unwrap();
+        assert!(h5py.status.success(), "h5py: {}", String::from_utf8_lossy(&h5py.stderr));
+    }
+
+    // a bridge given by its modes with two joints: a run (its points and
+    // its second joint) and a sweep over period scales
+    let modal = config(
+        &d,
+        "modal.toml",
+        &format!(
+            "[bridge.modal]\nmodes = {:?}\nmodes_used = 20\n\
+             [[joints]]\nname = \"left\"\ndeck_point = \"left end\"\ndeck_side = \"+x\"\n\
+             [[joints]]\nname = \"right\"\ndeck_point = \"right end\"\ndeck_side = \"-x\"\n\
+             [sweep]\nperiod_scales = [0.8, 1.0]\nhistories = [1.0]\n",
+            root().join("tests/data/three_span/modes.toml")
+        ),
+        2.0,
+    );
+    let modal_run = d.join("modal_run.h5");
+    ok(&run(&["simulate", modal.to_str().unwrap(), "--output", modal_run.to_str().unwrap()]));
+    all.extend(paths_of(&modal_run));
+    let modal_sweep = d.join("modal_sweep.h5");
+    ok(&run(&["sweep", modal.to_str().unwrap(), "--output", modal_sweep.to_str().unwrap()]));
+    let f = hdf5::File::open(&modal_sweep).unwrap();
+    assert!(!f.link_exists("spectrum/period"), "the period scales are not periods");
+    assert_eq!(attr_string(&f.group("joints/1").unwrap(), "name"), "right");
+    all.extend(paths_of(&modal_sweep));
+    if common::python_with(&["h5py"]) {
+        let h5py = std::process::Command::new("python3")
+            .arg("-c")
+            .arg(
+                "import sys, h5py\n\
+                 f = h5py.File(sys.argv[1], 'r')\n\
+                 for name in ['spectrum/with_joint/sa', 'spectrum/without_joint/sa', 'joints/1/max_subgap']:\n\
+                 \x20   assert [d.label for d in f[name].dims] == ['case', 'record', 'damping', 'period_scale']\n\
+                 \x20   assert f[name].dims[3][0].name == '/spectrum/period_scale'\n\
+                 print('ok')",
+            )
+            .arg(&modal_sweep)
             .output()
             .unwrap();
         assert!(h5py.status.success(), "h5py: {}", String::from_utf8_lossy(&h5py.stderr));

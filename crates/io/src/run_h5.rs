@@ -177,25 +177,10 @@ fn write_joints(file: &hdf5::File, r: &RunResult) -> hdf5::Result<()> {
     for (k, j) in r.joints.iter().enumerate() {
         let g = all.create_group(&(k + 1).to_string())?;
         attr_str(&g, "name", &j.name)?;
-        let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
-        let p = &j.pounding;
-        for (name, value, units) in [
-            ("sa", j.sa, "m/s^2"),
-            ("t_sa", j.t_sa, "s"),
-            ("sd", j.sd, "m"),
-            ("sv", j.sv, "m/s"),
-            ("peak_joint_force", j.peak_joint_force, "N"),
-            ("min_subgap", opt(j.min_subgap), "m"),
-            ("max_subgap", opt(j.max_subgap), "m"),
-            ("max_subgap_deviation", opt(j.max_subgap_deviation), "m"),
-            ("impacts", p.impacts as f64, "1"),
-            ("peak_contact_force", p.peak_contact_force, "N"),
-            ("peak_deck_contact_force", p.peak_deck_contact_force, "N"),
-            ("max_penetration", p.max_penetration, "m"),
-            ("validity", f64::from(j.validity.flags.0), "1"),
-        ] {
+        for (name, value, units) in j.scalars() {
             scalar(&g, name, value, units)?;
         }
+        scalar(&g, "validity", f64::from(j.validity.flags.0), "1")?;
         attr_str(&g, "validity_label", &j.validity.flags.label())?;
         attr_str(&g, "validity_findings", &j.validity.message())?;
         if let Some(h) = &j.histories {

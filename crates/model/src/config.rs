@@ -590,7 +590,7 @@ impl Config {
     /// Reads the modes file of `[bridge.modal]` (relative to `base_dir`)
     /// and checks the config's modal keys against it.
     pub fn load_modes(&mut self, base_dir: &std::path::Path) -> Result<(), ModelError> {
-        let Some(m) = &mut self.bridge.modal else { return Ok(()) };
+        let Some(m) = &self.bridge.modal else { return Ok(()) };
         let path = base_dir.join(&m.modes);
         let bridge = crate::modal::ModalBridge::read(&path).map_err(|e| match e {
             ModelError::Io { file, message } => ModelError::Invalid {
@@ -600,6 +600,13 @@ impl Config {
             },
             other => other,
         })?;
+        self.attach_modes(std::sync::Arc::new(bridge))
+    }
+
+    /// Gives `[bridge.modal]` a modes file already read (the one a sweep's
+    /// cases share) and checks the config's points against it.
+    pub fn attach_modes(&mut self, bridge: std::sync::Arc<crate::modal::ModalBridge>) -> Result<(), ModelError> {
+        let Some(m) = &mut self.bridge.modal else { return Ok(()) };
         if let Some(p) = &m.joint_point {
             bridge.point(p, crate::modal::Direction::X, "bridge.modal.joint_point")?;
         }
@@ -615,7 +622,7 @@ impl Config {
                 bridge.point(a, crate::modal::Direction::X, &format!("joints[{k}].abutment_point"))?;
             }
         }
-        m.loaded = Some(std::sync::Arc::new(bridge));
+        m.loaded = Some(bridge);
         Ok(())
     }
 

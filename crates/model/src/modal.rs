@@ -92,15 +92,24 @@ pub struct ModalBridge {
     /// The static response, for the correction of the modes left out.
     #[serde(rename = "static")]
     pub static_response: Option<StaticResponse>,
+    /// SHA-256 of the file's bytes (hex; set by [`ModalBridge::read`],
+    /// empty for text parsed with [`ModalBridge::parse`]): what a sweep's
+    /// journal recognises the modes by.
+    #[serde(skip)]
+    pub sha256: String,
 }
 
 impl ModalBridge {
     /// Reads and checks a modes file.
     pub fn read(path: &Path) -> Result<Self, ModelError> {
         let file = path.display().to_string();
-        let text =
-            std::fs::read_to_string(path).map_err(|e| ModelError::Io { file: file.clone(), message: e.to_string() })?;
-        Self::parse(&text, &file)
+        let io = |message: String| ModelError::Io { file: file.clone(), message };
+        // the bytes hashed are the bytes parsed
+        let bytes = std::fs::read(path).map_err(|e| io(e.to_string()))?;
+        let text = String::from_utf8(bytes).map_err(|e| io(format!("not UTF-8 text: {e}")))?;
+        let mut bridge = Self::parse(&text, &file)?;
+        bridge.sha256 = quakejoint_motion::sha256_hex(text.as_bytes());
+        Ok(bridge)
     }
 
     /// Parses and checks a modes file's text; `file` names it in errors.

@@ -213,6 +213,30 @@ pub struct PlacedJointResult {
     pub histories: Option<Histories>,
 }
 
+impl PlacedJointResult {
+    /// Its peak values: name, value (NaN where not computed) and unit, as
+    /// a run's `/joints/<k>` and a sweep's `/joints/<k>` store them (its
+    /// validity bits apart).
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 12] {
+        let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
+        let p = &self.pounding;
+        [
+            ("sa", self.sa, "m/s^2"),
+            ("t_sa", self.t_sa, "s"),
+            ("sd", self.sd, "m"),
+            ("sv", self.sv, "m/s"),
+            ("peak_joint_force", self.peak_joint_force, "N"),
+            ("min_subgap", opt(self.min_subgap), "m"),
+            ("max_subgap", opt(self.max_subgap), "m"),
+            ("max_subgap_deviation", opt(self.max_subgap_deviation), "m"),
+            ("impacts", p.impacts as f64, "1"),
+            ("peak_contact_force", p.peak_contact_force, "N"),
+            ("peak_deck_contact_force", p.peak_deck_contact_force, "N"),
+            ("max_penetration", p.max_penetration, "m"),
+        ]
+    }
+}
+
 impl RunResult {
     /// Scalar results of a run: name, value, unit, in the order of
     /// [`crate::fields::FIELDS`]. Quantities a run did not compute are NaN

@@ -8,7 +8,7 @@
 
 use quakejoint_model::run::Histories;
 
-use crate::results::{FIELDS, MACHINE_DEPENDENT};
+use crate::results::{FIELDS, JOINT_FIELDS, MACHINE_DEPENDENT};
 use crate::suite_h5::StoredSuite;
 use crate::sweep_h5::{StoredRecord, SweepFile};
 use crate::sweep_read::same_bits as bits_equal;
@@ -88,9 +88,23 @@ pub fn sweep_differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
     if a.config_sha256 != b.config_sha256 {
         out.push("the configs differ (their parameters)".to_string());
     }
-    if !bits_equal(&a.periods, &b.periods) || !bits_equal(&a.damping, &b.damping) || a.cases != b.cases {
-        out.push("the grids differ (periods, damping ratios or cases)".to_string());
+    let scales = |f: &SweepFile| f.modal.as_ref().map(|m| m.period_scales.clone());
+    let same_scales = match (scales(a), scales(b)) {
+        (Some(x), Some(y)) => bits_equal(&x, &y),
+        (x, y) => x.is_none() && y.is_none(),
+    };
+    let names = |f: &SweepFile| f.results.joints.iter().map(|j| j.name.clone()).collect::<Vec<_>>();
+    if !bits_equal(&a.periods, &b.periods)
+        || !same_scales
+        || !bits_equal(&a.damping, &b.damping)
+        || a.cases != b.cases
+        || names(a) != names(b)
+    {
+        out.push("the grids differ (periods or period scales, damping ratios, cases or joints)".to_string());
         return out;
+    }
+    if a.modal.as_ref().map(|m| &m.modes_sha256) != b.modal.as_ref().map(|m| &m.modes_sha256) {
+        out.push("the modes files differ (their contents)".to_string());
     }
     if !records_equal(&a.records, &b.records) {
         out.push("the records (/records) differ".to_string());
@@ -151,5 +165,13 @@ pub fn differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
         per_field(name, differ(&|j| ra.values[k][j].to_bits() != rb.values[k][j].to_bits()));
     }
     per_field("histories", differ(&|j| !histories_equal(ra.histories.get(&(j as u32)), rb.histories.get(&(j as u32)))));
+    // the joints after the first (the grids' check made their names equal)
+    for (ja, jb) in ra.joints.iter().zip(&rb.joints) {
+        for (k, (name, _)) in JOINT_FIELDS.iter().enumerate() {
+            let what = format!("joint {:?}: {name}", ja.name);
+            per_field(&what, differ(&|j| ja.values[k][j].to_bits() != jb.values[k][j].to_bits()));
+        }
+        per_field(&format!("joint {:?}: validity", ja.name), differ(&|j| ja.validity[j] != jb.validity[j]));
+    }
     out
 }

@@ -43,7 +43,8 @@ pub struct Header {
     /// Version of the program that wrote it.
     pub program_version: String,
     /// SHA-256 of the parsed config (without the per-job limits, which
-    /// change no finished result).
+    /// change no finished result; with the modes file's contents of a
+    /// bridge given by its modes).
     pub config_sha256: String,
     /// Name and SHA-256 of each record file.
     pub records: Vec<(String, String)>,
@@ -65,7 +66,8 @@ impl Header {
         }
         if self.config_sha256 != current.config_sha256 {
             out.push(
-                "its config differs in its parameters, the defaults of this version included, not only in comments or layout"
+                "its config differs in its parameters, the defaults of this version included (or in the contents of the \
+                 modes file of its [bridge.modal]), not only in comments or layout"
                     .to_string(),
             );
         }
@@ -217,8 +219,13 @@ fn parse(bytes: &[u8], path: &Path) -> Result<Option<Contents>, SweepError> {
                 at = end;
                 valid = end;
             }
-            // a frame whose checksum holds but that does not decode was
-            // written by something else: refuse rather than guess
+            // a frame whose checksum holds but that does not decode: an
+            // entry of another journal format, which its header names (and
+            // the sweep refuses the journal for it: Header::differences),
+            // or written by something else: refuse rather than guess
+            Some((Err(_), _)) if header.schema != crate::runner::JOURNAL_SCHEMA => {
+                return Ok(Some(Contents { header, results, damaged, valid: at, torn_tail: false }));
+            }
             Some((Err(e), _)) => return Err(jerr(path, format!("unreadable job record at byte {at}: {e}"))),
             None => match (at + 1..bytes.len()).find(|&s| next_entry(bytes, s)) {
                 Some(s) => {
@@ -410,6 +417,7 @@ mod tests {
             validity: 0,
             findings: String::new(),
             history: None,
+            joints: Vec::new(),
         }
     }
 
@@ -529,6 +537,30 @@ mod tests {
         std::fs::write(&path, &bad).unwrap();
         let err = Journal::continue_or_restart(&path, &header()).unwrap_err().to_string();
         assert!(err.contains("header is damaged"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn entries_of_another_journal_format_leave_the_header_to_say_so() {
+        let dir = scratch("format");
+        let path = dir.join("old.journal");
+        // an entry that does not decode as this version's (a header, say)
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend(frame(&encode(&header())));
+        bytes.extend(frame(&encode(&header())));
+        std::fs::write(&path, &bytes).unwrap();
+        let c = read_contents(&path).unwrap();
+        assert!(c.results.is_empty());
+        let current = Header { schema: crate::runner::JOURNAL_SCHEMA, ..header() };
+        let d = c.header.differences(&current);
+        assert!(d.iter().any(|s| s.contains("journal format")), "{d:?}");
+        // in this version's format the same entry is refused
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend(frame(&encode(&current)));
+        bytes.extend(frame(&encode(&current)));
+        std::fs::write(&path, &bytes).unwrap();
+        let err = read_contents(&path).unwrap_err().to_string();
+        assert!(err.contains("unreadable job record"), "{err}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -1,5 +1,6 @@
 //! The spectrum orchestrator: sweeps of the joint model over bridge
-//! periods, damping ratios, records and parameter cases, run on worker
+//! periods (a bridge given by its modes: a factor on every period of its
+//! modes), damping ratios, records and parameter cases, run on worker
 //! threads, journalled so that a sweep can be continued, written to HDF5, shardable across
 //! machines and merged back.
 

@@ -171,7 +171,7 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         }
     }
     let (first_path, first) = &files[0];
-    let results = Results { without: first.results.without.clone(), ..Results::new(first.results.dims) };
+    let results = first.results.empty_like();
     let mut merged = SweepFile { results, scope: Vec::new(), ..first.clone() };
     let mut claimed: Vec<(String, &Path)> = Vec::new();
     let mut overlaps = 0;
@@ -313,7 +313,9 @@ fn combine(into: &mut Results, from: &Results, source: &str) -> Result<usize, Sw
                 .enumerate()
                 .filter(|(_, name)| !MACHINE_DEPENDENT.contains(name))
                 .any(|(k, _)| into.values[k][j].to_bits() != from.values[k][j].to_bits());
-            if differs || into.status[j] != from.status[j] || into.validity[j] != from.validity[j] {
+            let joints_differ = into.joints.len() != from.joints.len()
+                || into.joints.iter().zip(&from.joints).any(|(a, b)| !a.same_job(b, j));
+            if differs || joints_differ || into.status[j] != from.status[j] || into.validity[j] != from.validity[j] {
                 return Err(SweepError::Merge(format!("job {j} was run twice with different results ({source})")));
             }
             overlaps += 1;
@@ -326,6 +328,9 @@ fn combine(into: &mut Results, from: &Results, source: &str) -> Result<usize, Sw
         into.messages[j] = from.messages[j].clone();
         into.validity[j] = from.validity[j];
         into.findings[j] = from.findings[j].clone();
+        for (a, b) in into.joints.iter_mut().zip(&from.joints) {
+            a.copy_job(b, j);
+        }
         if let Some(h) = from.histories.get(&(j as u32)) {
             into.histories.insert(j as u32, h.clone());
         }

@@ -18,9 +18,24 @@
 //! the swept ones (`bridge.w0`, `bridge.period`, `bridge.damping`); the
 //! overrides are merged into the base config and checked like it, so an
 //! unknown key or a bad value is an error naming the case and the key.
+//!
+//! A bridge given by its modes (`[bridge.modal]`) is swept by a factor on
+//! every period of its modes instead ([`ModalSweep`]):
+//!
+//! ```toml
+//! [sweep]
+//! period_scales = [0.8, 1.0, 1.25]   # or { from, to, count, spacing }; default [1.0]
+//! ```
+//!
+//! Its damping is the modes file's (or `bridge.damping`), one value, so
+//! `sweep.periods` and `sweep.damping` are refused; a case may change
+//! `bridge.modal.modes_used` or `joint_point` but not the modes file, the
+//! period scale or `bridge.damping`.
 
 use std::path::{Path, PathBuf};
 
+use quakejoint_model::config::ModalConfig;
+use quakejoint_model::runspec::{Named, Overrides, RunSpec};
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::sha256_hex;
 use quakejoint_motion::{
@@ -31,8 +46,8 @@ use quakejoint_motion::{
 use crate::error::SweepError;
 
 /// The keys of the `[sweep]` table.
-pub const SWEEP_KEYS: [&str; 7] =
-    ["periods", "damping", "records", "cases", "histories", "checkpoint_seconds", "suite"];
+pub const SWEEP_KEYS: [&str; 8] =
+    ["periods", "period_scales", "damping", "records", "cases", "histories", "checkpoint_seconds", "suite"];
 
 /// Longest interval between checkpoints or progress lines \[s\] (116 days;
 /// the longest run allowed, `simulation.max_wall_time`, is as long).
@@ -90,6 +105,59 @@ impl SweepRecord {
     }
 }
 
+/// What a sweep over a bridge given by its modes (`[bridge.modal]`) adds
+/// to its plan: the swept factors on the modes' periods, the modes file
+/// and the joints after the first.
+#[derive(Debug, Clone)]
+pub struct ModalSweep {
+    /// The swept factors on every period of the modes [-]
+    /// (`sweep.period_scales`; each job's `bridge.modal.period_scale`).
+    pub period_scales: Vec<f64>,
+    /// Whether they are `sweep.period_scales` (else the config's own
+    /// `bridge.modal.period_scale`, 1 by default: one job per record and
+    /// case, each the config's run as it stands).
+    pub swept: bool,
+    /// The modes file as the config names it (`bridge.modal.modes`).
+    pub file: String,
+    /// The modes file, resolved against the config's folder.
+    pub path: PathBuf,
+    /// SHA-256 of its bytes (hex), part of the config's hash: a changed
+    /// modes file is another sweep.
+    pub sha256: String,
+    /// The names of the joints after the first of `[[joints]]` (their
+    /// values are stored per joint).
+    pub joints: Vec<String>,
+}
+
+impl ModalSweep {
+    /// The override of the jobs at period scale `t` (an index), named as
+    /// the sweep names it (none when the scale is the config's own).
+    pub fn overrides(&self, t: usize) -> Overrides {
+        Overrides {
+            period_scale: self.swept.then(|| Named::new(self.period_scales[t], format!("sweep.period_scales[{t}]"))),
+            ..Overrides::default()
+        }
+    }
+}
+
+/// The bridge alone at the first joint's deck point of a config with a
+/// bridge given by its modes (as its period scale sets them), under
+/// `window` (the ground motion over the run's window): the exact modal
+/// superposition ([`quakejoint_model::linear::modal_response`]), as
+/// `quakejoint simulate --no-joint` gives it.
+pub fn modal_alone(config: &Config, window: &Record) -> Result<quakejoint_model::run::RunResult, ModelError> {
+    let Some(m) = &config.bridge.modal else {
+        return Err(ModelError::Invalid {
+            field: "bridge.modal".into(),
+            value: "none".into(),
+            reason: "the bridge is not given by its modes".into(),
+        });
+    };
+    let kept = quakejoint_model::modal::kept_modes(m, config.bridge.damping)?;
+    let point = quakejoint_model::placement::places(config)?[0].deck_point;
+    Ok(quakejoint_model::linear::modal_response(window, &kept, point, false))
+}
+
 /// Everything a sweep computes.
 #[derive(Debug, Clone)]
 pub struct Plan {
@@ -102,10 +170,15 @@ pub struct Plan {
     /// The suite's target and scaling, when the records are a suite
     /// (`[sweep.suite]`).
     pub suite: Option<Suite>,
-    /// Damping ratios [-].
+    /// Damping ratios [-] (a bridge given by its modes: one,
+    /// `bridge.damping`, the damping of the modes the file gives none for).
     pub damping: Vec<f64>,
-    /// Bridge periods \[s\].
+    /// Bridge periods \[s\] (a bridge given by its modes: its longest kept
+    /// period at each of `modal.period_scales`, which are the swept axis).
     pub periods: Vec<f64>,
+    /// A bridge given by its modes: the swept period scales, the modes
+    /// file and the joints after the first.
+    pub modal: Option<ModalSweep>,
     /// Indices into `periods` whose histories are stored.
     pub history_periods: Vec<usize>,
     /// Seconds between HDF5 checkpoints.
@@ -154,9 +227,56 @@ fn list_of_f64(v: &toml::Value, field: &str) -> Result<Vec<f64>, SweepError> {
     }
 }
 
-fn periods_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
-    let field = "sweep.periods";
-    let periods = match v {
+/// The key of a case's `[bridge]` table `b` that a case may not change,
+/// and why (`modal`: the sweep's bridge is given by its modes).
+fn refused_in_case(b: &toml::Table, modal: bool) -> Option<(String, &'static str)> {
+    let modal_table = b.get("modal").and_then(|m| m.as_table());
+    if !modal {
+        if b.contains_key("modal") {
+            return Some((
+                "modal".into(),
+                "the sweep's bridge is a single-DOF deck; a case cannot give it modes (a sweep of a bridge given by \
+                 its modes has [bridge.modal] in its base config)",
+            ));
+        }
+        return ["w0", "period", "damping"]
+            .into_iter()
+            .find(|k| b.contains_key(*k))
+            .map(|k| (k.to_string(), "the bridge period and damping are swept, not set per case"));
+    }
+    for k in ["w0", "period"] {
+        if b.contains_key(k) {
+            return Some((
+                k.into(),
+                "the bridge is given by its modes: its periods are the modes file's times sweep.period_scales",
+            ));
+        }
+    }
+    if b.contains_key("damping") {
+        return Some((
+            "damping".into(),
+            "the modes' damping (the modes file's, or bridge.damping) is the sweep's damping axis, shared by its \
+             cases: run one sweep per bridge.damping",
+        ));
+    }
+    match modal_table {
+        Some(m) if m.contains_key("modes") => Some((
+            "modal.modes".into(),
+            "the modes file is the sweep's bridge, shared by its cases (a case may keep fewer or more of its modes: \
+             bridge.modal.modes_used)",
+        )),
+        Some(m) if m.contains_key("period_scale") => {
+            Some(("modal.period_scale".into(), "the period scale is swept (sweep.period_scales), not set per case"))
+        }
+        _ => None,
+    }
+}
+
+/// A swept axis: a list, or `{ from, to, count, spacing }` (`field`, in
+/// `unit`), each value checked against the range of the config key `key`
+/// it overrides, each once.
+fn grid_of(v: &toml::Value, field: &str, key: &str, unit: &str) -> Result<Vec<f64>, SweepError> {
+    let values = match v {
         toml::Value::Table(t) => {
             for key in t.keys() {
                 if !["from", "to", "count", "spacing"].contains(&key.as_str()) {
@@ -185,15 +305,73 @@ fn periods_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
                     ))
                 }
             };
-            period_range(from, to, count, log).map_err(|e| sweep_err(field, e.to_string()))?
+            period_range(from, to, count, log).map_err(|e| match e {
+                // (the range's words are about periods in s)
+                quakejoint_motion::SpectrumError::Range(m) if unit != "s" => {
+                    sweep_err(field, format!("range: {}", m.replace(" s", "").replace("periods", "values")))
+                }
+                other => sweep_err(field, other.to_string()),
+            })?
         }
         other => list_of_f64(other, field)?,
     };
-    if periods.is_empty() {
-        return Err(sweep_err(field, "no periods"));
+    if values.is_empty() {
+        return Err(sweep_err(field, if unit == "s" { "no periods" } else { "no values" }));
     }
-    check_swept(&periods, field, "bridge.period")?;
-    Ok(periods)
+    check_swept(&values, field, key)?;
+    Ok(values)
+}
+
+/// The swept axis of a bridge given by its modes (`sweep.period_scales`,
+/// default the config's `bridge.modal.period_scale`, 1) and what the sweep
+/// keeps of its modes file; `sweep.periods` and `sweep.damping` are
+/// refused.
+fn modal_axis(
+    sweep: &toml::Table,
+    m: &ModalConfig,
+    config: &Config,
+    base_dir: &Path,
+) -> Result<ModalSweep, SweepError> {
+    if sweep.contains_key("periods") {
+        return Err(sweep_err(
+            "sweep.periods",
+            "the bridge is given by its modes ([bridge.modal]): sweep its periods with sweep.period_scales, a \
+             factor on every period of the modes (period_scales = [0.8, 1.0, 1.25], or { from, to, count, spacing })",
+        ));
+    }
+    if sweep.contains_key("damping") {
+        return Err(sweep_err(
+            "sweep.damping",
+            "the bridge is given by its modes ([bridge.modal]): their damping ratios are the modes file's, or \
+             bridge.damping where it gives none, and are not swept; sweep the periods with sweep.period_scales (and \
+             run one sweep per bridge.damping to study the damping)",
+        ));
+    }
+    let swept = sweep.contains_key("period_scales");
+    let period_scales = match sweep.get("period_scales") {
+        Some(v) => {
+            if let Some(f) = m.period_scale {
+                return Err(sweep_err(
+                    "bridge.modal.period_scale",
+                    format!(
+                        "{}: the sweep sets every job's period scale (sweep.period_scales); remove \
+                         bridge.modal.period_scale, or sweep.period_scales to run the config's scale alone",
+                        quakejoint_motion::number(f)
+                    ),
+                ));
+            }
+            grid_of(v, "sweep.period_scales", "bridge.modal.period_scale", "1")?
+        }
+        None => vec![m.scale()],
+    };
+    Ok(ModalSweep {
+        period_scales,
+        swept,
+        file: m.modes.clone(),
+        path: base_dir.join(&m.modes),
+        sha256: quakejoint_model::modal::loaded(m)?.sha256.clone(),
+        joints: config.joints.iter().skip(1).map(|j| j.name.clone()).collect(),
+    })
 }
 
 /// Checks swept values (`field`, a list) against the range of the config
@@ -303,19 +481,46 @@ fn suite_warnings(suite: &Suite) -> Vec<String> {
 /// A warning when the run window ([`quakejoint_model::run::run_window`])
 /// cuts `record` short: both spectra cover the window only, and how much
 /// the spectrum without the joint over the whole record is larger says how
-/// much of the record's effect the window leaves out.
-fn window_warning(config: &Config, record: &Record, periods: &[f64], damping: &[f64]) -> Option<String> {
+/// much of the record's effect the window leaves out (a bridge given by its
+/// modes, `modal`: the bridge alone at the first joint's point at each
+/// period scale).
+fn window_warning(
+    config: &Config,
+    record: &Record,
+    periods: &[f64],
+    damping: &[f64],
+    modal: Option<&ModalSweep>,
+) -> Option<String> {
     use quakejoint_motion::{spectrum, SpectrumOptions};
     let window = quakejoint_model::run::run_window(config, record);
     if window.acceleration.len() >= record.acceleration.len() {
         return None;
     }
-    let sa = |r: &Record| -> Vec<f64> {
-        spectrum(r, periods, damping, SpectrumOptions::default())
-            .map(|rows| rows.iter().map(|row| row.peaks.sa).collect())
-            .unwrap_or_default()
+    let (whole, cut, labels): (Vec<f64>, Vec<f64>, Vec<String>) = match modal {
+        None => {
+            let sa = |r: &Record| -> Vec<f64> {
+                spectrum(r, periods, damping, SpectrumOptions::default())
+                    .map(|rows| rows.iter().map(|row| row.peaks.sa).collect())
+                    .unwrap_or_default()
+            };
+            let labels = (0..periods.len() * damping.len())
+                .map(|i| format!("T = {:.4} s, damping {}", periods[i % periods.len()], damping[i / periods.len()]))
+                .collect();
+            (sa(record), sa(&window), labels)
+        }
+        Some(m) => {
+            let at = |t: usize, r: &Record| {
+                RunSpec::new(config.clone(), &m.overrides(t))
+                    .and_then(|spec| modal_alone(&spec.config, r))
+                    .map_or(f64::NAN, |alone| alone.sa)
+            };
+            let n = m.period_scales.len();
+            let labels = (0..n)
+                .map(|t| format!("period scale {}, longest period {:.4} s", m.period_scales[t], periods[t]))
+                .collect();
+            ((0..n).map(|t| at(t, record)).collect(), (0..n).map(|t| at(t, &window)).collect(), labels)
+        }
     };
-    let (whole, cut) = (sa(record), sa(&window));
     let worst = whole
         .iter()
         .zip(&cut)
@@ -324,11 +529,9 @@ fn window_warning(config: &Config, record: &Record, periods: &[f64], damping: &[
         .max_by(|a, b| a.1.total_cmp(&b.1));
     let missed = match worst {
         Some((i, excess)) if excess > 1e-3 => format!(
-            "; over the whole record the bridge without the joint would respond up to {:.1} % more (T = {:.4} s, \
-              damping {})",
+            "; over the whole record the bridge without the joint would respond up to {:.1} % more ({})",
             100.0 * excess,
-            periods[i % periods.len()],
-            damping[i / periods.len()]
+            labels[i]
         ),
         _ => "; the record's remainder changes no peak of the spectrum without the joint".to_string(),
     };
@@ -387,14 +590,9 @@ impl Plan {
     /// Reads the sweep of a config file (`source` names it in messages;
     /// record paths are resolved against `base_dir`).
     pub fn new(config_text: &str, source: &str, base_dir: &Path) -> Result<Self, SweepError> {
-        let base_config = Config::from_toml(config_text, source)?;
-        if base_config.bridge.modal.is_some() {
-            return Err(sweep_err(
-                "bridge.modal",
-                "a sweep over a bridge given by its modes is not available yet: run it with \
-                 `quakejoint simulate` (its periods: bridge.modal.period_scale)",
-            ));
-        }
+        let mut base_config = Config::from_toml(config_text, source)?;
+        // the modes file, read once: every case shares it
+        base_config.load_modes(base_dir)?;
         let mut table: toml::Table = toml::from_str(config_text)
             .map_err(|e| SweepError::from(quakejoint_model::config::parse_error(source, &e)))?;
         let sweep = match table.remove("sweep") {
@@ -410,21 +608,53 @@ impl Plan {
                 ));
             }
         }
-        let periods = periods_of(sweep.get("periods").ok_or_else(|| sweep_err("sweep.periods", "missing"))?)?;
-        let damping = match sweep.get("damping") {
-            Some(v) => list_of_f64(v, "sweep.damping")?,
-            None => vec![base_config.bridge.damping],
+        let (periods, damping, modal) = match &base_config.bridge.modal {
+            Some(m) => {
+                let modal = modal_axis(&sweep, m, &base_config, base_dir)?;
+                // each scale applied and checked as every job applies it:
+                // the bridge's longest kept period there
+                let periods = (0..modal.period_scales.len())
+                    .map(|t| RunSpec::new(base_config.clone(), &modal.overrides(t)).map(|spec| spec.period))
+                    .collect::<Result<Vec<f64>, ModelError>>()?;
+                (periods, vec![base_config.bridge.damping], Some(modal))
+            }
+            None => {
+                if sweep.contains_key("period_scales") {
+                    return Err(sweep_err(
+                        "sweep.period_scales",
+                        "a factor on the periods of a bridge given by its modes ([bridge.modal]); this bridge is a \
+                         single-DOF deck: sweep its period with sweep.periods",
+                    ));
+                }
+                let periods = grid_of(
+                    sweep.get("periods").ok_or_else(|| sweep_err("sweep.periods", "missing"))?,
+                    "sweep.periods",
+                    "bridge.period",
+                    "s",
+                )?;
+                let damping = match sweep.get("damping") {
+                    Some(v) => list_of_f64(v, "sweep.damping")?,
+                    None => vec![base_config.bridge.damping],
+                };
+                if damping.is_empty() {
+                    return Err(sweep_err("sweep.damping", "no damping ratio"));
+                }
+                check_swept(&damping, "sweep.damping", "bridge.damping")?;
+                (periods, damping, None)
+            }
         };
-        if damping.is_empty() {
-            return Err(sweep_err("sweep.damping", "no damping ratio"));
-        }
-        check_swept(&damping, "sweep.damping", "bridge.damping")?;
-        // each requested period picks the nearest swept one (within 5 %)
+        // each requested period (a modal bridge: period scale) picks the
+        // nearest swept one (within 5 %)
+        let (axis, unit) = match &modal {
+            Some(m) => (&m.period_scales, ""),
+            None => (&periods, " s"),
+        };
+        let what = if modal.is_some() { "period scale" } else { "period" };
         let history_periods = match sweep.get("histories") {
             Some(v) => {
                 let mut idx = Vec::new();
                 for t in list_of_f64(v, "sweep.histories")? {
-                    let (i, p) = periods
+                    let (i, p) = axis
                         .iter()
                         .enumerate()
                         .min_by(|a, b| (a.1 - t).abs().total_cmp(&(b.1 - t).abs()))
@@ -433,7 +663,7 @@ impl Plan {
                     if (p - t).abs().partial_cmp(&(0.05 * t.abs())) != Some(std::cmp::Ordering::Less) {
                         return Err(sweep_err(
                             "sweep.histories",
-                            format!("{t} s: no swept period within 5 % (nearest {p} s)"),
+                            format!("{t}{unit}: no swept {what} within 5 % (nearest {p}{unit})"),
                         ));
                     }
                     if !idx.contains(&i) {
@@ -507,7 +737,18 @@ impl Plan {
         }
         let mut records = specs.into_iter().map(|s| SweepRecord::load(s, base_dir)).collect::<Result<Vec<_>, _>>()?;
         let suite = match sweep.get("suite") {
-            Some(v) => Some(suite_of(v, &periods, &mut records, &base_config)?),
+            Some(v) => {
+                // a bridge given by its modes: the fit's default range is
+                // about its longest kept period at scale 1, the modes file's
+                // longest period
+                let around = match &base_config.bridge.modal {
+                    Some(m) => {
+                        vec![quakejoint_model::modal::loaded(m)?.modes.iter().map(|m| m.period).fold(0.0, f64::max)]
+                    }
+                    None => periods.clone(),
+                };
+                Some(suite_of(v, &around, &mut records, &base_config)?)
+            }
             None => None,
         };
         let record_y = base_config.record_y.clone().map(|s| SweepRecord::load(s, base_dir)).transpose()?;
@@ -554,21 +795,20 @@ impl Plan {
                 }
             }
             if let Some(toml::Value::Table(b)) = ct.get("bridge") {
-                for swept in ["w0", "period", "damping"] {
-                    if b.contains_key(swept) {
-                        return Err(sweep_err(
-                            &format!("{key}.bridge.{swept}"),
-                            format!("case {name:?}: the bridge period and damping are swept, not set per case"),
-                        ));
-                    }
+                if let Some(why) = refused_in_case(b, modal.is_some()) {
+                    return Err(sweep_err(&format!("{key}.bridge.{}", why.0), format!("case {name:?}: {}", why.1)));
                 }
             }
             let mut merged = table.clone();
             merge(&mut merged, &ct);
-            let config: Config = toml::Value::Table(merged)
+            let mut config: Config = toml::Value::Table(merged)
                 .try_into()
                 .map_err(|e: toml::de::Error| sweep_err(&key, format!("case {name:?}: {}", e.message())))?;
             config.validate().map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
+            // the modes file the base config read (a case cannot change it)
+            if let Some(bridge) = base_config.bridge.modal.as_ref().and_then(|m| m.loaded.clone()) {
+                config.attach_modes(bridge).map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
+            }
             let (a, b) = (&config.simulation, &base_config.simulation);
             if (a.duration, a.extra_time) != (b.duration, b.extra_time) {
                 return Err(sweep_err(
@@ -594,8 +834,22 @@ impl Plan {
                     SweepError::from(e)
                 }
             };
-            if case.config.joint.enabled {
-                quakejoint_model::geometry::Geometry::new(&case.config).map_err(context)?;
+            // every joint's (a bridge given by its modes: each of [[joints]])
+            for place in quakejoint_model::placement::places(&case.config).map_err(context)? {
+                if place.config.joint.enabled {
+                    quakejoint_model::geometry::Geometry::new(&place.config)
+                        .map_err(|e| match e {
+                            ModelError::Geometry(g) if !place.prefix.is_empty() => {
+                                ModelError::Geometry(format!("joint {:?}: {g}", place.name))
+                            }
+                            other => other,
+                        })
+                        .map_err(context)?;
+                }
+            }
+            if let Some(m) = &modal {
+                // the modes the case keeps, at a swept scale
+                RunSpec::new(case.config.clone(), &m.overrides(0)).map_err(context)?;
             }
             for r in &records {
                 quakejoint_model::run::check_run_length(&case.config, &r.record).map_err(context)?;
@@ -606,7 +860,7 @@ impl Plan {
             warnings.extend(suite_warnings(suite));
         }
         for r in &records {
-            warnings.extend(window_warning(&base_config, &r.record, &periods, &damping));
+            warnings.extend(window_warning(&base_config, &r.record, &periods, &damping, modal.as_ref()));
         }
         let mut used = base_config.clone();
         used.sweep = Some(sweep.clone());
@@ -615,8 +869,12 @@ impl Plan {
         // written, should it not serialise)
         let mut resolved = toml::Table::try_from(&base_config).unwrap_or_else(|_| table.clone());
         resolved.remove("sweep");
-        let canonical = toml::to_string(&without_run_settings(&resolved)).unwrap_or_default()
+        let mut canonical = toml::to_string(&without_run_settings(&resolved)).unwrap_or_default()
             + &toml::to_string(&without_run_settings(&sweep)).unwrap_or_default();
+        if let Some(m) = &modal {
+            // the modes file's contents: a changed file is another sweep
+            canonical += &format!("\n# modes file sha256 {}\n", m.sha256);
+        }
         Ok(Self {
             cases,
             records,
@@ -624,6 +882,7 @@ impl Plan {
             suite,
             damping,
             periods,
+            modal,
             history_periods,
             checkpoint_seconds,
             config_used: toml::to_string(&used).unwrap_or_default(),
@@ -631,6 +890,35 @@ impl Plan {
             config_text: config_text.to_string(),
             config_sha256: sha256_hex(canonical.as_bytes()),
         })
+    }
+
+    /// The swept value `t` in words: `T 1.0000 s`, or for a bridge given
+    /// by its modes `period scale 1.25 (T1 0.9210 s)`.
+    pub fn axis_label(&self, t: usize) -> String {
+        match &self.modal {
+            Some(m) => format!("period scale {} (T1 {:.4} s)", m.period_scales[t], self.periods[t]),
+            None => format!("T {:.4} s", self.periods[t]),
+        }
+    }
+
+    /// The swept values: the periods \[s\], or for a bridge given by its
+    /// modes the period scales [-].
+    pub fn axis(&self) -> &[f64] {
+        self.modal.as_ref().map_or(&self.periods, |m| &m.period_scales)
+    }
+
+    /// The overrides of job `job`: its period and damping from the grid,
+    /// or for a bridge given by its modes its period scale, each named as
+    /// the sweep names it.
+    pub fn overrides(&self, job: Job) -> Overrides {
+        match &self.modal {
+            Some(m) => m.overrides(job.period),
+            None => Overrides {
+                period: Some(Named::new(self.periods[job.period], format!("sweep.periods[{}]", job.period))),
+                damping: Some(Named::new(self.damping[job.damping], format!("sweep.damping[{}]", job.damping))),
+                ..Overrides::default()
+            },
+        }
     }
 
     /// Array dimensions (cases, records, dampings, periods).
@@ -715,7 +1003,10 @@ impl Plan {
         let samples = |r: &SweepRecord| r.record.acceleration.len() as f64;
         let record_bytes: f64 = self.records.iter().chain(&self.record_y).map(|r| samples(r) * 8.0 * 3.0).sum();
         let longest = self.records.iter().map(samples).fold(0.0, f64::max);
-        let result_bytes = self.job_count() as f64 * ((crate::results::FIELDS.len() as f64 + 4.0) * 8.0) * 3.0;
+        let joints = self.modal.as_ref().map_or(0, |m| m.joints.len()) as f64;
+        let per_job =
+            crate::results::FIELDS.len() as f64 + 4.0 + joints * (crate::results::JOINT_FIELDS.len() as f64 + 1.0);
+        let result_bytes = self.job_count() as f64 * (per_job * 8.0) * 3.0;
         let histories = self.history_periods.len() * self.job_count() / self.periods.len().max(1);
         // seven series, the clear sub-gaps at both ends and their contact
         // forces, Nc + 1 of each
@@ -756,12 +1047,25 @@ pub fn cost_seconds(bodies: usize, samples: f64, period: f64) -> f64 {
     samples.max(1.0) * (COST_PER_SAMPLE + COST_PER_BODY_SAMPLE * bodies as f64) * f
 }
 
+/// The bodies of a job's model for the cost estimate: the joints' (each
+/// of `[[joints]]` on a bridge given by its modes) and, on a bridge given
+/// by its modes, one per kept mode (a one-coordinate body: counted as a
+/// joint body, an overestimate the cost model was not measured for).
 fn bodies_of(config: &Config) -> usize {
-    let j = &config.joint;
-    if j.enabled {
-        let (nc, ns) = (j.center_beams, j.support_beams.len());
-        nc + ns + nc * ns
+    let joint = |j: &quakejoint_model::config::JointConfig| {
+        if j.enabled {
+            let (nc, ns) = (j.center_beams, j.support_beams.len());
+            nc + ns + nc * ns
+        } else {
+            0
+        }
+    };
+    let Some(m) = &config.bridge.modal else { return joint(&config.joint) };
+    let joints: usize = if config.joints.is_empty() {
+        joint(&config.joint)
     } else {
-        0
-    }
+        config.joints.iter().map(|p| joint(p.joint.as_ref().unwrap_or(&config.joint))).sum()
+    };
+    let modes = quakejoint_model::modal::loaded(m).map_or(0, |b| b.modes.len().min(m.modes_used.unwrap_or(usize::MAX)));
+    joints + modes
 }

@@ -18,6 +18,18 @@ pub static UNITS: LazyLock<Vec<&'static str>> = LazyLock::new(|| per_job().map(|
 pub static MACHINE_DEPENDENT: LazyLock<Vec<&'static str>> =
     LazyLock::new(|| per_job().filter(|f| f.machine_dependent).map(|f| f.name).collect());
 
+/// Per-job values of every joint after the first of `[[joints]]` (a
+/// bridge given by its modes), stored in `/joints/<k>/<name>`, in this
+/// order: name and units ([`quakejoint_model::run::PlacedJointResult::scalars`]),
+/// with the joint's validity bits beside them.
+pub static JOINT_FIELDS: LazyLock<Vec<(&'static str, &'static str)>> = LazyLock::new(|| {
+    quakejoint_model::run::PlacedJointResult::default()
+        .scalars()
+        .iter()
+        .map(|&(name, _, units)| (name, units))
+        .collect()
+});
+
 fn per_job() -> impl Iterator<Item = &'static quakejoint_model::fields::Field> {
     quakejoint_model::fields::FIELDS.iter().filter(|f| f.per_job)
 }
@@ -56,6 +68,64 @@ pub struct JobResult {
     /// Histories, if requested for this period.
     /// (the series of [`Histories::for_sweep`]).
     pub history: Option<Histories>,
+    /// The joints after the first of `[[joints]]`, in their order (empty
+    /// when the job failed, or with one joint).
+    pub joints: Vec<JointJobResult>,
+}
+
+/// One more joint's outcome of a job.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JointJobResult {
+    /// Values in [`JOINT_FIELDS`] order.
+    pub values: Vec<f64>,
+    /// Its validity flags.
+    pub validity: u32,
+}
+
+/// The arrays of one joint after the first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointResults {
+    /// Its name (`[[joints]]`).
+    pub name: String,
+    /// `values[field][job]`, fields in [`JOINT_FIELDS`] order (NaN where
+    /// the job failed or did not run).
+    pub values: Vec<Vec<f64>>,
+    /// Its validity flags per job (`NOT_CHECKED` where the job failed or
+    /// did not run).
+    pub validity: Vec<u32>,
+}
+
+impl JointResults {
+    /// Empty arrays of `jobs` jobs.
+    pub fn new(name: &str, jobs: usize) -> Self {
+        Self {
+            name: name.to_string(),
+            values: vec![vec![f64::NAN; jobs]; JOINT_FIELDS.len()],
+            validity: vec![quakejoint_model::validity::Flags::NOT_CHECKED.0; jobs],
+        }
+    }
+
+    fn set(&mut self, job: usize, r: Option<&JointJobResult>) {
+        for (k, f) in self.values.iter_mut().enumerate() {
+            f[job] = r.and_then(|r| r.values.get(k).copied()).unwrap_or(f64::NAN);
+        }
+        self.validity[job] = r.map_or(quakejoint_model::validity::Flags::NOT_CHECKED.0, |r| r.validity);
+    }
+
+    /// Whether job `j` holds the same values and flags, bit for bit, in
+    /// `self` and `other`.
+    pub fn same_job(&self, other: &JointResults, j: usize) -> bool {
+        self.validity[j] == other.validity[j]
+            && self.values.iter().zip(&other.values).all(|(a, b)| a[j].to_bits() == b[j].to_bits())
+    }
+
+    /// Copies job `j` from `from`.
+    pub fn copy_job(&mut self, from: &JointResults, j: usize) {
+        for (a, b) in self.values.iter_mut().zip(&from.values) {
+            a[j] = b[j];
+        }
+        self.validity[j] = from.validity[j];
+    }
 }
 
 /// The arrays of a sweep.
@@ -75,8 +145,15 @@ pub struct Results {
     pub findings: Vec<String>,
     /// Histories by job.
     pub histories: std::collections::BTreeMap<u32, Histories>,
-    /// Without the joint: `[sa, psa, sd, sv][(record, damping, period)]`.
+    /// Without the joint: `[sa, psa, sd, sv][(record, damping, period)]`,
+    /// or `[(case, record, damping, period)]` when `without_per_case`.
     pub without: [Vec<f64>; 4],
+    /// Whether the bridge alone differs between the cases (a bridge given
+    /// by its modes: a case may keep other modes, or place its joint
+    /// elsewhere), so that `without` has a case axis.
+    pub without_per_case: bool,
+    /// The joints after the first of `[[joints]]`.
+    pub joints: Vec<JointResults>,
 }
 
 impl Results {
@@ -93,7 +170,39 @@ impl Results {
             findings: vec![String::new(); n],
             histories: Default::default(),
             without: [vec![f64::NAN; m], vec![f64::NAN; m], vec![f64::NAN; m], vec![f64::NAN; m]],
+            without_per_case: false,
+            joints: Vec::new(),
         }
+    }
+
+    /// Empty arrays of a sweep over a bridge given by its modes: the
+    /// bridge alone per case, and the arrays of the joints after the
+    /// first, named `joints`.
+    pub fn modal(dims: [usize; 4], joints: &[String]) -> Self {
+        let n: usize = dims.iter().product();
+        Self {
+            without: [vec![f64::NAN; n], vec![f64::NAN; n], vec![f64::NAN; n], vec![f64::NAN; n]],
+            without_per_case: true,
+            joints: joints.iter().map(|name| JointResults::new(name, n)).collect(),
+            ..Self::new(dims)
+        }
+    }
+
+    /// Empty arrays shaped as `self`'s (the same grid, bridge alone and
+    /// joints), with `self`'s results without the joint.
+    pub fn empty_like(&self) -> Self {
+        let n = self.status.len();
+        Self {
+            without: self.without.clone(),
+            without_per_case: self.without_per_case,
+            joints: self.joints.iter().map(|j| JointResults::new(&j.name, n)).collect(),
+            ..Self::new(self.dims)
+        }
+    }
+
+    /// The index into `without` of job `j`.
+    pub fn without_index(&self, j: usize) -> usize {
+        j % self.without[0].len().max(1)
     }
 
     /// Stores one job's outcome.
@@ -106,6 +215,9 @@ impl Results {
         self.messages[j] = r.message;
         self.validity[j] = r.validity;
         self.findings[j] = r.findings;
+        for (k, joint) in self.joints.iter_mut().enumerate() {
+            joint.set(j, r.joints.get(k));
+        }
         if let Some(h) = r.history {
             self.histories.insert(r.job, h);
         }
@@ -120,6 +232,9 @@ impl Results {
         self.messages[job].clear();
         self.validity[job] = quakejoint_model::validity::Flags::NOT_CHECKED.0;
         self.findings[job].clear();
+        for joint in &mut self.joints {
+            joint.set(job, None);
+        }
         self.histories.remove(&(job as u32));
     }
 
@@ -146,7 +261,6 @@ impl Results {
     /// `1 - sa_with / sa_without` for every job.
     pub fn reduction(&self) -> Vec<f64> {
         let sa = &self.values[Self::field("sa")];
-        let m = self.dims[1] * self.dims[2] * self.dims[3];
-        sa.iter().enumerate().map(|(j, &s)| 1.0 - s / self.without[0][j % m]).collect()
+        sa.iter().enumerate().map(|(j, &s)| 1.0 - s / self.without[0][self.without_index(j)]).collect()
     }
 }

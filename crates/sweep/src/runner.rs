@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 use crossbeam_channel::{unbounded, Receiver, RecvTimeoutError};
 use indicatif::ProgressBar;
 use quakejoint_model::run::{RunOptions, RunResult};
-use quakejoint_model::runspec::{Named, Overrides, Reference, RunSpec};
+use quakejoint_model::runspec::{Reference, RunSpec};
 use quakejoint_model::ModelError;
 use quakejoint_solver::SolverError;
 
@@ -31,7 +31,7 @@ use crate::journal::{Header, Journal};
 use crate::lock::{lock_path, OutputLock};
 use crate::plan::{Job, Plan};
 use crate::progress::{Progress, Reporter};
-use crate::results::{status, JobResult, Results, FIELDS};
+use crate::results::{status, JobResult, JointJobResult, Results, FIELDS};
 use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
 use quakejoint_io::files::{describe, same_file};
 use quakejoint_io::h5::temporary_name;
@@ -40,8 +40,10 @@ use quakejoint_io::run_h5::{Provenance, RecordSource};
 /// Version of the journal format (2: the config's hash leaves out the
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
 /// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
-/// and contact-force histories; 6: each job's CPU time).
-const JOURNAL_SCHEMA: u32 = 10;
+/// and contact-force histories; 6: each job's CPU time; 11: the joints
+/// after the first of a bridge given by its modes, and the modes file's
+/// hash in the config's).
+pub(crate) const JOURNAL_SCHEMA: u32 = 11;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
@@ -94,6 +96,9 @@ pub struct Summary {
     /// The largest contact force of any job \[N\] and its job (case, record,
     /// damping, period), if any pounded.
     pub peak_contact: Option<(f64, String, String, f64, f64)>,
+    /// Whether the bridge is given by its modes: the jobs' "period" above
+    /// is then their period scale [-].
+    pub modal: bool,
     /// Whether a stop request ended the sweep before every job had run.
     pub interrupted: bool,
     /// Warnings given during the run (damage found in the journal, an
@@ -168,6 +173,11 @@ pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>, provenance: Proven
         shard: shard.map_or("all".to_string(), |(k, n)| format!("{k}/{n}")),
         scope: scope(plan, shard).into_iter().map(|j| j as u32).collect(),
         periods: plan.periods.clone(),
+        modal: plan.modal.as_ref().map(|m| crate::sweep_h5::StoredModal {
+            period_scales: m.period_scales.clone(),
+            modes_file: m.file.clone(),
+            modes_sha256: m.sha256.clone(),
+        }),
         damping: plan.damping.clone(),
         cases: plan.cases.iter().map(|c| c.name.clone()).collect(),
         suite: plan.suite.as_ref().map(|s| crate::suite_h5::StoredSuite::of(s, &plan.periods)),
@@ -185,7 +195,10 @@ pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>, provenance: Proven
                 acceleration: r.record.acceleration.clone(),
             })
             .collect(),
-        results: Results::new(plan.dims()),
+        results: match &plan.modal {
+            Some(m) => Results::modal(plan.dims(), &m.joints),
+            None => Results::new(plan.dims()),
+        },
     }
 }
 
@@ -198,9 +211,29 @@ fn expected_file(plan: &Plan, opts: &SweepOptions) -> Result<SweepFile, SweepErr
     Ok(file)
 }
 
-/// The exact linear spectra of every record, damping and period.
+/// The exact linear spectra of every record, damping and period; for a
+/// bridge given by its modes, the exact modal superposition at the first
+/// joint's point of every case, record and period scale
+/// ([`crate::plan::modal_alone`]).
 pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepError> {
-    let [_, _, nz, nt] = plan.dims();
+    let [_, nr, nz, nt] = plan.dims();
+    if let Some(m) = &plan.modal {
+        for (c, case) in plan.cases.iter().enumerate() {
+            for (r, rec) in plan.records.iter().enumerate() {
+                // over the runs' window, which every case shares (Plan::new)
+                let reference = Reference::for_run(&case.config, &rec.record, &rec.record);
+                for t in 0..nt {
+                    let spec = RunSpec::new(case.config.clone(), &m.overrides(t))?;
+                    let alone = crate::plan::modal_alone(&spec.config, reference.window())?;
+                    let at = ((c * nr + r) * nz) * nt + t;
+                    for (k, v) in [alone.sa, alone.psa, alone.sd, alone.sv].into_iter().enumerate() {
+                        results.without[k][at] = v;
+                    }
+                }
+            }
+        }
+        return Ok(());
+    }
     for (r, rec) in plan.records.iter().enumerate() {
         // over the runs' window, which every case shares (Plan::new)
         let reference = Reference::for_run(&plan.cases[0].config, &rec.record, &rec.record);
@@ -232,14 +265,11 @@ pub fn run_job(
     cancel: Option<Arc<AtomicBool>>,
 ) -> Option<JobResult> {
     let job = plan.job(index);
-    let Job { case, record, damping, period } = job;
-    // the job's period and damping from the grid, applied and checked as
-    // every front end's overrides are
-    let overrides = Overrides {
-        period: Some(Named::new(plan.periods[period], format!("sweep.periods[{period}]"))),
-        damping: Some(Named::new(plan.damping[damping], format!("sweep.damping[{damping}]"))),
-        ..Overrides::default()
-    };
+    let Job { case, record, period, .. } = job;
+    // the job's period and damping from the grid (a bridge given by its
+    // modes: its period scale), applied and checked as every front end's
+    // overrides are
+    let overrides = plan.overrides(job);
     let want_history = plan.history_periods.contains(&period);
     let rec = &plan.records[record].record;
     let options = RunOptions { histories: want_history, progress, cancel, ..RunOptions::default() };
@@ -265,6 +295,14 @@ pub fn run_job(
                 validity: r.validity.flags.0,
                 findings: r.validity.message(),
                 history,
+                joints: r
+                    .joints
+                    .iter()
+                    .map(|j| JointJobResult {
+                        values: j.scalars().iter().map(|&(_, v, _)| v).collect(),
+                        validity: j.validity.flags.0,
+                    })
+                    .collect(),
             })
         }
         Err(ModelError::Interrupted { .. }) => None,
@@ -282,6 +320,7 @@ pub fn run_job(
                 validity: quakejoint_model::validity::Flags::NOT_CHECKED.0,
                 findings: "not_checked: the job did not finish".to_string(),
                 history: None,
+                joints: Vec::new(),
             })
         }
     }
@@ -332,7 +371,9 @@ fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
             && a.messages[j] == b.messages[j]
             && (a.validity[j], &a.findings[j]) == (b.validity[j], &b.findings[j])
             && a.values.iter().zip(&b.values).all(|(x, y)| x[j].to_bits() == y[j].to_bits())
-            && a.histories.get(&(j as u32)) == b.histories.get(&(j as u32));
+            && a.histories.get(&(j as u32)) == b.histories.get(&(j as u32))
+            && a.joints.len() == b.joints.len()
+            && a.joints.iter().zip(&b.joints).all(|(x, y)| x.same_job(y, j));
         if !same {
             return Err(format!("its job {j} differs from the journal's"));
         }
@@ -383,6 +424,7 @@ fn check_output(plan: &Plan, opts: &SweepOptions) -> Result<(), SweepError> {
         .map_err(|message| SweepError::Config { field: "--output".into(), message })?;
     let mut inputs = vec![opts.config_path.clone()];
     inputs.extend(plan.records.iter().chain(&plan.record_y).map(|r| r.path.clone()));
+    inputs.extend(plan.modal.iter().map(|m| m.path.clone()));
     check_not_an_input(output, &inputs)?;
     let dir = output.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !dir.is_dir() {
@@ -604,13 +646,21 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
                     break;
                 }
                 let job = plan.job(index);
-                let label = format!(
-                    "{} / {} / z {} / T {:.4} s",
-                    plan.cases[job.case].name,
-                    plan.records[job.record].record.name,
-                    plan.damping[job.damping],
-                    plan.periods[job.period]
-                );
+                let label = match &plan.modal {
+                    Some(_) => format!(
+                        "{} / {} / {}",
+                        plan.cases[job.case].name,
+                        plan.records[job.record].record.name,
+                        plan.axis_label(job.period)
+                    ),
+                    None => format!(
+                        "{} / {} / z {} / T {:.4} s",
+                        plan.cases[job.case].name,
+                        plan.records[job.record].record.name,
+                        plan.damping[job.damping],
+                        plan.periods[job.period]
+                    ),
+                };
                 bar.set_message(format!("{label}: starting"));
                 let progress: quakejoint_model::run::ProgressFn = {
                     let bar = bar.clone();
@@ -645,7 +695,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         let st = file.results.status[j];
         let job = plan.job(j);
         let (case, record) = (plan.cases[job.case].name.clone(), plan.records[job.record].record.name.clone());
-        let (z, t) = (plan.damping[job.damping], plan.periods[job.period]);
+        let (z, t) = (plan.damping[job.damping], plan.axis()[job.period]);
         if st == status::NOT_RUN {
             not_run += 1;
         } else if st != status::OK {
@@ -678,6 +728,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         flagged,
         pounded,
         peak_contact,
+        modal: plan.modal.is_some(),
         interrupted: not_run > 0 && stop.load(Ordering::Relaxed),
         notices,
         wall_time_s: start.elapsed().as_secs_f64(),

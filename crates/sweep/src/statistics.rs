@@ -33,7 +33,9 @@ pub fn summary(values: &[f64], log: bool) -> (f64, f64, f64) {
 }
 
 /// The statistics of a sweep; arrays over (case, damping, period), or
-/// (damping, period) without the joint, flat and row-major.
+/// (damping, period) without the joint (over (case, damping, period) too
+/// when the bridge alone differs between the cases,
+/// [`Results::without_per_case`]), flat and row-major.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Statistics {
     /// Mean Sa with the joint [m/s^2].
@@ -70,13 +72,15 @@ impl Statistics {
         let reduction = r.reduction();
         let n3 = nc * nz * nt;
         let nan = || vec![f64::NAN; n3];
+        // the bridge alone's cases: one, or every case
+        let ncw = if r.without_per_case { nc } else { 1 };
         let mut s = Statistics {
             with_mean: nan(),
             with_median: nan(),
             with_dispersion: nan(),
-            without_mean: vec![f64::NAN; nz * nt],
-            without_median: vec![f64::NAN; nz * nt],
-            without_dispersion: vec![f64::NAN; nz * nt],
+            without_mean: vec![f64::NAN; ncw * nz * nt],
+            without_median: vec![f64::NAN; ncw * nz * nt],
+            without_dispersion: vec![f64::NAN; ncw * nz * nt],
             reduction_mean: nan(),
             reduction_median: nan(),
             reduction_std: nan(),
@@ -84,13 +88,20 @@ impl Statistics {
             count: vec![0; n3],
             flagged: vec![0; n3],
         };
+        for cw in 0..ncw {
+            for z in 0..nz {
+                for t in 0..nt {
+                    let without: Vec<f64> =
+                        (0..nr).map(|rr| r.without[0][r.without_index(((cw * nr + rr) * nz + z) * nt + t)]).collect();
+                    let k = (cw * nz + z) * nt + t;
+                    (s.without_mean[k], s.without_median[k], s.without_dispersion[k]) = summary(&without, true);
+                }
+            }
+        }
         for z in 0..nz {
             for t in 0..nt {
-                let without: Vec<f64> = (0..nr).map(|rr| r.without[0][(rr * nz + z) * nt + t]).collect();
-                let (m, med, d) = summary(&without, true);
-                let k = z * nt + t;
-                (s.without_mean[k], s.without_median[k], s.without_dispersion[k]) = (m, med, d);
                 for c in 0..nc {
+                    let m = s.without_mean[((c % ncw) * nz + z) * nt + t];
                     let jobs: Vec<usize> = (0..nr).map(|rr| ((c * nr + rr) * nz + z) * nt + t).collect();
                     let done: Vec<usize> = jobs.iter().copied().filter(|&j| r.status[j] == status::OK).collect();
                     let i = (c * nz + z) * nt + t;

@@ -65,12 +65,13 @@ impl StoredSuite {
     }
 }
 
-/// Writes `/suite`; `record` and `period` are the dimension scales.
+/// Writes `/suite`; `record` and `period` are the dimension scales (the
+/// period axis with its label).
 pub fn write_suite(
     file: &hdf5::File,
     s: &StoredSuite,
     record: &hdf5::Dataset,
-    period: &hdf5::Dataset,
+    period: (&hdf5::Dataset, &str),
 ) -> hdf5::Result<()> {
     let g = file.create_group("suite")?;
     attr_str(&g, "target", &s.target)?;
@@ -88,7 +89,7 @@ pub fn write_suite(
     scalar(&g, "pga_ratio", s.pga_ratio, "1")?;
     let ds = array(&g, "target_sa", &s.target_sa[..])?;
     attr_str(&ds, "units", "m/s^2")?;
-    attach_scales(&ds, &[(period, "period")])?;
+    attach_scales(&ds, &[period])?;
     let fit = g.create_group("fit")?;
     for (name, data, units) in
         [("period", &s.fit_periods, "s"), ("target", &s.fit_target, "m/s^2"), ("mean", &s.fit_mean, "m/s^2")]
@@ -127,12 +128,16 @@ pub fn read_suite(file: &hdf5::File) -> hdf5::Result<Option<StoredSuite>> {
 
 /// Writes `/spectrum/statistics` (every sweep; for one record its own
 /// values, with the spreads NaN); `scales`
-/// are the case, damping and period dimension scales.
+/// are the case, damping and period dimension scales, `axis` the period
+/// axis' label, and `per_case` says whether the statistics without the
+/// joint have a case axis ([`crate::results::Results::without_per_case`]).
 pub fn write_statistics(
     spec: &hdf5::Group,
     st: &Statistics,
     dims: [usize; 4],
     scales: [&hdf5::Dataset; 3],
+    axis: &str,
+    per_case: bool,
 ) -> hdf5::Result<()> {
     let [nc, _, nz, nt] = dims;
     let [case, damping, period] = scales;
@@ -147,22 +152,30 @@ pub fn write_statistics(
         let view = ArrayView3::from_shape((nc, nz, nt), data).map_err(shape)?;
         let ds = array(g, name, view)?;
         attr_str(&ds, "units", units)?;
-        attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, "period")])
+        attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, axis)])
     };
     let two = |g: &hdf5::Group, name: &str, data: &[f64], units: &str| -> hdf5::Result<()> {
         let view = ArrayView2::from_shape((nz, nt), data).map_err(shape)?;
         let ds = array(g, name, view)?;
         attr_str(&ds, "units", units)?;
-        attach_scales(&ds, &[(damping, "damping"), (period, "period")])
+        attach_scales(&ds, &[(damping, "damping"), (period, axis)])
     };
     let with = g.create_group("with_joint")?;
     three(&with, "mean", &st.with_mean, "m/s^2")?;
     three(&with, "median", &st.with_median, "m/s^2")?;
     three(&with, "dispersion", &st.with_dispersion, "1")?;
     let without = g.create_group("without_joint")?;
-    two(&without, "mean", &st.without_mean, "m/s^2")?;
-    two(&without, "median", &st.without_median, "m/s^2")?;
-    two(&without, "dispersion", &st.without_dispersion, "1")?;
+    for (name, data, units) in [
+        ("mean", &st.without_mean, "m/s^2"),
+        ("median", &st.without_median, "m/s^2"),
+        ("dispersion", &st.without_dispersion, "1"),
+    ] {
+        if per_case {
+            three(&without, name, data, units)?;
+        } else {
+            two(&without, name, data, units)?;
+        }
+    }
     let red = g.create_group("reduction")?;
     three(&red, "mean", &st.reduction_mean, "1")?;
     three(&red, "median", &st.reduction_median, "1")?;
@@ -172,7 +185,7 @@ pub fn write_statistics(
         let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape)?;
         let ds = array(&g, name, view)?;
         attr_str(&ds, "units", "1")?;
-        attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, "period")])?;
+        attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, axis)])?;
     }
     Ok(())
 }

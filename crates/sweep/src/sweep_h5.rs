@@ -7,7 +7,7 @@ use ndarray::{ArrayView3, ArrayView4};
 
 use quakejoint_model::run::Histories;
 
-use crate::results::{Results, FIELDS, UNITS};
+use crate::results::{Results, FIELDS, JOINT_FIELDS, UNITS};
 use crate::statistics::Statistics;
 use crate::suite_h5::{write_statistics, write_suite, StoredSuite};
 pub use crate::sweep_read::read_sweep;
@@ -15,8 +15,21 @@ use quakejoint_io::h5::{array, attach_scales, attr_str, scalar, set_scale, strin
 use quakejoint_io::run_h5::{write_provenance, Provenance};
 use quakejoint_io::OutputError;
 
-/// Version of the sweep file layout.
-pub const SCHEMA_VERSION: u32 = 9;
+/// Version of the sweep file layout (10: sweeps over a bridge given by
+/// its modes).
+pub const SCHEMA_VERSION: u32 = 10;
+
+/// What a sweep over a bridge given by its modes stores beside the grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoredModal {
+    /// The swept factors on every period of the modes [-]
+    /// (`/spectrum/period_scale`).
+    pub period_scales: Vec<f64>,
+    /// The modes file as the config names it (root attribute `modes_file`).
+    pub modes_file: String,
+    /// SHA-256 of its bytes (root attribute `modes_sha256`).
+    pub modes_sha256: String,
+}
 
 /// A record as stored in `/records/<name>`.
 #[derive(Debug, Clone, PartialEq)]
@@ -54,8 +67,12 @@ pub struct SweepFile {
     /// The jobs this file is responsible for (flat indices): its shard's,
     /// or every job.
     pub scope: Vec<u32>,
-    /// Bridge periods \[s\].
+    /// Bridge periods \[s\] (a bridge given by its modes: its longest kept
+    /// period at each period scale, `/spectrum/longest_period`).
     pub periods: Vec<f64>,
+    /// A bridge given by its modes: the swept period scales (the period
+    /// axis) and the modes file.
+    pub modal: Option<StoredModal>,
     /// Damping ratios [-].
     pub damping: Vec<f64>,
     /// Case names.
@@ -79,6 +96,16 @@ fn shape_err(e: ndarray::ShapeError) -> hdf5::Error {
 struct Axes<'a> {
     dims: [usize; 4],
     scales: [(&'a hdf5::Dataset, &'static str); 4],
+}
+
+/// The label of the period axis: `period`, or for a bridge given by its
+/// modes `period_scale`.
+fn period_axis(f: &SweepFile) -> &'static str {
+    if f.modal.is_some() {
+        "period_scale"
+    } else {
+        "period"
+    }
 }
 
 impl Axes<'_> {
@@ -130,22 +157,51 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         let record = strings_1d(&spec, "record", &names)?;
         let damping = array(&spec, "damping", &f.damping[..])?;
         attr_str(&damping, "units", "1")?;
-        let period = array(&spec, "period", &f.periods[..])?;
-        attr_str(&period, "units", "s")?;
-        for (ds, name) in [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, "period")] {
+        let axis = period_axis(f);
+        let period = match &f.modal {
+            None => {
+                let period = array(&spec, "period", &f.periods[..])?;
+                attr_str(&period, "units", "s")?;
+                period
+            }
+            Some(m) => {
+                // the swept axis is a factor, not a period
+                let scale = array(&spec, "period_scale", &m.period_scales[..])?;
+                attr_str(&scale, "units", "1")?;
+                attr_str(
+                    &scale,
+                    "meaning",
+                    "the factor on every period of the modes file (bridge.modal.period_scale)",
+                )?;
+                attr_str(file, "modes_file", &m.modes_file)?;
+                attr_str(file, "modes_sha256", &m.modes_sha256)?;
+                scale
+            }
+        };
+        for (ds, name) in [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, axis)] {
             set_scale(ds, name)?;
+        }
+        if f.modal.is_some() {
+            let longest = array(&spec, "longest_period", &f.periods[..])?;
+            attr_str(&longest, "units", "s")?;
+            attr_str(&longest, "meaning", "the bridge's longest kept period at each period scale")?;
+            attach_scales(&longest, &[(&period, axis)])?;
         }
         strings_1d(&spec, "case_config", &f.case_configs)?;
         let scope = array(&spec, "scope", &f.scope[..])?;
         attr_str(&scope, "meaning", "flat indices of the jobs this file is responsible for (its shard's, or all)")?;
         let axes = Axes {
             dims: r.dims,
-            scales: [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, "period")],
+            scales: [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, axis)],
         };
 
         let without = spec.create_group("without_joint")?;
         for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
-            let ds = axes.ds3(&without, name, &r.without[k])?;
+            let ds = if r.without_per_case {
+                axes.ds4(&without, name, &r.without[k])?
+            } else {
+                axes.ds3(&without, name, &r.without[k])?
+            };
             attr_str(&ds, "units", ["m/s^2", "m/s^2", "m", "m/s"][k])?;
         }
         let with = spec.create_group("with_joint")?;
@@ -162,10 +218,24 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         let ds = axes.ds4(&spec, "reduction", &r.reduction())?;
         attr_str(&ds, "units", "1")?;
         {
-            write_statistics(&spec, &Statistics::of(r), r.dims, [&case, &damping, &period])?;
+            write_statistics(&spec, &Statistics::of(r), r.dims, [&case, &damping, &period], axis, r.without_per_case)?;
         }
         if let Some(suite) = &f.suite {
-            write_suite(file, suite, &record, &period)?;
+            write_suite(file, suite, &record, (&period, axis))?;
+        }
+        if !r.joints.is_empty() {
+            // the joints after the first, as a run's /joints/<k> (k from 1)
+            let joints = file.create_group("joints")?;
+            for (k, joint) in r.joints.iter().enumerate() {
+                let g = joints.create_group(&(k + 1).to_string())?;
+                attr_str(&g, "name", &joint.name)?;
+                for (values, (name, units)) in joint.values.iter().zip(JOINT_FIELDS.iter()) {
+                    let ds = axes.ds4(&g, name, values)?;
+                    attr_str(&ds, "units", units)?;
+                }
+                let ds = axes.ds4(&g, "validity", &joint.validity)?;
+                attr_str(&ds, "meaning", &quakejoint_model::validity::Flags::legend())?;
+            }
         }
         crate::fault::point(crate::fault::Point::Checkpoint, path);
 
@@ -198,7 +268,10 @@ fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: 
     attr_str(&g, "case", &f.cases[c])?;
     attr_str(&g, "record", &f.records[rr].name)?;
     scalar(&g, "damping", f.damping[z], "1")?;
-    scalar(&g, "period", f.periods[t], "s")?;
+    match &f.modal {
+        Some(m) => scalar(&g, "period_scale", m.period_scales[t], "1")?,
+        None => scalar(&g, "period", f.periods[t], "s")?,
+    }
     g.new_attr::<u64>().create("job")?.write_scalar(&(job as u64))?;
     let flags = quakejoint_model::validity::Flags(f.results.validity[j]);
     g.new_attr::<u32>().create("validity")?.write_scalar(&flags.0)?;
@@ -212,9 +285,15 @@ impl SweepFile {
     pub fn describe_job(&self, job: usize) -> String {
         let d = self.results.dims;
         let (c, r, z, t) = (job / (d[1] * d[2] * d[3]), job / (d[2] * d[3]) % d[1], job / d[3] % d[2], job % d[3]);
-        format!(
-            "job {job} ({} / {} / damping {} / T {} s)",
-            self.cases[c], self.records[r].name, self.damping[z], self.periods[t]
-        )
+        match &self.modal {
+            Some(m) => format!(
+                "job {job} ({} / {} / period scale {})",
+                self.cases[c], self.records[r].name, m.period_scales[t]
+            ),
+            None => format!(
+                "job {job} ({} / {} / damping {} / T {} s)",
+                self.cases[c], self.records[r].name, self.damping[z], self.periods[t]
+            ),
+        }
     }
 }

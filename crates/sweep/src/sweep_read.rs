@@ -14,10 +14,10 @@ use std::path::Path;
 
 use hdf5::Group;
 
-use crate::results::{Results, FIELDS};
+use crate::results::{Results, FIELDS, JOINT_FIELDS};
 use crate::statistics::Statistics;
 use crate::suite_h5::read_suite;
-use crate::sweep_h5::{StoredRecord, SweepFile};
+use crate::sweep_h5::{StoredModal, StoredRecord, SweepFile};
 use quakejoint_io::h5::read_attr_str;
 use quakejoint_io::read::{attr, attr_number, group, number, text, values};
 use quakejoint_io::run_h5::{Provenance, RecordSource};
@@ -67,9 +67,14 @@ fn read_provenance(file: &hdf5::File) -> hdf5::Result<Provenance> {
     })
 }
 
-/// The results with the joint and without it.
-fn read_results(spec: &Group, dims: [usize; 4]) -> hdf5::Result<Results> {
-    let mut results = Results::new(dims);
+/// The results with the joint and without it (`joints`: a bridge given by
+/// its modes, with the names of its joints after the first; `None`: a
+/// single-DOF bridge).
+fn read_results(spec: &Group, dims: [usize; 4], joints: Option<&[String]>) -> hdf5::Result<Results> {
+    let mut results = match joints {
+        Some(names) => Results::modal(dims, names),
+        None => Results::new(dims),
+    };
     let with = group(spec, "with_joint")?;
     for (k, name) in FIELDS.iter().enumerate() {
         results.values[k] = values(&with, name)?;
@@ -82,7 +87,8 @@ fn read_results(spec: &Group, dims: [usize; 4]) -> hdf5::Result<Results> {
     for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
         results.without[k] = values(&without, name)?;
     }
-    let (n, m) = (dims.iter().product::<usize>(), dims[1] * dims[2] * dims[3]);
+    let n = dims.iter().product::<usize>();
+    let m = if results.without_per_case { n } else { dims[1] * dims[2] * dims[3] };
     let sizes_ok = results.status.len() == n
         && results.values.iter().all(|v| v.len() == n)
         && results.messages.len() == n
@@ -129,6 +135,37 @@ fn check_derived(spec: &Group, results: &Results, schema: u32) -> hdf5::Result<(
     for (name, expected) in [("count", &st.count), ("flagged", &st.flagged)] {
         if &values::<u32>(&g, name)? != expected {
             return Err(disagrees(&format!("/spectrum/statistics/{name}"), "the results"));
+        }
+    }
+    Ok(())
+}
+
+/// The names of the joints after the first in `/joints/<k>` (k from 1).
+fn joint_names(file: &hdf5::File) -> hdf5::Result<Vec<String>> {
+    if !file.link_exists("joints") {
+        return Ok(Vec::new());
+    }
+    let g = group(file, "joints")?;
+    let count = g.member_names()?.len();
+    (1..=count)
+        .map(|k| {
+            let joint: Group = group(&g, &k.to_string())?;
+            attr(&joint, "name")
+        })
+        .collect()
+}
+
+/// The arrays of the joints after the first (`/joints/<k>`), into `results`.
+fn read_joints(file: &hdf5::File, results: &mut Results) -> hdf5::Result<()> {
+    let n = results.status.len();
+    for (k, joint) in results.joints.iter_mut().enumerate() {
+        let g = group(file, &format!("joints/{}", k + 1))?;
+        for (values, (name, _)) in joint.values.iter_mut().zip(JOINT_FIELDS.iter()) {
+            *values = quakejoint_io::read::values(&g, name)?;
+        }
+        joint.validity = quakejoint_io::read::values(&g, "validity")?;
+        if joint.validity.len() != n || joint.values.iter().any(|v| v.len() != n) {
+            return Err(hdf5::Error::from(format!("/joints/{} does not match the grid", k + 1)));
         }
     }
     Ok(())
@@ -213,10 +250,14 @@ fn read_histories(file: &hdf5::File, f: &mut SweepFile) -> hdf5::Result<()> {
         }
         let j = job as usize;
         let (c, r, z, t) = (j / (d[1] * d[2] * d[3]), j / (d[2] * d[3]) % d[1], j / d[3] % d[2], j % d[3]);
+        let axis_ok = match &f.modal {
+            Some(m) => number(&g, "period_scale")?.to_bits() == m.period_scales[t].to_bits(),
+            None => number(&g, "period")?.to_bits() == f.periods[t].to_bits(),
+        };
         let meta_ok = attr(&g, "case")? == f.cases[c]
             && attr(&g, "record")? == f.records[r].name
             && number(&g, "damping")?.to_bits() == f.damping[z].to_bits()
-            && number(&g, "period")?.to_bits() == f.periods[t].to_bits()
+            && axis_ok
             && attr_number::<u32>(&g, "validity")? == f.results.validity[j]
             && attr(&g, "validity_label")? == quakejoint_model::validity::Flags(f.results.validity[j]).label()
             && attr(&g, "findings")? == f.results.findings[j];
@@ -239,13 +280,31 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
             return Err(hdf5::Error::from("not a sweep file (attribute kind != sweep)"));
         }
         let spec = group(&file, "spectrum")?;
-        let periods: Vec<f64> = values(&spec, "period")?;
+        // a bridge given by its modes: the period axis is its period scales
+        let modal = if spec.link_exists("period_scale") {
+            Some(StoredModal {
+                period_scales: values(&spec, "period_scale")?,
+                modes_file: attr(&file, "modes_file")?,
+                modes_sha256: attr(&file, "modes_sha256")?,
+            })
+        } else {
+            None
+        };
+        let periods: Vec<f64> = values(&spec, if modal.is_some() { "longest_period" } else { "period" })?;
+        if modal.as_ref().is_some_and(|m| m.period_scales.len() != periods.len()) {
+            return Err(hdf5::Error::from("/spectrum/longest_period does not match /spectrum/period_scale"));
+        }
         let damping: Vec<f64> = values(&spec, "damping")?;
         let record_names = text(&spec, "record")?;
         let cases = text(&spec, "case")?;
         let scope: Vec<u32> = values(&spec, "scope")?;
         let dims = [cases.len(), record_names.len(), damping.len(), periods.len()];
-        let results = read_results(&spec, dims)?;
+        let joints = joint_names(&file)?;
+        let mut results = read_results(&spec, dims, modal.is_some().then_some(&joints[..]))?;
+        if modal.is_none() && !joints.is_empty() {
+            return Err(hdf5::Error::from("/joints: joints after the first belong to a bridge given by its modes"));
+        }
+        read_joints(&file, &mut results)?;
         let n = results.status.len();
         if let Some(&j) = scope.iter().find(|&&j| j as usize >= n) {
             return Err(hdf5::Error::from(format!("/spectrum/scope names job {j}, beyond the sweep's jobs")));
@@ -265,6 +324,7 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
             shard: attr(&file, "shard")?,
             scope,
             periods,
+            modal,
             damping,
             cases,
             records,

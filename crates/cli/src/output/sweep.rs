@@ -14,11 +14,14 @@ pub fn sweep_summary(
     retry: Option<&crate::continuation::Next>,
     json: bool,
 ) {
+    // a bridge given by its modes sweeps period scales, not periods
+    let axis = if s.modal { "period_scale" } else { "period" };
+    let at = |z: f64, t: f64| if s.modal { format!("period scale {t}") } else { format!("damping {z} / T {t:.4} s") };
     if json {
         let failures: Vec<_> = s
             .failed
             .iter()
-            .map(|(case, record, z, t, msg)| json!({"case": case, "record": record, "damping": z, "period": t, "message": msg}))
+            .map(|(case, record, z, t, msg)| json!({"case": case, "record": record, "damping": z, axis: t, "message": msg}))
             .collect();
         let v = json!({
             "output": s.output.display().to_string(),
@@ -35,7 +38,7 @@ pub fn sweep_summary(
             "flagged": s.flagged.len(),
             "flag_counts": flag_counts(&s.flagged),
             "flagged_jobs": s.flagged.iter().map(|(case, record, z, t, bits, findings)| json!({
-                "case": case, "record": record, "damping": z, "period": t,
+                "case": case, "record": record, "damping": z, axis: t,
                 "validity": bits, "flags": Flags(*bits).names(), "findings": findings,
             })).collect::<Vec<_>>(),
             "pounded": s.pounded,
@@ -74,9 +77,10 @@ pub fn sweep_summary(
     if let Some((f, case, record, z, t)) = &s.peak_contact {
         out!(
             "pounding: the beams of {} job(s) struck each other; the largest contact force, {:.1} kN, in {case} / \
-             {record} / damping {z} / T {t:.4} s",
+             {record} / {}",
             s.pounded,
-            f / 1e3
+            f / 1e3,
+            at(*z, *t)
         );
     }
     if let Some(mb) = s.peak_memory_mb {
@@ -85,7 +89,7 @@ pub fn sweep_summary(
     if !s.failed.is_empty() {
         out!("{} jobs failed:", s.failed.len());
         for (case, record, z, t, msg) in &s.failed {
-            out!("  {case} / {record} / damping {z} / T {t:.4} s: {msg}");
+            out!("  {case} / {record} / {}: {msg}", at(*z, *t));
         }
         if let Some(retry) = retry {
             out!(
@@ -104,7 +108,7 @@ pub fn sweep_summary(
         );
         const SHOWN: usize = 10;
         for (case, record, z, t, _, findings) in s.flagged.iter().take(SHOWN) {
-            out!("  {case} / {record} / damping {z} / T {t:.4} s: {findings}");
+            out!("  {case} / {record} / {}: {findings}", at(*z, *t));
         }
         if s.flagged.len() > SHOWN {
             out!("  ... and {} more (all in the output's /spectrum/with_joint/findings)", s.flagged.len() - SHOWN);
@@ -203,11 +207,17 @@ pub fn plan_summary(
         return;
     }
     let [nc, nr, nz, nt] = plan.dims();
+    // a bridge given by its modes sweeps period scales, not periods
+    let (axis, one, many) = if plan.modal.is_some() {
+        ("period_scales", "period scale", "period scales")
+    } else {
+        ("periods", "period", "periods")
+    };
     if json {
         let v = json!({
             "config": path.display().to_string(),
             "jobs": plan.job_count(),
-            "cases": nc, "records": nr, "dampings": nz, "periods": nt,
+            "cases": nc, "records": nr, "dampings": nz, axis: nt,
             "threads_per_shard": threads,
             "shards": shards.iter().enumerate().map(|(k, e)| json!({
                 "shard": format!("{}/{}", k + 1, shards.len()),
@@ -229,7 +239,7 @@ pub fn plan_summary(
         count(nc, "case", "cases"),
         count(nr, "record", "records"),
         count(nz, "damping ratio", "damping ratios"),
-        count(nt, "period", "periods"),
+        count(nt, one, many),
         quakejoint_sweep::progress::format_duration(total)
     );
     for (k, e) in shards.iter().enumerate() {
