@@ -1,0 +1,286 @@
+//! The joint's part of a config (`[joint]`): its beams, bearings,
+//! bushings, friction, contacts and movement capacity.
+
+use serde::{Deserialize, Serialize};
+
+/// The swivel-joist joint.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct JointConfig {
+    /// Whether the joint is part of the model (false: the bridge alone, still
+    /// integrated by the multibody solver).
+    pub enabled: bool,
+    /// Number of center beams `Nc` [-].
+    pub center_beams: usize,
+    /// Reference pitch of the center beams `s0` \[m\]; the gap is `(Nc + 1) s0`.
+    pub pitch: f64,
+    /// Center beams.
+    pub center_beam: CenterBeamConfig,
+    /// Support beams (mass and inertia; the list of positions is `support_beams`).
+    pub support_beam: SupportBeamConfig,
+    /// Bearings.
+    pub bearing: BearingConfig,
+    /// The support beams: guide(s) and swivel joists.
+    pub support_beams: Vec<SupportBeam>,
+    /// Bushing between each bearing and its center beam.
+    pub bushing: BushingConfig,
+    /// Sliding friction between each bearing and its support beam.
+    pub friction: FrictionConfig,
+    /// Contact between neighbouring beams when a sub-gap closes (pounding).
+    pub contact: ContactConfig,
+    /// Movement capacity of the joint.
+    pub capacity: CapacityConfig,
+}
+
+impl Default for JointConfig {
+    fn default() -> Self {
+        let mut support_beams = vec![SupportBeam { kind: SupportKind::Guide, y: -7.2, angle_deg: 0.0 }];
+        // pivots at -5.6 + 1.4 j m (j = 0..8), written out so they are the decimal values
+        let pivots = [-5.6, -4.2, -2.8, -1.4, 0.0, 1.4, 2.8, 4.2, 5.6];
+        let angles = [-20.0, -17.0, -13.0, -13.0, 13.0, 13.0, 13.0, 17.0, 20.0];
+        for (&y, &angle_deg) in pivots.iter().zip(&angles) {
+            support_beams.push(SupportBeam { kind: SupportKind::Joist, y, angle_deg });
+        }
+        Self {
+            enabled: true,
+            center_beams: 27,
+            pitch: 0.13,
+            center_beam: CenterBeamConfig::default(),
+            support_beam: SupportBeamConfig::default(),
+            bearing: BearingConfig::default(),
+            support_beams,
+            bushing: BushingConfig::default(),
+            friction: FrictionConfig::default(),
+            contact: ContactConfig::default(),
+            capacity: CapacityConfig::default(),
+        }
+    }
+}
+
+/// Center beam properties.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CenterBeamConfig {
+    /// Length along y, centred on y = 0 \[m\].
+    pub length: f64,
+    /// Width in x, used only for the clear sub-gaps \[m\].
+    pub width: f64,
+    /// Mass \[kg\].
+    pub mass: f64,
+    /// Moment of inertia about z [kg m^2]; default `mass * length^2 / 12`.
+    pub inertia: Option<f64>,
+}
+
+impl CenterBeamConfig {
+    /// The moment of inertia: given, or `mass * length^2 / 12` [kg m^2].
+    pub fn inertia(&self) -> f64 {
+        self.inertia.unwrap_or(self.mass * self.length * self.length / 12.0)
+    }
+}
+
+impl Default for CenterBeamConfig {
+    fn default() -> Self {
+        Self { length: 15.0, width: 0.09, mass: 900.0, inertia: None }
+    }
+}
+
+/// Support beam (guide and joist) properties.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SupportBeamConfig {
+    /// Length, for the default inertia only \[m\].
+    pub length: f64,
+    /// Mass \[kg\].
+    pub mass: f64,
+    /// Moment of inertia about z [kg m^2]; default `mass * length^2 / 12`.
+    pub inertia: Option<f64>,
+}
+
+impl SupportBeamConfig {
+    /// The moment of inertia: given, or `mass * length^2 / 12` [kg m^2].
+    pub fn inertia(&self) -> f64 {
+        self.inertia.unwrap_or(self.mass * self.length * self.length / 12.0)
+    }
+}
+
+impl Default for SupportBeamConfig {
+    fn default() -> Self {
+        Self { length: 7.5, mass: 600.0, inertia: None }
+    }
+}
+
+/// Bearing properties.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BearingConfig {
+    /// Mass \[kg\].
+    pub mass: f64,
+    /// Moment of inertia about z [kg m^2].
+    pub inertia: f64,
+}
+
+impl Default for BearingConfig {
+    fn default() -> Self {
+        Self { mass: 20.0, inertia: 0.3 }
+    }
+}
+
+/// A guide or a swivel joist.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SupportKind {
+    /// Welded to the abutment; its bearings slide along it.
+    Guide,
+    /// Pivots on the abutment and slides through a joist box on the deck.
+    Joist,
+}
+
+/// One support beam.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportBeam {
+    /// Guide or joist.
+    pub kind: SupportKind,
+    /// Transverse position: of the guide's axis, or of a joist's pivot on the abutment \[m\].
+    pub y: f64,
+    /// Angle of the axis to the x axis, counter-clockwise \[deg\].
+    #[serde(default)]
+    pub angle_deg: f64,
+}
+
+/// Bushing between bearing and center beam.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BushingConfig {
+    /// Stiffness along the center beam's x axis [N/m].
+    pub kx: f64,
+    /// Stiffness along the center beam's y axis [N/m].
+    pub ky: f64,
+    /// Damping along x [N s/m].
+    pub cx: f64,
+    /// Damping along y [N s/m].
+    pub cy: f64,
+}
+
+impl Default for BushingConfig {
+    fn default() -> Self {
+        Self { kx: 1.0e7, ky: 1.0e7, cx: 2.0e3, cy: 2.0e3 }
+    }
+}
+
+/// Regularisation of the Coulomb law.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LawConfig {
+    /// `v / max(|v|, v_eps)`.
+    #[default]
+    Linear,
+    /// `v / sqrt(|v|^2 + v_eps^2)`.
+    Smooth,
+}
+
+/// Sliding friction of the bearings.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FrictionConfig {
+    /// Friction coefficient [-].
+    pub mu: f64,
+    /// Normal force per sliding surface (preload) \[N\].
+    pub normal_force: f64,
+    /// Sliding surfaces per bearing [-].
+    pub surfaces: f64,
+    /// Regularisation velocity [m/s].
+    pub v_eps: f64,
+    /// Regularised law.
+    pub law: LawConfig,
+}
+
+impl Default for FrictionConfig {
+    fn default() -> Self {
+        Self { mu: 0.05, normal_force: 20.0e3, surfaces: 2.0, v_eps: 1.0e-3, law: LawConfig::Linear }
+    }
+}
+
+/// The force law of the contact between beams.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactLawConfig {
+    /// Hertz with Hunt-Crossley damping, `F = k delta^1.5 (1 + D delta')`.
+    #[default]
+    Hertz,
+    /// Linear spring and dashpot (Anagnostopoulos), `F = k delta + c delta'`.
+    Linear,
+}
+
+/// How the damping of the Hertz law follows from the restitution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HertzDampingConfig {
+    /// `D = 8 (1 - e) / (5 e v0)` (Ye, Li and Zhu 2009).
+    #[default]
+    YeLiZhu,
+    /// `D = 3 (1 - e^2) / (4 v0)` (Lankarani and Nikravesh 1990).
+    LankaraniNikravesh,
+}
+
+/// Hertz stiffness of the contact at one beam end by default [N/m^1.5]
+/// (docs/model.md, "Pounding"): Muthukumar and DesRoches' value for bridge
+/// decks, 2.75e10 N/m^1.5.
+pub const DEFAULT_HERTZ_STIFFNESS: f64 = 2.75e10;
+/// Linear stiffness of the contact at one beam end by default [N/m]: the
+/// Hertz default's secant at 2.5 mm, `0.75 k_h sqrt(2.5 mm)`, rounded.
+pub const DEFAULT_LINEAR_STIFFNESS: f64 = 1.0e9;
+
+/// Contact between neighbouring beams (center beams, and the outer ones
+/// with the edge beams of the abutment and the deck), at both ends of each
+/// center beam, once a clear sub-gap closes.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactConfig {
+    /// Whether the beams touch (false: they pass through each other, and a
+    /// closed sub-gap is flagged `collision`).
+    pub enabled: bool,
+    /// The force law.
+    pub law: ContactLawConfig,
+    /// Stiffness of the Hertz law at one beam end [N/m^1.5].
+    pub hertz_stiffness: f64,
+    /// Stiffness of the linear law at one beam end [N/m].
+    pub linear_stiffness: f64,
+    /// Coefficient of restitution of one impact [-].
+    pub restitution: f64,
+    /// How the Hertz law's damping follows from the restitution.
+    pub damping: HertzDampingConfig,
+    /// Deepest penetration the contact stands for \[m\]: deeper, the beams
+    /// would be crushed, not touching, and the run is flagged.
+    pub max_penetration: f64,
+}
+
+impl Default for ContactConfig {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            law: ContactLawConfig::Hertz,
+            hertz_stiffness: DEFAULT_HERTZ_STIFFNESS,
+            linear_stiffness: DEFAULT_LINEAR_STIFFNESS,
+            restitution: 0.65,
+            damping: HertzDampingConfig::YeLiZhu,
+            max_penetration: 0.005,
+        }
+    }
+}
+
+/// Movement capacity of the joint.
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CapacityConfig {
+    /// Largest clear opening of one sub-gap \[m\] (80 mm: the usual limit per
+    /// cell of modular joints); the joint's range of opening is `(Nc + 1)`
+    /// times it, less the clear sub-gaps at rest.
+    pub max_subgap: f64,
+}
+
+impl Default for CapacityConfig {
+    fn default() -> Self {
+        Self { max_subgap: 0.08 }
+    }
+}

@@ -1,0 +1,199 @@
+//! What a run reports ([`RunResult`]), and its parts: the adjacent
+//! segment's, the deck's across the bridge, each more joint's.
+
+use quakejoint_solver::{ConstraintResiduals, Stats};
+
+use super::Histories;
+use crate::pounding::Pounding;
+use crate::validity::Validity;
+
+/// The adjacent segment's response (`[bridge.far]`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FarSegment {
+    /// Its circular frequency [rad/s].
+    pub omega: f64,
+    /// Peak absolute acceleration of its deck [m/s^2].
+    pub sa: f64,
+    /// Time of `sa` \[s\].
+    pub t_sa: f64,
+    /// Peak displacement of its deck relative to the ground \[m\].
+    pub sd: f64,
+    /// Peak force of the joint on it \[N\].
+    pub peak_joint_force: f64,
+    /// Its Sa without the joint: the exact linear response to the record
+    /// over the run's window [m/s^2].
+    pub sa_without: f64,
+    /// Largest relative displacement of the two decks, |u - u_far| \[m\].
+    pub max_relative_displacement: f64,
+}
+
+/// The deck's response across the bridge (`bridge.transverse_period`).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Transverse {
+    /// Circular frequency across the bridge [rad/s].
+    pub omega: f64,
+    /// Peak absolute acceleration of the deck across the bridge [m/s^2].
+    pub sa: f64,
+    /// Time of `sa` \[s\].
+    pub t_sa: f64,
+    /// Peak deck displacement across the bridge relative to the ground \[m\].
+    pub sd: f64,
+    /// Peak deck velocity across the bridge relative to the ground [m/s].
+    pub sv: f64,
+    /// Peak force of the joint on the deck across the bridge \[N\].
+    pub peak_joint_force: f64,
+    /// Sa across the bridge without the joint: the exact linear response of
+    /// the transverse oscillator to `[record_y]` over the run's window
+    /// [m/s^2] (0 without `[record_y]`).
+    pub sa_without: f64,
+}
+
+/// Results of one earthquake run (SI units).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunResult {
+    /// Bridge circular frequency [rad/s].
+    pub omega: f64,
+    /// Peak absolute acceleration of the deck [m/s^2].
+    pub sa: f64,
+    /// Time of `sa` \[s\].
+    pub t_sa: f64,
+    /// Pseudo-spectral acceleration `w0^2 Sd` [m/s^2].
+    pub psa: f64,
+    /// Peak deck displacement relative to the ground \[m\].
+    pub sd: f64,
+    /// Time of `sd` \[s\].
+    pub t_sd: f64,
+    /// Peak deck velocity relative to the ground [m/s].
+    pub sv: f64,
+    /// Time of `sv` \[s\].
+    pub t_sv: f64,
+    /// Peak force of the joint on the deck \[N\].
+    pub peak_joint_force: f64,
+    /// Peak bushing force \[N\].
+    pub peak_bushing_force: f64,
+    /// Peak friction force of one bearing \[N\].
+    pub peak_friction_force: f64,
+    /// Energy dissipated by friction \[J\].
+    pub friction_energy: f64,
+    /// Energy dissipated by dampers (bridge and bushings) \[J\].
+    pub damping_energy: f64,
+    /// Work of the earthquake load on the whole system \[J\].
+    pub earthquake_work: f64,
+    /// Smallest clear sub-gap \[m\] (below zero: the beams would collide),
+    /// at either end of the center beams ([`crate::geometry::Geometry::subgaps`]), checked
+    /// at least every [`super::CHECK_INTERVAL`].
+    pub min_subgap: Option<f64>,
+    /// Largest clear sub-gap \[m\], at either end of the center beams.
+    pub max_subgap: Option<f64>,
+    /// Largest deviation of a sub-gap (at either end) from equal spacing \[m\].
+    pub max_subgap_deviation: Option<f64>,
+    /// Pounding: impacts, contact forces, the closed joint's force on the
+    /// deck, contact dissipation.
+    pub pounding: Pounding,
+    /// The deck's response across the bridge, when it moves across.
+    pub transverse: Option<Transverse>,
+    /// The adjacent segment's response, when the joint sits between two
+    /// segments.
+    pub far: Option<FarSegment>,
+    /// Largest energy-balance error divided by the largest earthquake work [-].
+    pub energy_error: f64,
+    /// Largest constraint residuals over the run, by kind and unit.
+    pub residuals: ConstraintResiduals,
+    /// Whether the run stayed inside what the model can stand behind.
+    pub validity: Validity,
+    /// True for the exact linear solution of the bridge alone
+    /// ([`crate::linear::linear_response`]): the joint's quantities, the
+    /// energy balance, the residuals and the solver counters were not
+    /// computed (NaN in the outputs).
+    pub exact_linear: bool,
+    /// Solver counters.
+    pub stats: Stats,
+    /// Wall-clock time of the integration \[s\].
+    pub wall_time_s: f64,
+    /// CPU time of the integration on its thread \[s\] (NaN where the system
+    /// does not tell).
+    pub cpu_time_s: f64,
+    /// Simulated duration \[s\].
+    pub duration: f64,
+    /// Time histories, if requested.
+    pub histories: Option<Histories>,
+    /// A modal bridge's points: peaks with the joints and, filled in by
+    /// [`crate::runspec::RunSpec::run`], of the bridge alone.
+    pub points: Vec<crate::modal::PointPeaks>,
+    /// A modal bridge's peak base shear along the bridge \[N\] (the kept
+    /// modes' forces on the supports).
+    pub base_shear: Option<f64>,
+    /// The same, of the bridge alone \[N\].
+    pub base_shear_without: Option<f64>,
+    /// How much of a modal bridge the kept modes hold, and the warnings
+    /// where they hold too little at the joints' points.
+    pub mode_check: Option<(crate::modal::ModeCheck, Vec<String>)>,
+    /// The other joints of `[[joints]]` (the values above are the first
+    /// one's, its deck point's and the whole system's; `validity` holds
+    /// every joint's flags).
+    pub joints: Vec<PlacedJointResult>,
+}
+
+/// The results of one more joint of `[[joints]]` (SI units).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PlacedJointResult {
+    /// Its name.
+    pub name: String,
+    /// Peak absolute acceleration of its deck point [m/s^2].
+    pub sa: f64,
+    /// Time of `sa` \[s\].
+    pub t_sa: f64,
+    /// Peak displacement of its deck point relative to the ground \[m\].
+    pub sd: f64,
+    /// Peak velocity of its deck point relative to the ground [m/s].
+    pub sv: f64,
+    /// Peak force of the joint on the deck \[N\].
+    pub peak_joint_force: f64,
+    /// Smallest clear sub-gap \[m\].
+    pub min_subgap: Option<f64>,
+    /// Largest clear sub-gap \[m\].
+    pub max_subgap: Option<f64>,
+    /// Largest deviation of a sub-gap from equal spacing \[m\].
+    pub max_subgap_deviation: Option<f64>,
+    /// Its pounding (the contact energy is the whole system's).
+    pub pounding: Pounding,
+    /// Whether it stayed inside what the model can stand behind.
+    pub validity: Validity,
+    /// Its time histories (its deck point's motion in its own x, its force
+    /// on the deck, its cells), if requested.
+    pub histories: Option<Histories>,
+}
+
+impl PlacedJointResult {
+    /// Its peak values: name, value (NaN where not computed) and unit, as
+    /// a run's `/joints/<k>` and a sweep's `/joints/<k>` store them (its
+    /// validity bits apart).
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 12] {
+        let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
+        let p = &self.pounding;
+        [
+            ("sa", self.sa, "m/s^2"),
+            ("t_sa", self.t_sa, "s"),
+            ("sd", self.sd, "m"),
+            ("sv", self.sv, "m/s"),
+            ("peak_joint_force", self.peak_joint_force, "N"),
+            ("min_subgap", opt(self.min_subgap), "m"),
+            ("max_subgap", opt(self.max_subgap), "m"),
+            ("max_subgap_deviation", opt(self.max_subgap_deviation), "m"),
+            ("impacts", p.impacts as f64, "1"),
+            ("peak_contact_force", p.peak_contact_force, "N"),
+            ("peak_deck_contact_force", p.peak_deck_contact_force, "N"),
+            ("max_penetration", p.max_penetration, "m"),
+        ]
+    }
+}
+
+impl RunResult {
+    /// Scalar results of a run: name, value, unit, in the order of
+    /// [`crate::fields::FIELDS`]. Quantities a run did not compute are NaN
+    /// (the joint's, the energy balance and the solver counters of the
+    /// exact linear solution without the joint).
+    pub fn scalars(&self) -> Vec<(&'static str, f64, &'static str)> {
+        crate::fields::FIELDS.iter().map(|f| (f.name, (f.value)(self), f.units)).collect()
+    }
+}
