@@ -366,7 +366,9 @@ pub struct JointModel {
     pub bearings: Vec<Vec<BodyId>>,
     /// The joist-box constraints (the joint's only connection to the deck).
     pub joist_boxes: Vec<ConstraintId>,
-    /// The adjacent segment's deck on the abutment side, if there is one.
+    /// The body the joint's abutment side rests on when it moves: the
+    /// adjacent segment's deck (`[bridge.far]`), or at an in-span hinge of a
+    /// modal bridge the abutment end; none: the ground.
     pub far_deck: Option<BodyId>,
     /// The joist pivots and guide welds (the joint's connection to the
     /// abutment, or to the adjacent segment).
@@ -519,6 +521,11 @@ pub fn build_with(
     let mut contacts = 0;
     for (k, (model, place)) in models.iter_mut().zip(&places).enumerate() {
         let abutment = hinges[k].unwrap_or(if k == 0 { abutment } else { BodyId::GROUND });
+        if let Some(h) = hinges[k] {
+            // the abutment side moves: its edge beam with it (the sub-gaps and
+            // the validity checks read it, as an adjacent segment's deck)
+            model.far_deck = Some(h);
+        }
         model.deck = decks[k];
         connect_joint(&mut sys, model, decks[k], abutment, &place.prefix);
         let j = &place.config.joint;
