@@ -39,6 +39,9 @@ pub struct Config {
     /// docs/bridge.md): each placed at points of the modes file; empty: the
     /// one joint of `[joint]` at `bridge.modal.joint_point` (or on the
     /// single-DOF deck).
+    // (left out of a config written back when empty: a single-DOF config's
+    // text, and so its sweep's identity, are what they were before)
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub joints: Vec<PlacedJointConfig>,
 }
 
