@@ -32,19 +32,36 @@
 //! `bridge.modal.modes_used` or `joint_point` but not the modes file, the
 //! period scale or `bridge.damping`.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use quakejoint_model::config::ModalConfig;
 use quakejoint_model::runspec::{Named, Overrides, RunSpec};
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::sha256_hex;
-use quakejoint_motion::{
-    load_record, period_range, scale_suite, Record, RecordSpec, SuiteRule, SuiteScaling, TargetSpectrum, G,
-    MAX_ACCELERATION_G,
-};
+use quakejoint_motion::RecordSpec;
 
 use crate::error::SweepError;
 
+mod cases;
+mod cost;
+mod grid;
+mod modal;
+mod records;
+mod suite;
+
+pub use cases::Case;
+use cases::{merge, refused_in_case};
+use cost::bodies_of;
+pub use cost::{
+    cost_seconds, Estimate, COST_PER_BODY_SAMPLE, COST_PER_SAMPLE, MEMORY_BASE_MB, MEMORY_PER_BODY_MB,
+    MEMORY_PER_WORKER_MB,
+};
+use grid::{check_swept, grid_of};
+use modal::modal_axis;
+pub use modal::{modal_alone, ModalSweep};
+use records::window_warning;
+pub use records::SweepRecord;
+use suite::{suite_of, suite_warnings};
+pub use suite::{Suite, SUITE_KEYS};
 /// The keys of the `[sweep]` table.
 pub const SWEEP_KEYS: [&str; 8] =
     ["periods", "period_scales", "damping", "records", "cases", "histories", "checkpoint_seconds", "suite"];
@@ -52,111 +69,6 @@ pub const SWEEP_KEYS: [&str; 8] =
 /// Longest interval between checkpoints or progress lines \[s\] (116 days;
 /// the longest run allowed, `simulation.max_wall_time`, is as long).
 pub const MAX_INTERVAL: f64 = 1e7;
-
-/// The keys of the `[sweep.suite]` table.
-pub const SUITE_KEYS: [&str; 3] = ["target", "range", "rule"];
-
-/// A suite of records scaled to a target spectrum (`[sweep.suite]`).
-#[derive(Debug, Clone)]
-pub struct Suite {
-    /// The target spectrum.
-    pub target: TargetSpectrum,
-    /// Periods of the fit \[s\].
-    pub range: (f64, f64),
-    /// What the Eurocode 8 rule does.
-    pub rule: SuiteRule,
-    /// The factors and the check (the records of the plan are scaled by
-    /// them already).
-    pub scaling: SuiteScaling,
-}
-
-/// One named parameter set.
-#[derive(Debug, Clone)]
-pub struct Case {
-    /// Name, unique within the sweep.
-    pub name: String,
-    /// The full config of this case.
-    pub config: Config,
-    /// Number of joint bodies (for the cost estimate).
-    pub bodies: usize,
-}
-
-/// A record of the sweep.
-#[derive(Debug, Clone)]
-pub struct SweepRecord {
-    /// How it was specified.
-    pub spec: RecordSpec,
-    /// The record (m/s^2).
-    pub record: Record,
-    /// SHA-256 of the file's bytes (hex).
-    pub sha256: String,
-    /// Warnings from reading it.
-    pub warnings: Vec<String>,
-    /// The file it was read from (resolved against the config's folder).
-    pub path: PathBuf,
-}
-
-impl SweepRecord {
-    /// Reads a record and hashes its file.
-    pub fn load(spec: RecordSpec, base_dir: &Path) -> Result<Self, SweepError> {
-        let loaded = load_record(&spec, base_dir)?;
-        let path = spec.resolve_path(base_dir);
-        Ok(Self { sha256: loaded.sha256, record: loaded.record, warnings: loaded.warnings, spec, path })
-    }
-}
-
-/// What a sweep over a bridge given by its modes (`[bridge.modal]`) adds
-/// to its plan: the swept factors on the modes' periods, the modes file
-/// and the joints after the first.
-#[derive(Debug, Clone)]
-pub struct ModalSweep {
-    /// The swept factors on every period of the modes [-]
-    /// (`sweep.period_scales`; each job's `bridge.modal.period_scale`).
-    pub period_scales: Vec<f64>,
-    /// Whether they are `sweep.period_scales` (else the config's own
-    /// `bridge.modal.period_scale`, 1 by default: one job per record and
-    /// case, each the config's run as it stands).
-    pub swept: bool,
-    /// The modes file as the config names it (`bridge.modal.modes`).
-    pub file: String,
-    /// The modes file, resolved against the config's folder.
-    pub path: PathBuf,
-    /// SHA-256 of its bytes (hex), part of the config's hash: a changed
-    /// modes file is another sweep.
-    pub sha256: String,
-    /// The names of the joints after the first of `[[joints]]` (their
-    /// values are stored per joint).
-    pub joints: Vec<String>,
-}
-
-impl ModalSweep {
-    /// The override of the jobs at period scale `t` (an index), named as
-    /// the sweep names it (none when the scale is the config's own).
-    pub fn overrides(&self, t: usize) -> Overrides {
-        Overrides {
-            period_scale: self.swept.then(|| Named::new(self.period_scales[t], format!("sweep.period_scales[{t}]"))),
-            ..Overrides::default()
-        }
-    }
-}
-
-/// The bridge alone at the first joint's deck point of a config with a
-/// bridge given by its modes (as its period scale sets them), under
-/// `window` (the ground motion over the run's window): the exact modal
-/// superposition ([`quakejoint_model::linear::modal_response`]), as
-/// `quakejoint simulate --no-joint` gives it.
-pub fn modal_alone(config: &Config, window: &Record) -> Result<quakejoint_model::run::RunResult, ModelError> {
-    let Some(m) = &config.bridge.modal else {
-        return Err(ModelError::Invalid {
-            field: "bridge.modal".into(),
-            value: "none".into(),
-            reason: "the bridge is not given by its modes".into(),
-        });
-    };
-    let kept = quakejoint_model::modal::kept_modes(m, config.bridge.damping)?;
-    let point = quakejoint_model::placement::places(config)?[0].deck_point;
-    Ok(quakejoint_model::linear::modal_response(window, &kept, point, false))
-}
 
 /// Everything a sweep computes.
 #[derive(Debug, Clone)]
@@ -208,12 +120,54 @@ pub struct Job {
     pub period: usize,
 }
 
-mod axes;
-mod estimate;
+fn sweep_err(field: &str, message: impl Into<String>) -> SweepError {
+    SweepError::Config { field: field.to_string(), message: message.into() }
+}
 
-use axes::*;
-use estimate::bodies_of;
-pub use estimate::*;
+fn f64_of(v: &toml::Value, field: &str) -> Result<f64, SweepError> {
+    match v {
+        toml::Value::Float(x) => Ok(*x),
+        toml::Value::Integer(i) => Ok(*i as f64),
+        other => Err(sweep_err(field, format!("expected a number, found {other}"))),
+    }
+}
+
+fn list_of_f64(v: &toml::Value, field: &str) -> Result<Vec<f64>, SweepError> {
+    match v {
+        toml::Value::Array(items) => items.iter().map(|x| f64_of(x, field)).collect(),
+        other => Ok(vec![f64_of(other, field)?]),
+    }
+}
+
+/// Settings that change no finished result are left out of the config's
+/// hash: the per-job limits `simulation.max_wall_time` and
+/// `simulation.max_steps` (a job either ends within them with the same
+/// numbers or is recorded as stopped) and `sweep.checkpoint_seconds`. So a
+/// sweep can be continued, and its stopped jobs retried, with raised limits.
+/// `table` is the config or its `[sweep]` table (whose cases may set the
+/// limits too).
+fn without_run_settings(table: &toml::Table) -> toml::Table {
+    fn strip(t: &mut toml::Table) {
+        if let Some(toml::Value::Table(sim)) = t.get_mut("simulation") {
+            sim.remove("max_wall_time");
+            sim.remove("max_steps");
+            if sim.is_empty() {
+                t.remove("simulation");
+            }
+        }
+    }
+    let mut t = table.clone();
+    strip(&mut t);
+    t.remove("checkpoint_seconds");
+    if let Some(toml::Value::Array(cases)) = t.get_mut("cases") {
+        for case in cases {
+            if let toml::Value::Table(c) = case {
+                strip(c);
+            }
+        }
+    }
+    t
+}
 
 impl Plan {
     /// Reads the sweep of a config file (`source` names it in messages;
@@ -575,33 +529,5 @@ impl Plan {
             damping: index / nt % nz,
             period: index % nt,
         }
-    }
-
-    /// Estimated cost of a job: seconds on one core of the reference machine
-    /// ([`cost_seconds`]).
-    pub fn cost(&self, job: Job) -> f64 {
-        let case = &self.cases[job.case];
-        let record = &self.records[job.record].record;
-        let duration = quakejoint_model::run::run_duration(&case.config, record);
-        cost_seconds(case.bodies, duration / record.dt, self.periods[job.period])
-    }
-
-    /// The jobs of shard `k` of `n` (1-based `k`): jobs sorted by decreasing
-    /// cost are dealt to the currently lightest shard (longest processing
-    /// time first), which balances cost and depends only on the plan.
-    pub fn shard(&self, k: usize, n: usize) -> Vec<usize> {
-        let mut order: Vec<usize> = (0..self.job_count()).collect();
-        order.sort_by(|&a, &b| self.cost(self.job(b)).total_cmp(&self.cost(self.job(a))).then(a.cmp(&b)));
-        let mut load = vec![0.0f64; n];
-        let mut mine = Vec::new();
-        for i in order {
-            let s = (0..n).min_by(|&x, &y| load[x].total_cmp(&load[y]).then(x.cmp(&y))).unwrap_or(0);
-            load[s] += self.cost(self.job(i));
-            if s + 1 == k {
-                mine.push(i);
-            }
-        }
-        mine.sort_unstable();
-        mine
     }
 }

@@ -1,12 +1,24 @@
-//! Whether an output can be written or continued (not an input, not
-//! another sweep's file, agreeing with the plan), and `sweep --check`
-//! ([`check_sweep`]).
+//! The checks of a sweep's output and the continuation logic: before
+//! anything is written, an output that would overwrite an input, or a file
+//! that is not a sweep's output, is refused; the output on disk is
+//! measured against its journal (it agrees, is behind, or is rebuilt);
+//! and `quakejoint sweep --check` ([`check_sweep`]) says what a run would
+//! do without running or writing anything.
 
-use super::*;
+use std::path::{Path, PathBuf};
+
+use super::{expected_file, header, journal_path, scope, SweepOptions};
+use crate::error::SweepError;
+use crate::lock::lock_path;
+use crate::plan::Plan;
+use crate::results::status;
+use crate::sweep_h5::{read_sweep, SweepFile};
+use quakejoint_io::files::{describe, same_file};
+use quakejoint_io::h5::temporary_name;
 
 /// Refuses an output whose files (the output, its journal, lock or
 /// temporary file) would overwrite an input (the config, a record).
-pub(super) fn check_not_an_input(output: &Path, inputs: &[PathBuf]) -> Result<(), SweepError> {
+fn check_not_an_input(output: &Path, inputs: &[PathBuf]) -> Result<(), SweepError> {
     let targets = [output.to_path_buf(), journal_path(output), lock_path(output), temporary_name(output)];
     for t in &targets {
         if let Some(input) = inputs.iter().find(|i| same_file(t, i)) {
@@ -29,7 +41,7 @@ pub(super) fn check_not_an_input(output: &Path, inputs: &[PathBuf]) -> Result<()
 /// every job it holds as finished is in the journal with the same numbers.
 /// A file behind the journal (killed before its last checkpoint) agrees;
 /// it is rewritten at the end anyway.
-pub(super) fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
+fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
     if existing.config_sha256 != expected.config_sha256 {
         return Err("it was written for another config".into());
     }
@@ -147,6 +159,8 @@ pub struct Check {
 /// the records, the output and its journal (which must record this sweep),
 /// and the output itself, read and verified against the journal and the
 /// config as a run verifies it. Nothing is created, changed or locked.
+///
+/// [`run_sweep`]: super::run_sweep
 pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError> {
     check_output(plan, opts)?;
     let jpath = journal_path(&opts.output);

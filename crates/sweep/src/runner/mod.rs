@@ -19,24 +19,26 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use crossbeam_channel::{unbounded, Receiver, RecvTimeoutError};
+use crossbeam_channel::unbounded;
 use indicatif::ProgressBar;
-use quakejoint_model::run::{RunOptions, RunResult};
-use quakejoint_model::runspec::{Reference, RunSpec};
-use quakejoint_model::ModelError;
-use quakejoint_solver::SolverError;
 
 use crate::error::SweepError;
 use crate::journal::{Header, Journal};
-use crate::lock::{lock_path, OutputLock};
-use crate::plan::{Job, Plan};
+use crate::lock::OutputLock;
+use crate::plan::Plan;
 use crate::progress::{Progress, Reporter};
-use crate::results::{status, JobResult, JointJobResult, Results, FIELDS};
-use crate::sweep_h5::{read_sweep, write_sweep, StoredRecord, SweepFile};
-use quakejoint_io::files::{describe, same_file};
-use quakejoint_io::h5::temporary_name;
+use crate::results::{status, JobResult, Results, FIELDS};
+use crate::sweep_h5::{StoredRecord, SweepFile};
 use quakejoint_io::run_h5::{Provenance, RecordSource};
 
+mod check;
+mod job;
+mod writer;
+
+use check::{check_output, not_an_output, output_state};
+pub use check::{check_sweep, Check};
+pub use job::{run_job, without_joint};
+use writer::Writer;
 /// Version of the journal format (2: the config's hash leaves out the
 /// per-job limits; 3: validity flags and split constraint residuals; 4:
 /// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
@@ -210,126 +212,6 @@ fn expected_file(plan: &Plan, opts: &SweepOptions) -> Result<SweepFile, SweepErr
     without_joint(plan, &mut file.results)?;
     Ok(file)
 }
-
-/// The exact linear spectra of every record, damping and period; for a
-/// bridge given by its modes, the exact modal superposition at the first
-/// joint's point of every case, record and period scale
-/// ([`crate::plan::modal_alone`]).
-pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepError> {
-    let [_, nr, nz, nt] = plan.dims();
-    if let Some(m) = &plan.modal {
-        for (c, case) in plan.cases.iter().enumerate() {
-            for (r, rec) in plan.records.iter().enumerate() {
-                // over the runs' window, which every case shares (Plan::new)
-                let reference = Reference::for_run(&case.config, &rec.record, &rec.record);
-                for t in 0..nt {
-                    let spec = RunSpec::new(case.config.clone(), &m.overrides(t))?;
-                    let alone = crate::plan::modal_alone(&spec.config, reference.window())?;
-                    let at = ((c * nr + r) * nz) * nt + t;
-                    for (k, v) in [alone.sa, alone.psa, alone.sd, alone.sv].into_iter().enumerate() {
-                        results.without[k][at] = v;
-                    }
-                }
-            }
-        }
-        return Ok(());
-    }
-    for (r, rec) in plan.records.iter().enumerate() {
-        // over the runs' window, which every case shares (Plan::new)
-        let reference = Reference::for_run(&plan.cases[0].config, &rec.record, &rec.record);
-        let rows = reference
-            .spectrum(&plan.periods, &plan.damping)
-            .map_err(|e| SweepError::Config { field: "sweep".into(), message: e.to_string() })?;
-        for (i, row) in rows.iter().enumerate() {
-            let (z, t) = (i / nt, i % nt);
-            let at = (r * nz + z) * nt + t;
-            let p = &row.peaks;
-            for (k, v) in [p.sa, p.psa, p.sd, p.sv].into_iter().enumerate() {
-                results.without[k][at] = v;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The job's values in [`FIELDS`] order: the run's fields marked `per_job`.
-fn values_of(r: &RunResult) -> Vec<f64> {
-    quakejoint_model::fields::FIELDS.iter().filter(|f| f.per_job).map(|f| (f.value)(r)).collect()
-}
-
-/// Runs one job; `None` if `cancel` stopped it.
-pub fn run_job(
-    plan: &Plan,
-    index: usize,
-    progress: Option<quakejoint_model::run::ProgressFn>,
-    cancel: Option<Arc<AtomicBool>>,
-) -> Option<JobResult> {
-    let job = plan.job(index);
-    let Job { case, record, period, .. } = job;
-    // the job's period and damping from the grid (a bridge given by its
-    // modes: its period scale), applied and checked as every front end's
-    // overrides are
-    let overrides = plan.overrides(job);
-    let want_history = plan.history_periods.contains(&period);
-    let rec = &plan.records[record].record;
-    let options = RunOptions { histories: want_history, progress, cancel, ..RunOptions::default() };
-    let outcome = if crate::fault::job_fails(index) {
-        Err(ModelError::Solver(SolverError::StepFailed {
-            time: 0.0,
-            h: 0.0,
-            attempts: 0,
-            cause: quakejoint_solver::StepFailure::NonFinite,
-        }))
-    } else {
-        RunSpec::new(plan.cases[case].config.clone(), &overrides)
-            .and_then(|spec| spec.run(rec, plan.record_y.as_ref().map(|r| &r.record), &options))
-    };
-    match outcome {
-        Ok(mut r) => {
-            let history = r.histories.take().map(|h| h.for_sweep());
-            Some(JobResult {
-                job: index as u32,
-                status: status::OK,
-                message: String::new(),
-                values: values_of(&r),
-                validity: r.validity.flags.0,
-                findings: r.validity.message(),
-                history,
-                joints: r
-                    .joints
-                    .iter()
-                    .map(|j| JointJobResult {
-                        values: j.scalars().iter().map(|&(_, v, _)| v).collect(),
-                        validity: j.validity.flags.0,
-                    })
-                    .collect(),
-            })
-        }
-        Err(ModelError::Interrupted { .. }) => None,
-        Err(e) => {
-            let code = match &e {
-                ModelError::Solver(SolverError::WallClockLimit { .. } | SolverError::StepLimit { .. }) => status::LIMIT,
-                ModelError::Solver(_) => status::FAILED,
-                _ => status::INVALID,
-            };
-            Some(JobResult {
-                job: index as u32,
-                status: code,
-                message: e.to_string(),
-                values: vec![f64::NAN; FIELDS.len()],
-                validity: quakejoint_model::validity::Flags::NOT_CHECKED.0,
-                findings: "not_checked: the job did not finish".to_string(),
-                history: None,
-                joints: Vec::new(),
-            })
-        }
-    }
-}
-
-mod check;
-
-use check::*;
-pub use check::{check_sweep, Check};
 
 /// Runs a sweep: starts it, or continues the one its journal records.
 pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError> {
@@ -536,66 +418,4 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         journal: jpath,
         peak_memory_mb: quakejoint_model::resources::peak_memory_mb(),
     })
-}
-
-/// The writer thread's state: it journals each result, keeps the arrays,
-/// checkpoints the HDF5 file and reports progress; a write error stops the
-/// workers (the journal keeps what was finished).
-struct Writer {
-    journal: Journal,
-    file: SweepFile,
-    output: PathBuf,
-    checkpoint: Duration,
-    /// The output on disk is behind the arrays.
-    dirty: bool,
-    reporter: Reporter,
-    /// Cost-model estimate of every job [s].
-    costs: Vec<f64>,
-}
-
-impl Writer {
-    fn run(mut self, rx: Receiver<JobResult>, stop: &AtomicBool) -> Result<SweepFile, SweepError> {
-        let result = self.receive(&rx, stop);
-        if result.is_err() {
-            stop.store(true, Ordering::Relaxed);
-            // let the workers finish their current send
-            while rx.recv().is_ok() {}
-        }
-        let state = match &result {
-            Err(_) => "stopped by an error",
-            Ok(()) if stop.load(Ordering::Relaxed) => "interrupted",
-            Ok(()) => "finished",
-        };
-        self.reporter.finish(state);
-        result.map(|()| self.file)
-    }
-
-    fn receive(&mut self, rx: &Receiver<JobResult>, stop: &AtomicBool) -> Result<(), SweepError> {
-        let mut last = Instant::now();
-        loop {
-            let wait = self.reporter.until_next_line().unwrap_or(Duration::from_secs(3600));
-            match rx.recv_timeout(wait) {
-                Ok(result) => {
-                    self.journal.append(&result)?;
-                    let failed = result.status != status::OK;
-                    let flagged = quakejoint_model::validity::Flags(result.validity).is_flagged();
-                    let cost = self.costs.get(result.job as usize).copied().unwrap_or(0.0);
-                    self.file.results.insert(result);
-                    self.dirty = true;
-                    self.reporter.job_done(failed, flagged, cost);
-                    if last.elapsed() >= self.checkpoint && !stop.load(Ordering::Relaxed) {
-                        write_sweep(&self.output, &self.file)?;
-                        last = Instant::now();
-                        self.dirty = false;
-                    }
-                }
-                Err(RecvTimeoutError::Timeout) => self.reporter.tick(),
-                Err(RecvTimeoutError::Disconnected) => break,
-            }
-        }
-        if self.dirty || !self.output.exists() {
-            write_sweep(&self.output, &self.file)?;
-        }
-        Ok(())
-    }
 }

@@ -1,7 +1,41 @@
-//! What a sweep will cost: CPU time and memory per shard, from the model's
-//! size and the records' lengths (`quakejoint plan`).
+//! The cost of a sweep's jobs: the cost model of a coupled run
+//! ([`cost_seconds`]), the sharding of the jobs by cost, and the time and
+//! memory of running some of them in one process ([`Estimate`]).
 
-use super::*;
+use quakejoint_model::Config;
+
+use super::records::SweepRecord;
+use super::{Job, Plan};
+
+impl Plan {
+    /// Estimated cost of a job: seconds on one core of the reference machine
+    /// ([`cost_seconds`]).
+    pub fn cost(&self, job: Job) -> f64 {
+        let case = &self.cases[job.case];
+        let record = &self.records[job.record].record;
+        let duration = quakejoint_model::run::run_duration(&case.config, record);
+        cost_seconds(case.bodies, duration / record.dt, self.periods[job.period])
+    }
+
+    /// The jobs of shard `k` of `n` (1-based `k`): jobs sorted by decreasing
+    /// cost are dealt to the currently lightest shard (longest processing
+    /// time first), which balances cost and depends only on the plan.
+    pub fn shard(&self, k: usize, n: usize) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.job_count()).collect();
+        order.sort_by(|&a, &b| self.cost(self.job(b)).total_cmp(&self.cost(self.job(a))).then(a.cmp(&b)));
+        let mut load = vec![0.0f64; n];
+        let mut mine = Vec::new();
+        for i in order {
+            let s = (0..n).min_by(|&x, &y| load[x].total_cmp(&load[y]).then(x.cmp(&y))).unwrap_or(0);
+            load[s] += self.cost(self.job(i));
+            if s + 1 == k {
+                mine.push(i);
+            }
+        }
+        mine.sort_unstable();
+        mine
+    }
+}
 
 /// What running some jobs of a plan in one process takes.
 #[derive(Debug, Clone, Copy, PartialEq)]
