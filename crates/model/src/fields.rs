@@ -125,7 +125,7 @@ pub const FIELDS: &[Field] = &[
     field("wall_time_s", "s", "wall-clock time of the integration", |r| r.wall_time_s).per_job().machine(),
     field("cpu_time_s", "s", "CPU time of the integration on its thread (NaN where the system does not report a thread's CPU time): beside `wall_time_s` it shows what waiting for a core or the disk cost", |r| r.cpu_time_s).per_job().machine(),
     field("duration", "s", "simulated duration", |r| r.duration),
-    field("period_y", "s", "the deck's period across the bridge (`bridge.transverse_period`; NaN when the deck does not move across, as for every `_y` value)", |r| across(r, |y| TAU / y.omega)),
+    field("period_y", "s", "the deck's period across the bridge (`bridge.transverse_period`; NaN when the deck does not move across, as for every `_y` value, and on a bridge given by its modes, whose point across has no one period)", |r| across(r, |y| TAU / y.omega)),
     field("sa_y", "m/s^2", "peak absolute acceleration of the deck across the bridge", |r| across(r, |y| y.sa)).per_job(),
     field("t_sa_y", "s", "time of `sa_y`", |r| across(r, |y| y.t_sa)),
     field("sd_y", "m", "peak displacement of the deck across the bridge", |r| across(r, |y| y.sd)).per_job(),

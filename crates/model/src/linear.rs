@@ -18,25 +18,8 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
     let cpu = crate::resources::CpuClock::start();
     let period = 2.0 * std::f64::consts::PI / omega;
     let p = peaks(&record.acceleration, record.dt, period, damping, SpectrumOptions::default());
-    let histories = histories.then(|| {
-        let h = history(&record.acceleration, record.dt, period, damping);
-        let n = record.acceleration.len();
-        Histories {
-            t: (0..n).map(|j| j as f64 * record.dt).collect(),
-            ag: record.acceleration.clone(),
-            u: h.u,
-            v: h.v,
-            a_abs: h.a_abs,
-            joint_force: vec![f64::NAN; n],
-            friction_power: vec![f64::NAN; n],
-            center_beam_dx: Vec::new(),
-            subgaps: Vec::new(),
-            subgaps_wide: Vec::new(),
-            contact_force: Vec::new(),
-            impacts: Vec::new(),
-            ..Histories::default()
-        }
-    });
+    let histories =
+        histories.then(|| exact_histories(record, history(&record.acceleration, record.dt, period, damping)));
     RunResult {
         omega,
         sa: p.sa,
@@ -48,8 +31,32 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
         t_sv: p.t_sv,
         wall_time_s: start.elapsed().as_secs_f64(),
         cpu_time_s: cpu.elapsed_s(),
-        duration: record.duration(),
         histories,
+        ..not_computed(record)
+    }
+}
+
+/// The histories of an exact solution `h` at the record's sample times
+/// (the joint's series NaN).
+fn exact_histories(record: &Record, h: History) -> Histories {
+    let n = record.acceleration.len();
+    Histories {
+        t: (0..n).map(|j| j as f64 * record.dt).collect(),
+        ag: record.acceleration.clone(),
+        u: h.u,
+        v: h.v,
+        a_abs: h.a_abs,
+        joint_force: vec![f64::NAN; n],
+        friction_power: vec![f64::NAN; n],
+        ..Histories::default()
+    }
+}
+
+/// An exact solution of the bridge alone over `record`, before its
+/// values: what it does not compute is NaN, its validity not checked.
+fn not_computed(record: &Record) -> RunResult {
+    RunResult {
+        duration: record.duration(),
         exact_linear: true,
         pounding: crate::pounding::Pounding::not_computed(),
         // across the bridge: see the with-joint run's `sa_without`
@@ -75,34 +82,23 @@ pub fn linear_response(record: &Record, omega: f64, damping: f64, histories: boo
 }
 
 /// Exact response of a modal bridge alone at the point `point` of its
-/// modes file: each kept mode's coordinate is `Gamma_i` times the exact
-/// single-DOF response at its period and damping, and the point moves by
-/// `sum_i phi_ip Gamma_i u_i` (its absolute acceleration: the ground's plus
-/// the modes' relative accelerations so summed). `omega` is the frequency
-/// the result reports (the longest kept period's).
+/// modes file ([`modal_superposition`]); `omega` is the frequency the
+/// result reports (the longest kept period's).
 pub fn modal_response(record: &Record, kept: &[KeptMode], point: usize, histories: bool) -> RunResult {
+    modal_result(record, kept[0].omega, modal_history(record, kept, point), histories)
+}
+
+/// The result of the bridge alone from its history `h` at a point
+/// ([`modal_response`]), reporting the frequency `omega` [rad/s].
+pub fn modal_result(record: &Record, omega: f64, h: History, histories: bool) -> RunResult {
     let start = Instant::now();
     let cpu = crate::resources::CpuClock::start();
-    let h = modal_history(record, kept, point);
     let peak = |x: &[f64]| {
         x.iter()
             .enumerate()
             .fold((0.0f64, 0.0), |(m, t), (j, &v)| if v.abs() > m { (v.abs(), j as f64 * record.dt) } else { (m, t) })
     };
     let ((sa, t_sa), (sd, t_sd), (sv, t_sv)) = (peak(&h.a_abs), peak(&h.u), peak(&h.v));
-    let omega = kept[0].omega;
-    let n = record.acceleration.len();
-    let histories = histories.then(|| Histories {
-        t: (0..n).map(|j| j as f64 * record.dt).collect(),
-        ag: record.acceleration.clone(),
-        u: h.u,
-        v: h.v,
-        a_abs: h.a_abs,
-        joint_force: vec![f64::NAN; n],
-        friction_power: vec![f64::NAN; n],
-        ..Histories::default()
-    });
-    let sdof = linear_response(record, omega, kept[0].damping, false);
     RunResult {
         omega,
         sa,
@@ -114,8 +110,8 @@ pub fn modal_response(record: &Record, kept: &[KeptMode], point: usize, historie
         t_sv,
         wall_time_s: start.elapsed().as_secs_f64(),
         cpu_time_s: cpu.elapsed_s(),
-        histories,
-        ..sdof
+        histories: histories.then(|| exact_histories(record, h)),
+        ..not_computed(record)
     }
 }
 
@@ -125,68 +121,83 @@ pub fn modal_history(record: &Record, kept: &[KeptMode], point: usize) -> Histor
 }
 
 /// [`modal_history`] under a record along the ground's direction `dir`
-/// (0: x, 1: y, through the participation factors of that direction), at
-/// a point of the modes file along that direction.
+/// (0: x, 1: y), at a point of the modes file along that direction.
 pub fn modal_history_in(record: &Record, kept: &[KeptMode], point: usize, dir: usize) -> History {
+    modal_superposition(record, kept, dir).points.swap_remove(point)
+}
+
+/// A modal bridge alone under a record, by exact modal superposition: each
+/// point's history and the base shear, at the record's sample times.
+#[derive(Debug, Clone)]
+pub struct ModalAlone {
+    /// Each point of the modes file: displacement and velocity relative to
+    /// the ground, absolute acceleration.
+    pub points: Vec<History>,
+    /// The base shear along the ground's direction \[N\].
+    pub base_shear: Vec<f64>,
+}
+
+impl ModalAlone {
+    /// Point `p`'s peak displacement \[m\] and absolute acceleration
+    /// \[m/s^2\].
+    pub fn peaks(&self, p: usize) -> [f64; 2] {
+        let h = &self.points[p];
+        [peak(&h.u), peak(&h.a_abs)]
+    }
+
+    /// The peak base shear \[N\].
+    pub fn base_shear_peak(&self) -> f64 {
+        peak(&self.base_shear)
+    }
+}
+
+fn peak(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+/// The bridge alone under `record` along the ground's direction `dir`
+/// (0: x, 1: y, through that direction's participation factors): each kept
+/// mode's coordinate is `Gamma_i` times the exact single-DOF response at
+/// its period and damping (Nigam and Jennings, one per mode), a point moves
+/// by `sum_i phi_ip Gamma_i u_i` (its absolute acceleration: the ground's
+/// plus the modes' relative accelerations so summed), and the base shear is
+/// `sum_i Gamma_i (w_i^2 q_i + 2 zeta_i w_i q_i') = -sum_i Gamma_i^2
+/// a_abs,i` with `a_abs,i` mode `i`'s single-DOF absolute acceleration.
+pub fn modal_superposition(record: &Record, kept: &[KeptMode], dir: usize) -> ModalAlone {
     let n = record.acceleration.len();
-    let mut out = History { u: vec![0.0; n], v: vec![0.0; n], a_abs: record.acceleration.clone() };
-    if let Some(a) = out.a_abs.first_mut() {
+    let points = kept.first().map_or(0, |k| k.shape.len());
+    let mut start = record.acceleration.clone();
+    if let Some(a) = start.first_mut() {
         // (the single-DOF histories start at rest: a_abs(0) = 0)
         *a = 0.0;
     }
+    let mut out = ModalAlone {
+        points: vec![History { u: vec![0.0; n], v: vec![0.0; n], a_abs: start }; points],
+        base_shear: vec![0.0; n],
+    };
     for k in kept {
-        let factor = k.shape[point] * k.gamma[dir];
-        if factor == 0.0 {
+        let gamma = k.gamma[dir];
+        if gamma == 0.0 {
             continue;
         }
         let period = 2.0 * std::f64::consts::PI / k.omega;
         let h = history(&record.acceleration, record.dt, period, k.damping);
-        for j in 0..n {
-            out.u[j] += factor * h.u[j];
-            out.v[j] += factor * h.v[j];
-            if j > 0 {
-                out.a_abs[j] += factor * (h.a_abs[j] - record.acceleration[j]);
+        for (j, a) in h.a_abs.iter().enumerate() {
+            out.base_shear[j] -= gamma * gamma * a;
+        }
+        for (p, point) in out.points.iter_mut().enumerate() {
+            let factor = k.shape[p] * gamma;
+            if factor == 0.0 {
+                continue;
+            }
+            for j in 0..n {
+                point.u[j] += factor * h.u[j];
+                point.v[j] += factor * h.v[j];
+                if j > 0 {
+                    point.a_abs[j] += factor * (h.a_abs[j] - record.acceleration[j]);
+                }
             }
         }
     }
     out
-}
-
-/// The bridge alone at every point of its modes file, by exact modal
-/// superposition ([`modal_history`]): each point's peak displacement \[m\]
-/// and absolute acceleration \[m/s^2\], and the peak base shear \[N\],
-/// `|sum_i Gamma_i (w_i^2 q_i + 2 zeta_i w_i q_i')| = |sum_i Gamma_i^2
-/// a_abs,i|` with `a_abs,i` the single-DOF absolute acceleration of mode `i`.
-pub fn modal_alone(record: &Record, kept: &[KeptMode], points: usize) -> (Vec<[f64; 2]>, f64) {
-    let n = record.acceleration.len();
-    let mut u = vec![vec![0.0; n]; points];
-    let mut a = vec![vec![0.0; n]; points];
-    let mut shear = vec![0.0; n];
-    for k in kept {
-        let period = 2.0 * std::f64::consts::PI / k.omega;
-        let h = history(&record.acceleration, record.dt, period, k.damping);
-        let g2 = k.gamma[0] * k.gamma[0];
-        for j in 0..n {
-            let rel = if j > 0 { h.a_abs[j] - record.acceleration[j] } else { 0.0 };
-            shear[j] -= g2 * h.a_abs[j];
-            for p in 0..points {
-                let f = k.shape[p] * k.gamma[0];
-                u[p][j] += f * h.u[j];
-                a[p][j] += f * rel;
-            }
-        }
-    }
-    let peak = |x: &[f64]| x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let peaks = (0..points)
-        .map(|p| {
-            let abs: Vec<f64> = a[p]
-                .iter()
-                .zip(&record.acceleration)
-                .enumerate()
-                .map(|(j, (r, g))| if j > 0 { r + g } else { 0.0 })
-                .collect();
-            [peak(&u[p]), peak(&abs)]
-        })
-        .collect();
-    (peaks, peak(&shear))
 }

@@ -440,11 +440,18 @@ impl ModalParts {
     /// Each mode's acceleration `y''` \[m/s^2\] at the state `(q, v)` with
     /// the ground's acceleration `ag` (x, y) \[m/s^2\], from its equation with the
     /// forces every end passes to it (their links' multipliers, from the
-    /// links' reactions on the ends), into `out`.
-    pub fn accelerations(&self, asm: &Assembly, ws: &mut Workspace, at: Instant<'_>, out: &mut Vec<f64>) {
+    /// links' reactions on the ends), into `out`; `forces` is scratch.
+    pub fn accelerations(
+        &self,
+        asm: &Assembly,
+        ws: &mut Workspace,
+        at: Instant<'_>,
+        forces: &mut Vec<(usize, f64)>,
+        out: &mut Vec<f64>,
+    ) {
         let Instant { t, q, v, lam, ag } = at;
         // (the force each link passes to the modes, at its point)
-        let mut forces: Vec<(usize, f64)> = Vec::with_capacity(2 * self.ends.len());
+        forces.clear();
         for e in &self.ends {
             forces.push((e.point, -e.sign * asm.reaction_sum(ws, t, q, lam, &[e.link], e.body)[0]));
             if let Some((p, link)) = e.across {

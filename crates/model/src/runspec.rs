@@ -138,50 +138,7 @@ impl RunSpec {
     ) -> Result<RunResult, ModelError> {
         let reference = Reference::for_run(&self.config, record_x, record_x);
         if let Some(m) = &self.config.bridge.modal {
-            let kept = kept_modes(m, self.config.bridge.damping)?;
-            // the first joint's deck point
-            let point = crate::placement::places(&self.config)?[0].deck_point;
-            let mut result = if self.alone {
-                crate::linear::modal_response(reference.window(), &kept, point, options.histories)
-            } else {
-                simulate_records(&self.config, record_x, record_y, options)?
-            };
-            let names: Vec<String> = crate::modal::loaded(m)?.points.iter().map(|p| p.name.clone()).collect();
-            let (alone, shear) = crate::linear::modal_alone(reference.window(), &kept, names.len());
-            if self.alone {
-                // the run is the bridge alone: its values are those
-                result.points = names
-                    .into_iter()
-                    .zip(&alone)
-                    .map(|(name, &[sd, sa])| crate::modal::PointPeaks {
-                        name,
-                        sd,
-                        sa,
-                        t_sd: f64::NAN,
-                        t_sa: f64::NAN,
-                        ..Default::default()
-                    })
-                    .collect();
-                result.base_shear = Some(shear);
-            }
-            for (p, [sd, sa]) in result.points.iter_mut().zip(alone) {
-                (p.sd_without, p.sa_without) = (sd, sa);
-            }
-            result.base_shear_without = Some(shear);
-            let bridge = crate::modal::loaded(m)?;
-            let points: Vec<usize> = crate::placement::places(&self.config)?
-                .iter()
-                .flat_map(|p| std::iter::once(p.deck_point).chain(p.abutment_point))
-                .collect();
-            let check = bridge.mode_check(&kept, &points);
-            let warnings = check.warnings(bridge, &points);
-            result.mode_check = Some((check, warnings));
-            if let Some(h) = &mut result.histories {
-                let mut a = crate::linear::modal_history(reference.window(), &kept, point).a_abs;
-                a.resize(h.t.len(), f64::NAN);
-                h.a_abs_without_joint = a;
-            }
-            return Ok(result);
+            return self.run_modal(m, &reference, record_x, record_y, options);
         }
         let mut result = if self.alone {
             crate::linear::linear_response(
@@ -195,6 +152,66 @@ impl RunSpec {
         };
         if let Some(h) = &mut result.histories {
             h.a_abs_without_joint = reference.a_abs(self.period, self.config.bridge.damping, h.t.len());
+        }
+        Ok(result)
+    }
+
+    /// [`RunSpec::run`] of a bridge given by its modes: the run (or the
+    /// bridge alone at the first joint's deck point), each point of the
+    /// modes file and the base shear without the joints, and the check of
+    /// the kept modes, from one modal superposition.
+    fn run_modal(
+        &self,
+        m: &crate::config::ModalConfig,
+        reference: &Reference,
+        record_x: &Record,
+        record_y: Option<&Record>,
+        options: &RunOptions,
+    ) -> Result<RunResult, ModelError> {
+        let kept = kept_modes(m, self.config.bridge.damping)?;
+        let bridge = crate::modal::loaded(m)?;
+        let places = crate::placement::places(&self.config)?;
+        // the first joint's deck point
+        let point = places[0].deck_point;
+        let alone = crate::linear::modal_superposition(reference.window(), &kept, 0);
+        let mut result = if self.alone {
+            let h = alone.points[point].clone();
+            let mut r = crate::linear::modal_result(reference.window(), kept[0].omega, h, options.histories);
+            // the run is the bridge alone: its values are those
+            r.points = bridge
+                .points
+                .iter()
+                .enumerate()
+                .map(|(p, mp)| {
+                    let [sd, sa] = alone.peaks(p);
+                    crate::modal::PointPeaks {
+                        name: mp.name.clone(),
+                        sd,
+                        sa,
+                        t_sd: f64::NAN,
+                        t_sa: f64::NAN,
+                        ..Default::default()
+                    }
+                })
+                .collect();
+            r.base_shear = Some(alone.base_shear_peak());
+            r
+        } else {
+            simulate_records(&self.config, record_x, record_y, options)?
+        };
+        for (p, peaks) in result.points.iter_mut().enumerate() {
+            [peaks.sd_without, peaks.sa_without] = alone.peaks(p);
+        }
+        result.base_shear_without = Some(alone.base_shear_peak());
+        let points: Vec<usize> =
+            places.iter().flat_map(|p| std::iter::once(p.deck_point).chain(p.abutment_point)).collect();
+        let check = bridge.mode_check(&kept, &points);
+        let warnings = check.warnings(bridge, &points);
+        result.mode_check = Some((check, warnings));
+        if let Some(h) = &mut result.histories {
+            let mut a = alone.points[point].a_abs.clone();
+            a.resize(h.t.len(), f64::NAN);
+            h.a_abs_without_joint = a;
         }
         Ok(result)
     }

@@ -227,9 +227,14 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
     }
     if let Some(y) = &r.transverse {
         out!(
-            "  across: T_y {:.4} s, Sa_y {:.5} m/s^2 at t = {:.3} s (without the joint {:.5}), Sd_y {:.6} m, joint \
+            "  across: {}, Sa_y {:.5} m/s^2 at t = {:.3} s (without the joint {:.5}), Sd_y {:.6} m, joint \
              force across {:.1} N",
-            2.0 * std::f64::consts::PI / y.omega,
+            // (a modal bridge has no one period across: its point's modes)
+            if y.omega.is_finite() {
+                format!("T_y {:.4} s", 2.0 * std::f64::consts::PI / y.omega)
+            } else {
+                "the deck point across".to_string()
+            },
             y.sa,
             y.t_sa,
             y.sa_without,

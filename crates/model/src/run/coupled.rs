@@ -18,7 +18,7 @@ use crate::config::Config;
 use crate::error::ModelError;
 use crate::generator::{build_with, Bridge, Drive, JointModel};
 use crate::pounding::{ContactWatch, Pounding};
-use crate::validity::{Monitor, Validity};
+use crate::validity::Monitor;
 use crate::watch::Gaps;
 
 /// Runs the coupled model under given records.
@@ -72,14 +72,14 @@ pub fn simulate_records(
     let cpu_time_s = cpu.elapsed_s();
     let e = sim.energy();
     let energy_error = e.error_relative_to_input();
-    let mut results = obs.joints.into_iter().zip(model.joints()).map(|(mut obs, jm)| {
+    let mut results = obs.joints.into_iter().zip(model.joints()).enumerate().map(|(k, (mut obs, jm))| {
         let validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
         let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
         pounding.contact_energy = e.contact;
         if let (Some(h), Some(log)) = (&mut obs.histories, obs.contacts.as_mut().and_then(|c| c.log.take())) {
             h.impacts = log;
         }
-        JointResult {
+        let joint = PlacedJointResult {
             name: jm.name.clone(),
             sa: obs.sa.value,
             t_sa: obs.sa.time,
@@ -91,17 +91,23 @@ pub fn simulate_records(
             max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
             pounding,
             validity,
-            observer: obs,
-        }
+            // (the first joint's stay the run's; the friction power is the
+            // whole system's: only the run's history has it)
+            histories: if k > 0 {
+                obs.histories.take().map(|h| Histories { friction_power: Vec::new(), ..h })
+            } else {
+                None
+            },
+        };
+        (joint, obs)
     });
-    let first = results.next().expect("a run has a joint");
-    let others: Vec<JointResult> = results.collect();
+    let (first, obs) = results.next().expect("a run has a joint");
+    let others: Vec<PlacedJointResult> = results.map(|(joint, _)| joint).collect();
     let mut validity = first.validity.clone();
     for j in &others {
         validity.flags = crate::validity::Flags(validity.flags.0 | j.validity.flags.0);
         validity.findings.extend(j.validity.findings.iter().map(|f| format!("{}: {f}", j.name)));
     }
-    let obs = first.observer;
     let w = model.bridge.omega;
     let transverse = model.bridge.transverse.map(|(wy, zeta)| {
         let [sa, sd, sv, f] = obs.across;
@@ -201,42 +207,8 @@ pub fn simulate_records(
         base_shear_without: None,
         mode_check: None,
         histories: obs.histories,
-        joints: others
-            .into_iter()
-            .map(|j| PlacedJointResult {
-                name: j.name,
-                sa: j.sa,
-                t_sa: j.t_sa,
-                sd: j.sd,
-                sv: j.sv,
-                peak_joint_force: j.peak_joint_force,
-                min_subgap: j.min_subgap,
-                max_subgap: j.max_subgap,
-                max_subgap_deviation: j.max_subgap_deviation,
-                pounding: j.pounding,
-                validity: j.validity,
-                // (the friction power is the whole system's: the first joint's history has it)
-                histories: j.observer.histories.map(|h| Histories { friction_power: Vec::new(), ..h }),
-            })
-            .collect(),
+        joints: others,
     })
-}
-
-/// One joint's results with its observer (for the first joint's
-/// histories and bridge-level peaks).
-struct JointResult {
-    name: String,
-    sa: f64,
-    t_sa: f64,
-    sd: f64,
-    sv: f64,
-    peak_joint_force: f64,
-    min_subgap: Option<f64>,
-    max_subgap: Option<f64>,
-    max_subgap_deviation: Option<f64>,
-    pounding: Pounding,
-    validity: Validity,
-    observer: EarthquakeObserver,
 }
 
 /// The observers of every joint of a run, stepped together; the first
@@ -306,8 +278,10 @@ struct EarthquakeObserver {
     bridge: Bridge,
     /// The modes, when the bridge is given by them.
     modal: Option<crate::modal::ModalDeck>,
-    /// Scratch: the modes' accelerations at a sample.
+    /// Scratch: the modes' accelerations at a sample, and the forces the
+    /// joints' ends pass to them.
     modal_acc: Vec<f64>,
+    modal_forces: Vec<(usize, f64)>,
     ground: TimeSeries,
     /// The ground's acceleration across, if a record acts across.
     ground_y: Option<TimeSeries>,
@@ -391,6 +365,7 @@ impl EarthquakeObserver {
             bridge: model.bridge,
             modal: model.modal.clone(),
             modal_acc: Vec::new(),
+            modal_forces: Vec::new(),
             ground,
             ground_y: None,
             dt,
@@ -467,7 +442,8 @@ impl EarthquakeObserver {
             Some(m) => {
                 let ag = [self.ground.value(t), self.ground_y.as_ref().map_or(0.0, |g| g.value(t))];
                 let mut acc = std::mem::take(&mut self.modal_acc);
-                m.parts.accelerations(asm, ws, crate::modal::Instant { t, q, v, lam, ag }, &mut acc);
+                let at = crate::modal::Instant { t, q, v, lam, ag };
+                m.parts.accelerations(asm, ws, at, &mut self.modal_forces, &mut acc);
                 let end = &m.parts.ends[m.end];
                 // (in the joint's own x and y)
                 let a = end.sign * m.parts.point(asm, end.point, q, v, &acc, ag[0])[2];
