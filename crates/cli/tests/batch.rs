@@ -29,7 +29,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{assert_identical, bin, config, dir, ok, root, run, stderr, stdout};
+use common::{assert_identical, bin, config, dir, ok, root, run, stderr, stdout, wait_for_jobs};
 use quakejoint_sweep::results::status;
 use quakejoint_sweep::sweep_h5::read_sweep;
 
@@ -270,12 +270,7 @@ fn sigterm_and_sigint_checkpoint_and_print_the_command_to_continue() {
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        let start = Instant::now();
-        while quakejoint_sweep::journal::read(&journal).map(|(_, r)| r.len()).unwrap_or(0) < 3 {
-            assert!(child.try_wait().unwrap().is_none(), "{signal}: the sweep ended before the signal");
-            assert!(start.elapsed() < Duration::from_secs(120), "{signal}: no progress");
-            std::thread::sleep(Duration::from_millis(10));
-        }
+        wait_for_jobs(&mut child, &journal, 3, signal);
         let sent = Instant::now();
         let kill = Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
         assert!(kill.success());

@@ -28,9 +28,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::Stdio;
-use std::time::{Duration, Instant};
 
-use common::{assert_identical, bin, dir, ok, root, run, stderr, stdout};
+use common::{assert_identical, bin, dir, ok, root, run, stderr, stdout, wait_for_jobs};
 use quakejoint_model::runspec::{Named, Overrides, RunSpec};
 use quakejoint_sweep::results::{status, Results, FIELDS, JOINT_FIELDS, MACHINE_DEPENDENT};
 use quakejoint_sweep::sweep_h5::read_sweep;
@@ -175,12 +174,7 @@ fn an_interrupted_modal_sweep_resumes_to_the_same_numbers() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let start = Instant::now();
-    while quakejoint_sweep::journal::read(&journal).map(|(_, r)| r.len()).unwrap_or(0) < 1 {
-        assert!(child.try_wait().unwrap().is_none(), "the sweep ended before the signal");
-        assert!(start.elapsed() < Duration::from_secs(120), "no progress");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    wait_for_jobs(&mut child, &journal, 1, "modal sweep");
     let kill = std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
     assert!(kill.success());
     let res = child.wait_with_output().unwrap();

@@ -105,3 +105,15 @@ pub fn python_with(modules: &[&str]) -> bool {
     }
     found
 }
+
+/// Waits until the journal `journal` of the running sweep `child` holds
+/// `jobs` finished jobs; fails (naming `what`) if the sweep ends first or
+/// nothing comes within two minutes.
+pub fn wait_for_jobs(child: &mut std::process::Child, journal: &Path, jobs: usize, what: &str) {
+    let start = std::time::Instant::now();
+    while quakejoint_sweep::journal::read(journal).map(|(_, r)| r.len()).unwrap_or(0) < jobs {
+        assert!(child.try_wait().unwrap().is_none(), "{what}: the sweep ended before the signal");
+        assert!(start.elapsed() < std::time::Duration::from_secs(120), "{what}: no progress");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+}
