@@ -144,6 +144,103 @@ def test_opensees_transient_is_modal():
     assert np.max(np.abs(a_m - a_abs)) < 1e-8 * np.max(np.abs(a_abs))
 
 
+def test_end_springs_keep_the_bridges_modal_damping():
+    """`transient.py --end-springs`: springs added after modalDamping leave
+    the damping that of the bridge's own modes (5 % each) and have none, the
+    equations quakejoint's modal bridge with springs at its ends solves.
+    OpenSees' response equals Newmark on the 124 modes coupled by the
+    springs (M = I, C = diag(2 zeta w), K = diag(w^2) + S diag(k) S^T, S the
+    shapes at the deck ends) to round-off, and reproduces the committed CSV
+    (first 2 s)."""
+    _openseespy()
+    import transient
+
+    springs = (2e8, 5e7)
+    names, t, u, a_abs, info = transient.run(duration=2.0, check_recorder=False, end_springs=springs)
+    header, ref = modal_check.read_csv(DATA / "opensees_corralitos090_end_springs.csv")
+    n = len(t)
+    assert np.allclose(t, ref[:n, 0], atol=1e-9)
+    assert np.max(np.abs(u - ref[:n, 1::2])) < 1e-9 * np.max(np.abs(u))
+    assert np.max(np.abs(a_abs - ref[:n, 2::2])) < 1e-9 * np.max(np.abs(a_abs))
+
+    m = modal_check.read_modes(MODES)
+    dt, acc = read_at2(modal_check.RECORD)
+    omega = 2 * np.pi / m["period"]
+    ends = m["shape"][:, :2]  # left end, right end
+    k = np.diag(omega ** 2) + ends @ np.diag(springs) @ ends.T
+    c = np.diag(2 * m["damping"] * omega)
+    substeps = 10
+    h = dt / substeps
+    keff = 4 / h ** 2 * np.eye(len(omega)) + 2 / h * c + k
+    q = np.zeros(len(omega))
+    v = np.zeros(len(omega))
+    a = -m["gamma_x"] * modal_check.ground_at(0.0, dt, acc)
+    u_m = [q @ m["shape"]]
+    for step in range((n - 1) * substeps):
+        p1 = -m["gamma_x"] * modal_check.ground_at((step + 1) * h, dt, acc)
+        q1 = np.linalg.solve(keff, p1 + 4 / h ** 2 * q + 4 / h * v + a + c @ (2 / h * q + v))
+        a1 = 4 / h ** 2 * (q1 - q) - 4 / h * v - a
+        v = v + h / 2 * (a + a1)
+        q, a = q1, a1
+        if (step + 1) % substeps == 0:
+            u_m.append(q @ m["shape"])
+    u_m = np.array(u_m)
+    assert np.max(np.abs(u_m - u)) < 1e-8 * np.max(np.abs(u))
+    # the springs matter: the ends move otherwise than without them
+    _, free = modal_check.read_csv(CSV)
+    assert np.max(np.abs(u[:, 0] - free[:n, 1])) > 0.3 * np.max(np.abs(free[:n, 1]))
+
+
+def test_lagged_spring_is_the_modes_pulled_by_a_late_abutment():
+    """`transient.py --lagged-spring`: a spring from the left deck end to a
+    node displaced by d(t) = u_g(t - lag) - u_g(t) on top of the uniform
+    excitation. OpenSees' response equals Newmark on the 124 modes with
+    q'' + C q' + (W^2 + k phi_L phi_L^T) q = -Gamma a_g + k phi_L d(t) to
+    round-off, and reproduces the committed CSV (first 2 s); d itself is the
+    exact double integral (a constant acceleration's is a t^2 / 2)."""
+    from at2 import ground_displacement
+
+    t = np.array([-1.0, 0.0, 0.3, 1.0])
+    assert np.allclose(ground_displacement(t, 0.01, np.full(500, 2.0)), [0, 0, 0.09, 1.0], atol=1e-12)
+
+    _openseespy()
+    import transient
+
+    stiffness, lag = 2e8, 0.2
+    names, t, u, a_abs, info = transient.run(duration=2.0, check_recorder=False, lagged_spring=(stiffness, lag))
+    header, ref = modal_check.read_csv(DATA / "opensees_corralitos090_lagged_spring.csv")
+    n = len(t)
+    assert np.allclose(t, ref[:n, 0], atol=1e-9)
+    assert np.max(np.abs(u - ref[:n, 1::2])) < 1e-9 * np.max(np.abs(u))
+
+    m = modal_check.read_modes(MODES)
+    dt, acc = read_at2(modal_check.RECORD)
+    omega = 2 * np.pi / m["period"]
+    left = m["shape"][:, 0]
+    k = np.diag(omega ** 2) + stiffness * np.outer(left, left)
+    c = np.diag(2 * m["damping"] * omega)
+    substeps = 10
+    h = dt / substeps
+
+    def load(time):
+        d = ground_displacement(time - lag, dt, acc) - ground_displacement(time, dt, acc)
+        return -m["gamma_x"] * modal_check.ground_at(time, dt, acc) + stiffness * left * d
+
+    keff = 4 / h ** 2 * np.eye(len(omega)) + 2 / h * c + k
+    q = np.zeros(len(omega))
+    v = np.zeros(len(omega))
+    a = load(0.0)
+    u_m = [q @ m["shape"]]
+    for step in range((n - 1) * substeps):
+        q1 = np.linalg.solve(keff, load((step + 1) * h) + 4 / h ** 2 * q + 4 / h * v + a + c @ (2 / h * q + v))
+        a1 = 4 / h ** 2 * (q1 - q) - 4 / h * v - a
+        v = v + h / 2 * (a + a1)
+        q, a = q1, a1
+        if (step + 1) % substeps == 0:
+            u_m.append(q @ m["shape"])
+    assert np.max(np.abs(np.array(u_m) - u)) < 1e-8 * np.max(np.abs(u))
+
+
 def test_modal_check_first_10_s():
     """numpy only: the committed modes reproduce OpenSees' transient."""
     res = modal_check.check(MODES, CSV, window=10.0, counts=(1, 3, None))

@@ -40,3 +40,23 @@ def ground_at(t, dt, acc):
     samples = ground_samples(acc)
     times = dt * np.arange(len(samples))
     return np.interp(np.asarray(t, dtype=float), times, samples, left=0.0, right=0.0)
+
+
+def ground_displacement(t, dt, acc):
+    """u_g(t) [m]: the ground's displacement from rest (zero before t = 0),
+    integrated exactly from a_g of ground_at (linear between samples, so u_g
+    is cubic between them; after the last sample, uniform motion at the
+    final velocity)."""
+    a = ground_samples(acc)
+    h = dt
+    v = np.concatenate([[0.0], np.cumsum(h * (a[:-1] + a[1:]) / 2)])
+    # u_{j+1} = u_j + h v_j + h^2 (2 a_j + a_{j+1}) / 6
+    u = np.concatenate([[0.0], np.cumsum(h * v[:-1] + h * h * (2 * a[:-1] + a[1:]) / 6)])
+    t = np.asarray(t, dtype=float)
+    j = np.clip(np.floor(t / h).astype(int), 0, len(a) - 2)
+    s = t - j * h
+    da = (a[j + 1] - a[j]) / h
+    inside = u[j] + v[j] * s + a[j] * s ** 2 / 2 + da * s ** 3 / 6
+    end = (len(a) - 1) * h
+    after = u[-1] + v[-1] * (t - end)
+    return np.where(t <= 0, 0.0, np.where(t > end, after, inside))

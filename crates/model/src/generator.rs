@@ -402,6 +402,25 @@ impl JointModel {
     }
 }
 
+/// An abutment the ground motion `x` reaches `lag` \[s\] late (wave
+/// passage): a body along x driven to `u_g(t - lag) - u_g(t)` relative to
+/// the ground the other bodies' coordinates are measured from. Its mass is
+/// carried by the driver (it stands for the ground); the driver's work is
+/// the earthquake's work through that abutment.
+pub fn lagged_abutment(sys: &mut System, x: &TimeSeries, lag: f64, prefix: &str) -> Result<BodyId, ModelError> {
+    let body = sys.add_body(Body::new(format!("{prefix}abutment (lagged)"), 1.0, 1.0, [0.0; 3]).only(&[Coord::X]));
+    let motion = quakejoint_solver::LaggedGround::new(std::sync::Arc::new(x.clone()), lag)?;
+    sys.add_constraint_named(
+        format!("{prefix}abutment drive (wave passage)"),
+        quakejoint_solver::Constraint::Driver(Driver {
+            body,
+            coord: Coord::X,
+            motion: TimeFunction::LaggedGround(std::sync::Arc::new(motion)),
+        }),
+    );
+    Ok(body)
+}
+
 /// Builds the model of `config` with the bridge frequency `omega` [rad/s]
 /// (the config's unless given) and the given drive.
 pub fn build(config: &Config, omega: Option<f64>, drive: Drive) -> Result<JointModel, ModelError> {
@@ -506,7 +525,15 @@ pub fn build_with(
                     ends.len() - 1
                 }));
             }
-            let parts = std::sync::Arc::new(add_modes(&mut sys, kept, &ends));
+            let correction = match config.bridge.modal.as_ref().filter(|m| m.corrected()) {
+                Some(m) => {
+                    let points: Vec<usize> =
+                        ends.iter().flat_map(|e| std::iter::once(e.point).chain(e.point_y)).collect();
+                    Some(crate::modal::loaded(m)?.static_correction(kept, &points, m.scale(), &m.modes)?)
+                }
+                None => None,
+            };
+            let parts = std::sync::Arc::new(add_modes(&mut sys, kept, correction.as_ref(), &ends));
             for (k, m) in models.iter_mut().enumerate() {
                 m.modal = Some(ModalDeck { parts: parts.clone(), end: k });
             }
@@ -520,8 +547,14 @@ pub fn build_with(
     };
     let mut contacts = 0;
     for (k, (model, place)) in models.iter_mut().zip(&places).enumerate() {
-        let abutment = hinges[k].unwrap_or(if k == 0 { abutment } else { BodyId::GROUND });
-        if let Some(h) = hinges[k] {
+        let lagged = match &drive {
+            Drive::Earthquake { x, .. } if place.abutment_lag != 0.0 => {
+                Some(lagged_abutment(&mut sys, x, place.abutment_lag, &place.prefix)?)
+            }
+            _ => None,
+        };
+        let abutment = hinges[k].or(lagged).unwrap_or(if k == 0 { abutment } else { BodyId::GROUND });
+        if let Some(h) = hinges[k].or(lagged) {
             // the abutment side moves: its edge beam with it (the sub-gaps and
             // the validity checks read it, as an adjacent segment's deck)
             model.far_deck = Some(h);

@@ -145,6 +145,18 @@ impl ModalAlone {
         [peak(&h.u), peak(&h.a_abs)]
     }
 
+    /// Adds the static correction's ground part `r_p a_g(t)` to each
+    /// point's displacement (`r`: [`crate::modal::ModalBridge::ground_residual`];
+    /// none: nothing), under the record the superposition ran on.
+    pub fn with_ground_static(mut self, r: Option<&[f64]>, record: &Record) -> Self {
+        for (point, rp) in self.points.iter_mut().zip(r.unwrap_or_default()) {
+            for (u, a) in point.u.iter_mut().zip(&record.acceleration) {
+                *u += rp * a;
+            }
+        }
+        self
+    }
+
     /// The peak base shear \[N\].
     pub fn base_shear_peak(&self) -> f64 {
         peak(&self.base_shear)

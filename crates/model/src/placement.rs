@@ -24,7 +24,15 @@ pub struct Place {
     pub deck_point_y: Option<usize>,
     /// Its abutment side's point at an in-span hinge; none: the ground.
     pub abutment_point: Option<usize>,
+    /// How much later the ground motion reaches its abutment \[s\] (0: as
+    /// the other supports).
+    pub abutment_lag: f64,
 }
+
+/// The largest |`abutment_lag`| \[s\]: a wave crossing a bridge at 100 m/s
+/// takes 1 s per 100 m; 10 s is a bridge of kilometres at the slowest
+/// apparent speeds.
+pub const MAX_ABUTMENT_LAG: f64 = 10.0;
 
 /// The joints of `config`, checked (each joint's values as `[joint]`'s are,
 /// named `joints[k].joint.<key>`; names unique).
@@ -47,6 +55,7 @@ pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
             deck_point,
             deck_point_y,
             abutment_point: None,
+            abutment_lag: 0.0,
         }]);
     }
     let Some(bridge) = modal else {
@@ -83,6 +92,20 @@ pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
                 reason: "a joint's abutment and deck sides cannot move with the same point".to_string(),
             });
         }
+        let abutment_lag = j.abutment_lag.unwrap_or(0.0);
+        let lag_error = |reason: &str| ModelError::Invalid {
+            field: field("abutment_lag"),
+            value: format!("{abutment_lag}"),
+            reason: reason.to_string(),
+        };
+        if abutment_lag.is_nan() || abutment_lag.abs() > MAX_ABUTMENT_LAG {
+            return Err(lag_error("must be between -10 and 10 s"));
+        }
+        if abutment_lag != 0.0 && abutment_point.is_some() {
+            return Err(lag_error(
+                "a joint at an in-span hinge (abutment_point) has no abutment of its own for the ground motion to reach",
+            ));
+        }
         out.push(Place {
             name: j.name.clone(),
             prefix: format!("{}: ", j.name),
@@ -91,6 +114,7 @@ pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
             deck_point,
             deck_point_y,
             abutment_point,
+            abutment_lag,
         });
     }
     Ok(out)

@@ -173,7 +173,7 @@ impl RunSpec {
         let places = crate::placement::places(&self.config)?;
         // the first joint's deck point
         let point = places[0].deck_point;
-        let alone = crate::linear::modal_superposition(reference.window(), &kept, 0);
+        let alone = crate::modal::alone(m, &kept, reference.window())?;
         let mut result = if self.alone {
             let h = alone.points[point].clone();
             let mut r = crate::linear::modal_result(reference.window(), kept[0].omega, h, options.histories);
@@ -206,7 +206,7 @@ impl RunSpec {
         let points: Vec<usize> =
             places.iter().flat_map(|p| std::iter::once(p.deck_point).chain(p.abutment_point)).collect();
         let check = bridge.mode_check(&kept, &points);
-        let warnings = check.warnings(bridge, &points);
+        let warnings = check.warnings(bridge, &points, m.corrected());
         result.mode_check = Some((check, warnings));
         if let Some(h) = &mut result.histories {
             let mut a = alone.points[point].a_abs.clone();

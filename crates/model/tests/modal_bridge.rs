@@ -187,6 +187,56 @@ fn bad_modes_files_name_the_file_and_the_field() {
     assert_eq!(ok.kept(None, 1.0, 0.02)[1].damping, 0.02);
 }
 
+/// The static correction of a file with two modes keeping one: the full
+/// model's flexibility is both modes' `sum phi phi^T / w^2`, so what is left
+/// is mode 2 alone, and its one pseudo-mode is mode 2 taken statically: the
+/// spring `w2^2 / |phi2|^2` on the coordinate along `phi2 / |phi2|`, pushed
+/// by the ground through `Gamma2 / |phi2|` (by hand). Without a `[static]`
+/// table, or with one that holds less than the kept mode, the correction is
+/// refused, naming the field and the file.
+#[test]
+fn static_correction_of_two_modes_keeping_one_is_the_second_mode_taken_statically() {
+    use quakejoint_model::modal::ModalBridge;
+    let w = [2.0 * std::f64::consts::PI, 2.0 * std::f64::consts::PI / 0.3];
+    let phi = [[7e-4, 7e-4], [5e-4, -5e-4]];
+    let gamma = [1300.0, 300.0];
+    let f = |a: usize, b: usize| (0..2).map(|i| phi[i][a] * phi[i][b] / (w[i] * w[i])).sum::<f64>();
+    let g = |a: usize| -(0..2).map(|i| phi[i][a] * gamma[i] / (w[i] * w[i])).sum::<f64>();
+    let table = format!(
+        "[static]\nflexibility = [[{:e}, {:e}], [{:e}, {:e}]]\nground_x = [{:e}, {:e}]\n",
+        f(0, 0),
+        f(0, 1),
+        f(1, 0),
+        f(1, 1),
+        g(0),
+        g(1)
+    );
+    let bridge = ModalBridge::parse(&format!("{TWO_MODES}{table}"), "m.toml").unwrap();
+    let kept = bridge.kept(Some(1), 1.0, 0.05);
+    let c = bridge.static_correction(&kept, &[0, 1], 1.0, "m.toml").unwrap();
+    assert_eq!(c.pseudo.len(), 1);
+    let p = &c.pseudo[0];
+    let norm = (phi[1][0] * phi[1][0] + phi[1][1] * phi[1][1]).sqrt();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+    assert!(close(p.stiffness, w[1] * w[1] / (norm * norm)), "{}", p.stiffness);
+    // (the eigenvector's sign is free: shape and ground push flip together)
+    let sign = p.shape[0].signum() * phi[1][0].signum();
+    assert!(close(sign * p.shape[0], phi[1][0] / norm) && close(sign * p.shape[1], phi[1][1] / norm));
+    assert!(close(sign * p.base_mass, gamma[1] / norm), "{}", p.base_mass);
+    assert!(c.ground.iter().all(|&x| x == 0.0));
+    // every mode kept: nothing left
+    let all = bridge.static_correction(&bridge.kept(None, 1.0, 0.05), &[0, 1], 1.0, "m.toml").unwrap();
+    assert!(all.pseudo.is_empty());
+
+    let none = ModalBridge::parse(TWO_MODES, "m.toml").unwrap();
+    let e = none.static_correction(&kept, &[0], 1.0, "m.toml").unwrap_err().to_string();
+    assert!(e.contains("bridge.modal.static_correction") && e.contains("m.toml") && e.contains("[static]"), "{e}");
+    let small = table.replacen(&format!("{:e}", f(0, 0)), &format!("{:e}", f(0, 0) * 0.5), 1);
+    let wrong = ModalBridge::parse(&format!("{TWO_MODES}{small}"), "m.toml").unwrap();
+    let e = wrong.static_correction(&kept, &[0, 1], 1.0, "m.toml").unwrap_err().to_string();
+    assert!(e.contains("does not belong to these modes"), "{e}");
+}
+
 /// Across the bridge: two modes, one along x and one across (each with its
 /// own point "deck end" in its direction, `phi = 1/sqrt(M)`, `Gamma =
 /// sqrt(M)` in its direction only), are the single-DOF deck with its

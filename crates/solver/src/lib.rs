@@ -73,4 +73,4 @@ pub use model::force::{
     ForceElement, ForceId, Friction, FrictionLaw, HertzDamping, SpringDamper, MIN_APPROACH_SPEED,
 };
 pub use model::system::System;
-pub use timefn::{SmoothTriangle, TimeFunction, TimeSeries};
+pub use timefn::{LaggedGround, SmoothTriangle, TimeFunction, TimeSeries};

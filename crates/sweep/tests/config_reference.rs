@@ -75,6 +75,7 @@ fn full() -> Config {
         joint_point_y: Some("right end".to_string()),
         modes_used: Some(3),
         period_scale: Some(1.0),
+        static_correction: Some(false),
         loaded: None,
     });
     c.simulation.duration = Some(1.0);

@@ -84,6 +84,11 @@ pub struct PlacedJointConfig {
     /// The point of the modes file its abutment side moves with (a joint
     /// at an in-span hinge between two frames); none: the ground.
     pub abutment_point: Option<String>,
+    /// How much later the ground motion reaches this joint's abutment than
+    /// the bridge's other supports \[s\] (wave passage: the abutment moves
+    /// along x as the ground did that long before; negative: it is reached
+    /// first); none: 0, one motion everywhere. Not with `abutment_point`.
+    pub abutment_lag: Option<f64>,
     /// The joint (`[joints.joint]`, the keys of `[joint]`); none: `[joint]`.
     pub joint: Option<JointConfig>,
 }
@@ -135,6 +140,10 @@ pub struct ModalConfig {
     /// A factor on every period of the bridge [-] (stiffness scaled, masses
     /// kept; default 1).
     pub period_scale: Option<f64>,
+    /// Correct for the modes left out by their static response at the
+    /// joints' points (the modes file's `[static]` table; docs/bridge.md,
+    /// "The static correction"; default false).
+    pub static_correction: Option<bool>,
     /// The modes file, read with the config ([`Config::from_file`],
     /// [`Config::load_modes`]).
     #[serde(skip)]
@@ -145,6 +154,11 @@ impl ModalConfig {
     /// The period factor [-].
     pub fn scale(&self) -> f64 {
         self.period_scale.unwrap_or(1.0)
+    }
+
+    /// Whether the static correction is on.
+    pub fn corrected(&self) -> bool {
+        self.static_correction.unwrap_or(false)
     }
 }
 
@@ -346,6 +360,17 @@ impl Config {
             if let Some(a) = &j.abutment_point {
                 bridge.point(a, crate::modal::Direction::X, &format!("joints[{k}].abutment_point"))?;
             }
+        }
+        if m.corrected() && bridge.static_response.as_ref().is_none_or(|s| s.flexibility.is_empty()) {
+            return Err(ModelError::Invalid {
+                field: "bridge.modal.static_correction".to_string(),
+                value: "true".to_string(),
+                reason: format!(
+                    "the modes file \"{}\" has no [static] table with flexibility and ground_x (docs/bridge.md, \"The \
+                     static correction\")",
+                    m.modes
+                ),
+            });
         }
         m.loaded = Some(bridge);
         Ok(())

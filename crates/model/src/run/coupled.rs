@@ -175,7 +175,9 @@ pub fn simulate_records(
         peak_friction_force: obs.friction,
         friction_energy: e.friction,
         damping_energy: e.damping,
-        earthquake_work: e.base,
+        // (the drivers' work: a lagged abutment's, the earthquake's work
+        // through it; zero without one)
+        earthquake_work: e.base + e.constraints,
         min_subgap: first.min_subgap,
         max_subgap: first.max_subgap,
         max_subgap_deviation: first.max_subgap_deviation,

@@ -29,8 +29,8 @@
 //!
 //! Its damping is the modes file's (or `bridge.damping`), one value, so
 //! `sweep.periods` and `sweep.damping` are refused; a case may change
-//! `bridge.modal.modes_used` or `joint_point` but not the modes file, the
-//! period scale or `bridge.damping`.
+//! `bridge.modal.modes_used`, `joint_point` or `static_correction` but not
+//! the modes file, the period scale or `bridge.damping`.
 
 use std::path::Path;
 

@@ -52,7 +52,7 @@ impl ModalSweep {
 /// The bridge alone at the first joint's deck point of a config with a
 /// bridge given by its modes (as its period scale sets them), under
 /// `window` (the ground motion over the run's window): the exact modal
-/// superposition ([`quakejoint_model::linear::modal_response`]), as
+/// superposition ([`quakejoint_model::modal::alone`]), as
 /// `quakejoint simulate --no-joint` gives it.
 pub fn modal_alone(config: &Config, window: &Record) -> Result<quakejoint_model::run::RunResult, ModelError> {
     let Some(m) = &config.bridge.modal else {
@@ -64,7 +64,8 @@ pub fn modal_alone(config: &Config, window: &Record) -> Result<quakejoint_model:
     };
     let kept = quakejoint_model::modal::kept_modes(m, config.bridge.damping)?;
     let point = quakejoint_model::placement::places(config)?[0].deck_point;
-    Ok(quakejoint_model::linear::modal_response(window, &kept, point, false))
+    let h = quakejoint_model::modal::alone(m, &kept, window)?.points.swap_remove(point);
+    Ok(quakejoint_model::linear::modal_result(window, kept[0].omega, h, false))
 }
 
 /// The swept axis of a bridge given by its modes (`sweep.period_scales`,

@@ -10,6 +10,10 @@ use std::sync::Arc;
 
 use crate::error::BuildError;
 
+mod lagged;
+
+pub use lagged::LaggedGround;
+
 /// A signal sampled at increasing times and joined linearly between samples.
 ///
 /// Before the first sample the value is the first sample; after the last
@@ -194,6 +198,8 @@ pub enum TimeFunction {
     /// amplitude is raised by `speed*blend/4` so that the rounded wave peaks at
     /// exactly +/- amplitude.
     SmoothTriangle(SmoothTriangle),
+    /// A support reached by the ground motion later (wave passage).
+    LaggedGround(Arc<LaggedGround>),
 }
 
 /// Parameters of [`TimeFunction::SmoothTriangle`].
@@ -314,6 +320,7 @@ impl TimeFunction {
             }
             TimeFunction::Series(s) => [s.value(t), s.slope(t), 0.0],
             TimeFunction::SmoothTriangle(tri) => tri.eval(t),
+            TimeFunction::LaggedGround(g) => g.eval(t),
         }
     }
 
@@ -331,6 +338,7 @@ impl TimeFunction {
         match self {
             TimeFunction::Series(s) => s.next_breakpoint(t),
             TimeFunction::SmoothTriangle(tri) => tri.next_breakpoint(t),
+            TimeFunction::LaggedGround(g) => g.next_breakpoint(t),
             _ => None,
         }
     }
@@ -356,7 +364,7 @@ impl TimeFunction {
                 check("phase", *phase)?;
                 check("offset", *offset)
             }
-            TimeFunction::Series(_) | TimeFunction::SmoothTriangle(_) => Ok(()),
+            TimeFunction::Series(_) | TimeFunction::SmoothTriangle(_) | TimeFunction::LaggedGround(_) => Ok(()),
         }
     }
 }

@@ -18,6 +18,10 @@ use serde::Deserialize;
 use crate::config::ModalConfig;
 use crate::error::ModelError;
 
+mod residual;
+
+pub use residual::{PseudoMode, StaticCorrection};
+
 /// The format tag the file must carry.
 pub const FORMAT: &str = "quakejoint-modes-1";
 
@@ -271,6 +275,18 @@ pub fn kept_modes(m: &ModalConfig, damping: f64) -> Result<Vec<KeptMode>, ModelE
     Ok(loaded(m)?.kept(m.modes_used, m.scale(), damping))
 }
 
+/// The bridge alone of `[bridge.modal]` under `record` along x: the exact
+/// superposition of the `kept` modes, with the ground's part of the static
+/// correction when it is on.
+pub fn alone(
+    m: &ModalConfig,
+    kept: &[KeptMode],
+    record: &quakejoint_motion::Record,
+) -> Result<crate::linear::ModalAlone, ModelError> {
+    let r = if m.corrected() { loaded(m)?.ground_residual(kept, m.scale()) } else { None };
+    Ok(crate::linear::modal_superposition(record, kept, 0).with_ground_static(r.as_deref(), record))
+}
+
 /// The modes file read with `[bridge.modal]`.
 pub fn loaded(m: &ModalConfig) -> Result<&ModalBridge, ModelError> {
     m.loaded.as_deref().ok_or_else(|| ModelError::Invalid {
@@ -301,6 +317,10 @@ pub struct ModalBody {
     /// Each point's displacement per unit of `y` [-], `phi_p / s`, in the
     /// modes file's order.
     pub at_point: Vec<f64>,
+    /// A pseudo-mode of the static correction ([`StaticCorrection`]): its
+    /// displacement counts at the points, its acceleration (of a light
+    /// mass standing for none) and base shear do not.
+    pub pseudo: bool,
 }
 
 /// A point of the modes file a joint moves with: a body in x whose
@@ -330,6 +350,11 @@ pub struct ModalParts {
     pub modes: Vec<ModalBody>,
     /// The joints' points.
     pub ends: Vec<ModalEnd>,
+    /// At each point of the modes file, the static correction's
+    /// displacement per unit ground acceleration along x beyond its
+    /// pseudo-modes ([`StaticCorrection::ground`]; empty without the
+    /// correction) \[s^2\].
+    pub ground: Vec<f64>,
 }
 
 /// A joint's view of the modes: all of them and which end is its deck.
@@ -365,9 +390,14 @@ pub struct EndSpec {
     pub sign: f64,
 }
 
-/// Adds the kept modes and one end per [`EndSpec`] to `sys` (the ends'
-/// bodies first).
-pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[EndSpec]) -> ModalParts {
+/// Adds the kept modes, the static correction's pseudo-modes (if any) and
+/// one end per [`EndSpec`] to `sys` (the ends' bodies first).
+pub fn add_modes(
+    sys: &mut System,
+    kept: &[KeptMode],
+    correction: Option<&StaticCorrection>,
+    ends: &[EndSpec],
+) -> ModalParts {
     let effective: f64 = kept.iter().map(|k| k.gamma[0] * k.gamma[0]).sum();
     let scales: Vec<f64> = kept
         .iter()
@@ -406,17 +436,36 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[EndSpec]) -> Modal
             base_mass: k.gamma[0] / s,
             base_mass_y: k.gamma[1] / s,
             at_point: k.shape.iter().map(|phi| phi / s).collect(),
+            pseudo: false,
         };
-        sys.add_force_named(
-            format!("mode {} spring and damper", k.index + 1),
-            ForceElement::CoordinateSpring(CoordinateSpring {
-                body,
-                coord: Coord::X,
-                stiffness: m.stiffness,
-                damping: m.damper,
-                rest: 0.0,
-            }),
+        add_spring(sys, &m, format!("mode {} spring and damper", k.index + 1));
+        modes.push(m);
+    }
+    for (i, p) in correction.map_or(&[][..], |c| &c.pseudo[..]).iter().enumerate() {
+        // (its coordinate: the largest displacement at a point, as a mode's;
+        // its mass as light as a deck end's)
+        let s = p.shape.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let s = if s > 0.0 { s } else { 1.0 };
+        let body = sys.add_body(
+            Body::new(format!("static correction {}", i + 1), end_mass, 1.0, [0.0; 3])
+                .only(&[Coord::X])
+                .with_base_mass([[p.base_mass / s, 0.0], [0.0, 0.0]]),
         );
+        // (critically damped: a light mass standing for none settles within
+        // 2 / w of its spring's static answer, w = sqrt(k / m) thousands of
+        // rad/s, and adds nothing that rings)
+        let stiffness = p.stiffness / (s * s);
+        let m = ModalBody {
+            body,
+            mass: end_mass,
+            stiffness,
+            damper: 2.0 * (stiffness * end_mass).sqrt(),
+            base_mass: p.base_mass / s,
+            base_mass_y: 0.0,
+            at_point: p.shape.iter().map(|v| v / s).collect(),
+            pseudo: true,
+        };
+        add_spring(sys, &m, format!("static correction {} spring", i + 1));
         modes.push(m);
     }
     let ends = ends
@@ -433,7 +482,21 @@ pub fn add_modes(sys: &mut System, kept: &[KeptMode], ends: &[EndSpec]) -> Modal
             ModalEnd { body, link: x, point: e.point, sign: e.sign, across }
         })
         .collect();
-    ModalParts { modes, ends }
+    ModalParts { modes, ends, ground: correction.map_or_else(Vec::new, |c| c.ground.clone()) }
+}
+
+/// A mode's (or pseudo-mode's) spring and damper to the ground.
+fn add_spring(sys: &mut System, m: &ModalBody, name: String) {
+    sys.add_force_named(
+        name,
+        ForceElement::CoordinateSpring(CoordinateSpring {
+            body: m.body,
+            coord: Coord::X,
+            stiffness: m.stiffness,
+            damping: m.damper,
+            rest: 0.0,
+        }),
+    );
 }
 
 impl ModalParts {
@@ -469,15 +532,19 @@ impl ModalParts {
 
     /// Point `p`'s displacement, velocity (relative to the ground, along the
     /// bridge's x) \[m, m/s\] and absolute acceleration \[m/s^2\], with the
-    /// modes' accelerations `acc` ([`ModalParts::accelerations`]).
+    /// modes' accelerations `acc` ([`ModalParts::accelerations`]) and the
+    /// ground's acceleration `ag` in the point's direction. The static
+    /// correction's accelerations are not counted: it is static.
     pub fn point(&self, asm: &Assembly, p: usize, q: &[f64], v: &[f64], acc: &[f64], ag: f64) -> [f64; 3] {
-        let mut out = [0.0, 0.0, ag];
+        let mut out = [self.ground.get(p).map_or(0.0, |g| g * ag), 0.0, ag];
         for (m, a) in self.modes.iter().zip(acc) {
             let c = asm.coordinate(m.body, Coord::X).expect("a mode's x is free");
             let phi = m.at_point[p];
             out[0] += phi * q[c];
             out[1] += phi * v[c];
-            out[2] += phi * a;
+            if !m.pseudo {
+                out[2] += phi * a;
+            }
         }
         out
     }
@@ -522,10 +589,11 @@ impl ModalParts {
     /// damping forces summed over the supports,
     /// `sum_i Gamma_i (w_i^2 q_i + 2 zeta_i w_i q_i')` (in the bodies' units
     /// `sum_i (Gamma_i / s_i) (k_i y_i + c_i y_i') / m_i`), at the state
-    /// `(q, v)`.
+    /// `(q, v)`. The static correction's pseudo-modes are not counted.
     pub fn base_shear(&self, asm: &Assembly, q: &[f64], v: &[f64]) -> f64 {
         self.modes
             .iter()
+            .filter(|m| !m.pseudo)
             .map(|m| {
                 let c = asm.coordinate(m.body, Coord::X).expect("a mode's x is free");
                 m.base_mass * (m.stiffness * q[c] + m.damper * v[c]) / m.mass
@@ -596,7 +664,10 @@ impl ModalBridge {
 impl ModeCheck {
     /// Warnings for the joints' points `points` (indices) where the kept
     /// modes hold less than [`ENOUGH`], and for the mass.
-    pub fn warnings(&self, bridge: &ModalBridge, points: &[usize]) -> Vec<String> {
+    /// With the static correction on (`corrected`) the joints' points
+    /// hold the full model's static flexibility and only the mass is
+    /// warned about.
+    pub fn warnings(&self, bridge: &ModalBridge, points: &[usize], corrected: bool) -> Vec<String> {
         let mut out = Vec::new();
         if let Some(r) = self.mass_ratio.filter(|&r| r < ENOUGH) {
             out.push(format!(
@@ -604,6 +675,9 @@ impl ModeCheck {
                  motion excites the rest",
                 r * 100.0
             ));
+        }
+        if corrected {
+            return out;
         }
         for &p in points {
             let f = self.flexibility[p];
