@@ -11,6 +11,8 @@ The engine of the `quakejoint` command on numpy arrays (SI units throughout):
   validated model configs;
 - `simulate(config, period=...)`: one coupled earthquake run, scalars and
   time histories; `service(config)`: the hysteresis loop of the joint;
+- `calibrate(config)`: the joint's link element for a global bridge model,
+  with its OpenSees, SAP2000 and TOML exports (docs/link.md);
 - `read_sweep(path)`: a `quakejoint sweep` file as labelled arrays,
   `.to_xarray()` (extra `xarray`) and `.to_dataframe()` (extra `pandas`).
 
@@ -27,6 +29,7 @@ from ._quakejoint import (  # noqa: F401
     SimulationError,
     Spectrum,
     __version__,
+    calibrate,
     service,
     simulate,
     spectrum,
@@ -43,6 +46,7 @@ __all__ = [
     "SimulationError",
     "Spectrum",
     "Sweep",
+    "calibrate",
     "read_sweep",
     "service",
     "simulate",

@@ -216,5 +216,17 @@ def simulate(
 ) -> RunResult:
     """One coupled earthquake run (or the bridge alone, exactly, with joint=False); GIL released, Ctrl-C stops it."""
 
+def calibrate(
+    config: Optional[Config] = None,
+    *,
+    amplitudes: Any = None,
+    speed: Optional[float] = None,
+    contact_force: Optional[float] = None,
+    record: Optional[Record] = None,
+    earthquake: bool = True,
+) -> dict[str, Any]:
+    """The joint's link element: stiffness, friction, mass, damping, gap, fit, loops, exports (docs/link.md)."""
+    ...
+
 def service(config: Optional[Config] = None) -> dict[str, Any]:
     """The service loop: t, u, joint_force, center-beam motions, works per cycle [J], validity."""

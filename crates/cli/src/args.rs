@@ -26,6 +26,8 @@ pub enum Command {
     Simulate(SimulateArgs),
     /// Drive the deck through opening and closing cycles (the service case).
     Service(ServiceArgs),
+    /// Calibrate the joint's link element and export it (OpenSees, SAP2000, TOML).
+    Calibrate(CalibrateArgs),
     /// Read a ground-motion record and print its statistics.
     Record(RecordArgs),
     /// Exact linear response spectrum of a record.
@@ -247,6 +249,34 @@ pub struct ServiceArgs {
     /// Write the hysteresis loop to this HDF5 file.
     #[arg(long)]
     pub output: Option<PathBuf>,
+    #[command(flatten)]
+    pub print: PrintArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    /// The TOML config (its detailed [joint], and the bridge for the damping table).
+    pub config: PathBuf,
+    /// Amplitudes of the service loops [m] (default 0.002,0.005,0.01,0.02,0.05,0.1).
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub amplitudes: Option<Vec<f64>>,
+    /// Opening speed of the loops [m/s] (default 0.02).
+    #[arg(long, allow_negative_numbers = true)]
+    pub speed: Option<f64>,
+    /// The force at which the closed joint's Hertz stiffness is taken as a secant [N] (default 1e6).
+    #[arg(long, allow_negative_numbers = true)]
+    pub contact_force: Option<f64>,
+    /// The calibration earthquake for the link's mass and damper (default: the config's
+    /// [record]; read as `quakejoint record` would, from its content).
+    #[arg(long)]
+    pub record: Option<PathBuf>,
+    /// Skip the calibration earthquake: the mass of the joint's kinetic energy, no damper.
+    #[arg(long)]
+    pub no_earthquake: bool,
+    /// Folder for the exports: link.toml, link.tcl, link_opensees.py, link_sap2000.txt,
+    /// loops.csv (default: <config name>_link next to the config).
+    #[arg(long)]
+    pub output_dir: Option<PathBuf>,
     #[command(flatten)]
     pub print: PrintArgs,
 }

@@ -12,6 +12,7 @@
 #![allow(rustdoc::broken_intra_doc_links)]
 
 mod args;
+mod calibrate;
 mod commands;
 mod continuation;
 mod interrupt;

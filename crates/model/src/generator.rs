@@ -112,18 +112,21 @@ impl ContactPlace {
     }
 }
 
+/// The solver's Hertz damping of a contact config.
+pub(crate) fn hertz_damping(c: &crate::config::ContactConfig) -> HertzDamping {
+    match c.damping {
+        HertzDampingConfig::YeLiZhu => HertzDamping::YeLiZhu,
+        HertzDampingConfig::LankaraniNikravesh => HertzDamping::LankaraniNikravesh,
+    }
+}
+
 /// The solver's law for the contact config.
 fn contact_law(config: &Config) -> ContactLaw {
     let c = &config.joint.contact;
     match c.law {
-        ContactLawConfig::Hertz => ContactLaw::Hertz {
-            stiffness: c.hertz_stiffness,
-            restitution: c.restitution,
-            damping: match c.damping {
-                HertzDampingConfig::YeLiZhu => HertzDamping::YeLiZhu,
-                HertzDampingConfig::LankaraniNikravesh => HertzDamping::LankaraniNikravesh,
-            },
-        },
+        ContactLawConfig::Hertz => {
+            ContactLaw::Hertz { stiffness: c.hertz_stiffness, restitution: c.restitution, damping: hertz_damping(c) }
+        }
         ContactLawConfig::Linear => ContactLaw::Linear { stiffness: c.linear_stiffness, restitution: c.restitution },
     }
 }
@@ -393,6 +396,8 @@ pub struct JointModel {
     /// The other joints of `[[joints]]`, each with its parts (their
     /// `system` empty: all are in this one's).
     pub others: Vec<JointModel>,
+    /// The link element, when the joint is one (`joint.model = "link"`).
+    pub link: Option<crate::link::LinkParts>,
 }
 
 impl JointModel {
@@ -475,8 +480,9 @@ pub fn build_with(
             first_contact: 0,
             sign: place.sign,
             others: Vec::new(),
+            link: None,
         };
-        if place.config.joint.enabled {
+        if place.config.joint.enabled && !place.config.joint.is_link() {
             add_joint_bodies(&mut sys, &mut model, &place.config, bearing_joint, place.sign, &place.prefix)?;
         }
         models.push(model);
@@ -560,6 +566,16 @@ pub fn build_with(
             model.far_deck = Some(h);
         }
         model.deck = decks[k];
+        let j = &place.config.joint;
+        if j.enabled && j.is_link() {
+            let mut link = crate::link::add_link(&mut sys, j, decks[k], abutment, place.sign, &place.prefix)?;
+            if j.contact.enabled {
+                link.contact = Some(contacts);
+                contacts += 1;
+            }
+            model.link = Some(link);
+            continue;
+        }
         connect_joint(&mut sys, model, decks[k], abutment, &place.prefix);
         let j = &place.config.joint;
         if let (true, Some(geo)) = (j.enabled && j.contact.enabled, model.geometry.clone()) {

@@ -10,6 +10,7 @@
 
 #![deny(missing_docs)]
 
+pub mod calibrate;
 pub mod config;
 pub mod error;
 pub mod fields;
@@ -18,6 +19,7 @@ pub mod geometry;
 pub mod history;
 pub mod limits;
 pub mod linear;
+pub mod link;
 pub mod modal;
 pub mod placement;
 pub mod pounding;

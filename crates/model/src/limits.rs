@@ -107,6 +107,13 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     // a few times the penetration of the default contact at MN forces
     ("joint.contact.max_penetration", "m", closed(1e-4, 0.05)),
     ("joint.capacity.max_subgap", "m", closed(0.01, 1.0)),
+    ("joint.link.stiffness", "N/m", closed(1e3, 1e12)),
+    ("joint.link.friction", "N", closed(0.0, 1e9)),
+    ("joint.link.mass", "kg", above(0.0, 1e7)),
+    ("joint.link.damping", "N s/m", closed(0.0, 1e9)),
+    ("joint.link.gap_stiffness", "N/m", closed(1e3, 1e13)),
+    ("joint.link.gap_hertz", "N/m^1.5", closed(1e3, 1e13)),
+    ("joint.link.v_eps", "m/s", closed(1e-6, 0.01)),
     ("bridge.mass", "kg", closed(1e4, 1e10)),
     // 2 pi / 10 s to 2 pi / 0.01 s, rounded inwards (checked as a period)
     ("bridge.w0", "rad/s", closed(0.6284, 628.3)),

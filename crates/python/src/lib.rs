@@ -6,7 +6,8 @@
 //! - `config`: configs from TOML files, text or dicts, validated as the
 //!   command line validates them;
 //! - `run`: coupled earthquake runs and service loops, with the GIL
-//!   released and Ctrl-C honoured.
+//!   released and Ctrl-C honoured;
+//! - `calibrate`: the joint's link element and its exports.
 //!
 //! Errors are Python exceptions with the command line's messages:
 //! `InputError` where the command line exits with 2 (bad input),
@@ -18,6 +19,7 @@ use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 
+mod calibrate;
 mod config;
 mod convert;
 mod record;
@@ -95,5 +97,6 @@ fn _quakejoint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     record::register(m)?;
     config::register(m)?;
     run::register(m)?;
+    calibrate::register(m)?;
     Ok(())
 }

@@ -60,6 +60,16 @@ fn full() -> Config {
     let mut c = Config::default();
     c.joint.center_beam.inertia = Some(1.0);
     c.joint.support_beam.inertia = Some(1.0);
+    c.joint.model = Some(quakejoint_model::config::JointKind::Detailed);
+    c.joint.link = Some(quakejoint_model::config::LinkConfig {
+        stiffness: 1e7,
+        friction: 1e5,
+        mass: 1e4,
+        gap_stiffness: 1e8,
+        gap_hertz: Some(1e8),
+        damping: Some(0.0),
+        v_eps: Some(0.001),
+    });
     c.bridge.w0 = Some(6.3);
     c.bridge.transverse_period = Some(1.0);
     c.bridge.transverse_damping = Some(0.05);
@@ -218,7 +228,17 @@ fn every_range_is_documented_and_enforced() {
                 }
                 // (a modal bridge's table needs its modes file named)
                 let required = if section == "bridge.modal" { "modes = \"m.toml\"\njoint_point = \"a\"\n" } else { "" };
-                format!("[{section}]\n{required}{field} = {value}\n")
+                if section == "joint.link" {
+                    // (the link's required keys, and the joint made its link)
+                    let others: String = [("stiffness", 1e7), ("friction", 1e5), ("mass", 1e4), ("gap_stiffness", 1e8)]
+                        .iter()
+                        .filter(|(k, _)| *k != field)
+                        .map(|(k, x)| format!("{k} = {x:e}\n"))
+                        .collect();
+                    format!("[joint]\nmodel = \"link\"\n[joint.link]\n{others}{field} = {value}\n")
+                } else {
+                    format!("[{section}]\n{required}{field} = {value}\n")
+                }
             };
             match Config::from_toml(&text, "test.toml") {
                 Ok(_) => problems.push(format!("{key} = {v:e} is accepted, outside {}", bound.describe())),

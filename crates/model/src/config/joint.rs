@@ -30,6 +30,81 @@ pub struct JointConfig {
     pub contact: ContactConfig,
     /// Movement capacity of the joint.
     pub capacity: CapacityConfig,
+    /// How the joint is modelled: `"detailed"` (every beam, bearing and
+    /// contact; the default) or `"link"` (the calibrated macro-element of
+    /// `[joint.link]`, docs/link.md).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<JointKind>,
+    /// The link element (`joint.model = "link"`; `quakejoint calibrate`
+    /// writes it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub link: Option<LinkConfig>,
+}
+
+/// How the joint is modelled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum JointKind {
+    /// Every center beam, support beam, bearing and contact.
+    #[default]
+    Detailed,
+    /// The calibrated link element of `[joint.link]`.
+    Link,
+}
+
+/// The joint as one link element between the deck and the abutment along
+/// the bridge (docs/link.md): a spring in series with a Coulomb slider,
+/// a mass moving with the deck, and a gap that closes when every cell has
+/// closed. Its closing movement and capacity follow from the joint's
+/// geometry (`(Nc + 1) (pitch - center_beam.width)` and
+/// `(Nc + 1) (capacity.max_subgap - pitch + center_beam.width)`).
+#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkConfig {
+    /// Stiffness of the stuck joint, deck to abutment \[N/m\].
+    pub stiffness: f64,
+    /// Force at which it slides (its friction) \[N\].
+    pub friction: f64,
+    /// The joint's mass that moves with the deck \[kg\].
+    pub mass: f64,
+    /// Stiffness of the closed joint (every cell closed) \[N/m\].
+    pub gap_stiffness: f64,
+    /// The closed joint as a Hertz law `F = k d^1.5` \[N/m^1.5\] with the
+    /// joint's restitution (`joint.contact`), in place of the linear
+    /// `gap_stiffness`: the cells' contacts in series, `2 k_h / (Nc +
+    /// 1)^1.5` (quakejoint only; the exports keep the linear law).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap_hertz: Option<f64>,
+    /// Damper in parallel with the spring \[N s/m\] (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
+    /// Regularisation velocity of the slider [m/s] (default 1e-3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v_eps: Option<f64>,
+}
+
+impl LinkConfig {
+    /// The slider's regularisation velocity [m/s].
+    pub fn v_eps(&self) -> f64 {
+        self.v_eps.unwrap_or(1e-3)
+    }
+}
+
+impl JointConfig {
+    /// Whether the joint is the link element.
+    pub fn is_link(&self) -> bool {
+        self.model == Some(JointKind::Link)
+    }
+
+    /// The cells (sub-gaps) of the joint, `Nc + 1`.
+    pub fn cells(&self) -> usize {
+        self.center_beams + 1
+    }
+
+    /// The clear sub-gap at rest, `pitch - center_beam.width` \[m\].
+    pub fn clear_subgap(&self) -> f64 {
+        self.pitch - self.center_beam.width
+    }
 }
 
 impl Default for JointConfig {
@@ -53,6 +128,8 @@ impl Default for JointConfig {
             friction: FrictionConfig::default(),
             contact: ContactConfig::default(),
             capacity: CapacityConfig::default(),
+            model: None,
+            link: None,
         }
     }
 }

@@ -407,6 +407,28 @@ impl Config {
             ] {
                 check(key, v)?;
             }
+            if j.is_link() {
+                let Some(l) = &j.link else {
+                    return Err(ModelError::Invalid {
+                        field: "joint.link".to_string(),
+                        value: "none".to_string(),
+                        reason: "joint.model = \"link\" needs [joint.link] (stiffness, friction, mass, \
+                                 gap_stiffness): quakejoint calibrate writes it (docs/link.md)"
+                            .to_string(),
+                    });
+                };
+                for (key, v) in [
+                    ("joint.link.stiffness", l.stiffness),
+                    ("joint.link.friction", l.friction),
+                    ("joint.link.mass", l.mass),
+                    ("joint.link.gap_stiffness", l.gap_stiffness),
+                    ("joint.link.damping", l.damping.unwrap_or(0.0)),
+                    ("joint.link.gap_hertz", l.gap_hertz.unwrap_or(1e6)),
+                    ("joint.link.v_eps", l.v_eps()),
+                ] {
+                    check(key, v)?;
+                }
+            }
             check("joint.contact.hertz_stiffness", j.contact.hertz_stiffness)?;
             check("joint.contact.linear_stiffness", j.contact.linear_stiffness)?;
             let clear = j.pitch - j.center_beam.width;

@@ -73,8 +73,12 @@ pub fn simulate_records(
     let e = sim.energy();
     let energy_error = e.error_relative_to_input();
     let mut results = obs.joints.into_iter().zip(model.joints()).enumerate().map(|(k, (mut obs, jm))| {
-        let validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
+        let mut validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
         let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
+        if let Some(l) = &obs.link {
+            pounding = l.pounding();
+            l.validity(&mut validity);
+        }
         pounding.contact_energy = e.contact;
         if let (Some(h), Some(log)) = (&mut obs.histories, obs.contacts.as_mut().and_then(|c| c.log.take())) {
             h.impacts = log;
@@ -86,9 +90,10 @@ pub fn simulate_records(
             sd: obs.sd.value,
             sv: obs.sv.value,
             peak_joint_force: obs.joint_force.value,
-            min_subgap: obs.gaps.as_ref().map(|g| g.min),
-            max_subgap: obs.gaps.as_ref().map(|g| g.max),
-            max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation),
+            min_subgap: obs.gaps.as_ref().map(|g| g.min).or(obs.link.as_ref().map(|l| l.cells()[0])),
+            max_subgap: obs.gaps.as_ref().map(|g| g.max).or(obs.link.as_ref().map(|l| l.cells()[1])),
+            // (a link's cells open alike)
+            max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation).or(obs.link.as_ref().map(|_| 0.0)),
             pounding,
             validity,
             // (the first joint's stay the run's; the friction power is the
@@ -307,6 +312,9 @@ struct EarthquakeObserver {
     friction: f64,
     gaps: Option<Gaps>,
     contacts: Option<ContactWatch>,
+    /// The link element, its node's and abutment's x coordinates, and what
+    /// is watched of it.
+    link: Option<LinkObserver>,
     /// Scratch: contact force per sub-gap at a sample.
     gap_forces: Vec<f64>,
     histories: Option<Histories>,
@@ -384,6 +392,7 @@ impl EarthquakeObserver {
             friction: 0.0,
             gaps,
             contacts,
+            link: LinkObserver::new(model, asm),
             gap_forces: vec![0.0; n_gaps],
             histories,
             check_dt,
@@ -436,7 +445,10 @@ impl EarthquakeObserver {
             None => 0.0,
         };
         let reaction = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body);
-        let fj = reaction[0] + pushed;
+        let mut fj = reaction[0] + pushed;
+        if let Some(l) = &mut self.link {
+            fj = l.update(t, q, v, asm, ws);
+        }
         let b = &self.bridge;
         // a modal deck end's absolute acceleration across, in the joint's y
         let mut modal_ay = None;
@@ -553,5 +565,78 @@ impl Observer for EarthquakeObserver {
             self.state = state;
         }
         true
+    }
+}
+
+/// A link element's watch in a run: its parts, coordinates and extremes.
+struct LinkObserver {
+    parts: crate::link::LinkParts,
+    /// Scratch: the contacts' states.
+    contacts: Vec<quakejoint_solver::ContactValue>,
+    deck: usize,
+    slider: usize,
+    abutment: Option<usize>,
+    watch: crate::link::LinkWatch,
+}
+
+impl LinkObserver {
+    fn new(model: &JointModel, asm: &Assembly) -> Option<Self> {
+        let parts = model.link.clone()?;
+        let deck = asm.coordinate(parts.deck, quakejoint_solver::Coord::X)?;
+        let slider = asm.coordinate(parts.slider, quakejoint_solver::Coord::X)?;
+        let abutment = asm.coordinate(parts.abutment, quakejoint_solver::Coord::X);
+        Some(Self { parts, contacts: Vec::new(), deck, slider, abutment, watch: crate::link::LinkWatch::default() })
+    }
+
+    /// Watches the state `(q, v)` at `t`; returns the link's force on the
+    /// deck (its spring's and damper's and, closed, its gap's) \[N\].
+    fn update(&mut self, t: f64, q: &[f64], v: &[f64], asm: &Assembly, ws: &mut quakejoint_solver::Workspace) -> f64 {
+        let u = q[self.deck] - self.abutment.map_or(0.0, |c| q[c]);
+        let gap = match self.parts.contact {
+            Some(i) => {
+                self.contacts.resize(asm.contact_count(), Default::default());
+                asm.contacts(ws, q, v, &mut self.contacts);
+                let c = &self.contacts[i];
+                if c.closed {
+                    c.force
+                } else {
+                    0.0
+                }
+            }
+            None => 0.0,
+        };
+        self.watch.update(&self.parts, t, u, gap);
+        let p = &self.parts;
+        p.stiffness * (q[self.slider] - q[self.deck]) + p.damping * (v[self.slider] - v[self.deck]) + gap
+    }
+
+    fn cells(&self) -> [f64; 2] {
+        self.watch.cells(&self.parts)
+    }
+
+    /// The closures as pounding: the closed joint's force on the deck.
+    fn pounding(&self) -> Pounding {
+        let w = &self.watch;
+        Pounding {
+            impacts: w.closures,
+            peak_contact_force: w.peak_gap_force,
+            peak_contact_time: w.peak_gap_time,
+            peak_deck_contact_force: w.peak_gap_force,
+            max_penetration: w.max_overlap / self.parts.cells as f64,
+            ..Pounding::default()
+        }
+    }
+
+    /// A cell beyond its capacity, flagged as the detailed joint's.
+    fn validity(&self, v: &mut crate::validity::Validity) {
+        if let Some(t) = self.watch.beyond_capacity_at {
+            v.flags |= crate::validity::Flags::CAPACITY_EXCEEDED;
+            v.findings.push(format!(
+                "capacity_exceeded: the link's cells (opening alike) opened to {:.1} mm, beyond the capacity of \
+                 {:.0} mm (joint.capacity.max_subgap; first at t = {t:.3} s)",
+                self.cells()[1] * 1e3,
+                self.parts.max_subgap * 1e3
+            ));
+        }
     }
 }

@@ -1,0 +1,176 @@
+//! `quakejoint calibrate`: the link element of a config's joint, its fit
+//! and damping table, and its exports (docs/link.md).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use quakejoint_model::calibrate::{calibrate, elastoplastic, export, Calibration, CalibrationOptions};
+use serde_json::json;
+
+use crate::args::CalibrateArgs;
+use crate::commands::read_config;
+
+/// Runs `quakejoint calibrate`.
+pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
+    let (config, _) = read_config(&a.config)?;
+    let mut options = CalibrationOptions::default();
+    if let Some(x) = a.amplitudes {
+        options.amplitudes = x;
+    }
+    if let Some(s) = a.speed {
+        options.speed = s;
+    }
+    if let Some(f) = a.contact_force {
+        options.contact_force = f;
+    }
+    if !a.no_earthquake {
+        let record = match &a.record {
+            Some(path) => {
+                let spec = quakejoint_motion::RecordSpec::new(path.clone());
+                quakejoint_motion::load_record(&spec, Path::new(".")).map_err(quakejoint_model::ModelError::from)?
+            }
+            None => quakejoint_model::run::load_records(&config, &quakejoint_model::config::base_dir(&a.config))?.0,
+        };
+        options.record = Some(quakejoint_model::run::run_window(&config, &record.record));
+    }
+    let c = calibrate(&config, &options)?;
+    let dir = a.output_dir.unwrap_or_else(|| default_dir(&a.config));
+    let written = write_exports(&c, &dir, &a.config.display().to_string())?;
+    if a.print.json {
+        println!("{}", serde_json::to_string_pretty(&json_of(&c, &written))?);
+    } else {
+        print!("{}", table(&c, &a.config, &written));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn default_dir(config: &Path) -> PathBuf {
+    let stem = config.file_stem().map_or_else(|| "config".into(), |s| s.to_string_lossy().into_owned());
+    quakejoint_model::config::base_dir(config).join(format!("{stem}_link"))
+}
+
+/// Writes the exports and the loops; returns the paths written.
+fn write_exports(c: &Calibration, dir: &Path, source: &str) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let files = [
+        ("link.toml", export::toml(c, source)),
+        ("link.tcl", export::opensees_tcl(c, source)),
+        ("link_opensees.py", export::opensees_py(c, source)),
+        ("link_sap2000.txt", export::sap2000(c, source)),
+        ("loops.csv", loops_csv(c)),
+    ];
+    let mut written = Vec::new();
+    for (name, text) in files {
+        let path = dir.join(name);
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// Every loop: amplitude, time, opening, the detailed joint's force and
+/// the link's (its elastic-perfectly-plastic law), on the deck.
+fn loops_csv(c: &Calibration) -> String {
+    let mut out = String::from("amplitude [m],t [s],u [m],detailed force [N],link force [N]\n");
+    for l in &c.loops {
+        let link = elastoplastic(&l.u, c.link.stiffness, c.link.friction);
+        for (((t, u), f), g) in l.t.iter().zip(&l.u).zip(&l.force).zip(&link) {
+            let _ = writeln!(out, "{},{t},{u},{f},{g}", l.amplitude);
+        }
+    }
+    out
+}
+
+fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
+    let l = &c.link;
+    let mut s = String::new();
+    let _ = writeln!(s, "{}: the joint's link element (docs/link.md)", config.display());
+    let _ = writeln!(s, "  spring (stuck joint)       {:>12.4e} N/m", l.stiffness);
+    let _ = writeln!(
+        s,
+        "  slider (friction)          {:>12.4e} N    (hand calculation {:.4e} N)",
+        l.friction, c.hand_friction
+    );
+    let _ = writeln!(
+        s,
+        "  moving mass                {:>12.4e} kg   (sliding as a whole {:.4e} kg)",
+        l.mass, c.kinetic_mass
+    );
+    let _ = writeln!(s, "  damper (with the spring)   {:>12.4e} N s/m", l.damping.unwrap_or(0.0));
+    let _ = writeln!(s, "  closing movement (gap)     {:>12.4e} m    ({} cells)", c.gap, c.cells);
+    let _ = writeln!(
+        s,
+        "  closed-joint stiffness     {:>12.4e} N/m  (secant at {:.3e} N)",
+        l.gap_stiffness, c.options.contact_force
+    );
+    let _ = writeln!(s, "  opening capacity           {:>12.4e} m", c.capacity);
+    let _ = writeln!(
+        s,
+        "  fit: RMS force error {:.4e} N ({:.2} % of the slider force) over {} loops at {} m/s",
+        c.fit_rms,
+        100.0 * c.fit_rms / l.friction,
+        c.loops.len(),
+        c.options.speed
+    );
+    if let Some(d) = &c.dynamic {
+        let _ = writeln!(
+            s,
+            "  under {}: RMS force error {:.4e} N; peak force {:.4e} N (detailed {:.4e}), friction energy {:.4e} J \
+             (detailed {:.4e})",
+            d.record, d.rms, d.peak_link, d.peak_detailed, d.friction_link, d.friction_detailed
+        );
+    }
+    let _ = writeln!(s, "equivalent viscous damping ratio E_D / (4 pi E_S) against the amplitude");
+    let _ = writeln!(
+        s,
+        "  {:>10} {:>12} {:>12} {:>12} {:>10} {:>12}",
+        "amplitude", "E_D [J]", "link E_D", "peak F [N]", "joint", "on bridge"
+    );
+    for p in &c.loops {
+        let bridge = p.damping_bridge.map_or_else(|| "-".to_string(), |x| format!("{:.3e}", x));
+        let _ = writeln!(
+            s,
+            "  {:>8.4} m {:>12.4e} {:>12.4e} {:>12.4e} {:>10.3} {:>12}",
+            p.amplitude, p.energy, p.link_energy, p.peak_force, p.damping_joint, bridge
+        );
+    }
+    let _ = writeln!(s, "written:");
+    for w in written {
+        let _ = writeln!(s, "  {}", w.display());
+    }
+    s
+}
+
+fn json_of(c: &Calibration, written: &[PathBuf]) -> serde_json::Value {
+    let l = &c.link;
+    json!({
+        "stiffness": l.stiffness,
+        "friction": l.friction,
+        "hand_friction": c.hand_friction,
+        "mass": l.mass,
+        "kinetic_mass": c.kinetic_mass,
+        "damping": l.damping.unwrap_or(0.0),
+        "earthquake": c.dynamic.as_ref().map(|d| json!({
+            "record": d.record, "rms": d.rms, "peak_link": d.peak_link, "peak_detailed": d.peak_detailed,
+            "friction_link": d.friction_link, "friction_detailed": d.friction_detailed,
+        })),
+        "gap": c.gap,
+        "gap_stiffness": l.gap_stiffness,
+        "capacity": c.capacity,
+        "cells": c.cells,
+        "fit_rms": c.fit_rms,
+        "speed": c.options.speed,
+        "contact_force": c.options.contact_force,
+        "loops": c.loops.iter().map(|p| json!({
+            "amplitude": p.amplitude,
+            "energy": p.energy,
+            "link_energy": p.link_energy,
+            "peak_force": p.peak_force,
+            "damping_joint": p.damping_joint,
+            "damping_bridge": p.damping_bridge,
+        })).collect::<Vec<_>>(),
+        "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+    })
+}

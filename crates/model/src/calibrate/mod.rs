@@ -1,0 +1,402 @@
+//! Calibration of the link element (`joint.model = "link"`,
+//! [`crate::link`]) from the detailed joint (docs/link.md, "The method").
+//!
+//! - Spring `k` and slider force `F`: the detailed joint is opened and
+//!   closed by the service case ([`crate::service`]) at several amplitudes,
+//!   slowly; its force on the deck against the opening is fitted by an
+//!   elastic-perfectly-plastic law run over the same opening history (least
+//!   squares over every loop's last cycle, each loop weighted alike), `F`
+//!   then set so that the widest loop dissipates what the detailed joint's
+//!   does ([`fit`]). The hand
+//!   calculation of the friction force, `F_hand = mu n_s N sum_ik (i / (Nc +
+//!   1)) dl_k/du` (`dl/du` = `cos theta_k` on a joist, 1 on the guide: the
+//!   swivel kinematics), is reported beside it.
+//! - Mass `m`: the joint's kinetic energy with the deck opening at speed
+//!   `V`, over `V^2 / 2`: each center beam with its bearings moves at `i /
+//!   (Nc + 1) V`, each joist turns about its pivot at `theta' = -dy V /
+//!   (G0^2 + dy^2)`; the guide does not move.
+//! - Gap stiffness `k_c`: the closed joint is `Nc + 1` cells in series, each
+//!   two contacts (the beam ends) in parallel: `2 k / (Nc + 1)` for the
+//!   linear law; for the Hertz law the chain's own Hertz law `2 k / (Nc +
+//!   1)^1.5` (quakejoint's link) and, for the exports' linear gaps, its
+//!   secant stiffness at the force `contact_force`, `F_c / ((Nc + 1) (F_c /
+//!   2 k)^(2/3))`.
+//! - Mass and damper, dynamically: the detailed joint on the config's
+//!   bridge under the calibration record (the config's, or another given),
+//!   against the link with the kinetic-energy mass times 1/8 to 2 and a
+//!   damper in parallel with its spring from 0 to 1e7 N s/m (a grid): the
+//!   pair whose force on the deck follows the detailed joint's history
+//!   best: least RMS of the difference plus difference of the peaks, each
+//!   over the detailed joint's peak (the peak is what the abutment is
+//!   designed for). The mass of the kinetic energy is that of a joint
+//!   sliding as a whole; its beams lag and ring apart, which the damper
+//!   stands for.
+//! - The equivalent viscous damping ratio of each loop, `E_D / (4 pi E_S)`:
+//!   the joint's own (its secant stiffness) and, on a single-DOF bridge,
+//!   the bridge's added damping at that deck amplitude.
+
+use crate::config::{Config, ContactLawConfig, LinkConfig, SupportKind};
+use crate::error::ModelError;
+use crate::geometry::Geometry;
+
+pub mod export;
+
+/// What the calibration runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrationOptions {
+    /// Amplitudes of the service loops \[m\].
+    pub amplitudes: Vec<f64>,
+    /// Opening speed of the loops [m/s] (slow: the fit is of the static law).
+    pub speed: f64,
+    /// Cycles per loop (the first starts from rest).
+    pub cycles: u32,
+    /// The force at which a Hertz contact's secant stiffness is taken \[N\].
+    pub contact_force: f64,
+    /// The calibration earthquake (the mass and the damper): a record to
+    /// run the config's bridge under; none: they are not identified (the
+    /// kinetic-energy mass, no damper).
+    pub record: Option<quakejoint_motion::Record>,
+}
+
+impl Default for CalibrationOptions {
+    fn default() -> Self {
+        Self {
+            amplitudes: vec![0.002, 0.005, 0.01, 0.02, 0.05, 0.1],
+            speed: 0.02,
+            cycles: 2,
+            contact_force: 1e6,
+            record: None,
+        }
+    }
+}
+
+/// One service loop of the detailed joint and the link's at the same
+/// amplitude.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoopSummary {
+    /// Amplitude \[m\].
+    pub amplitude: f64,
+    /// The detailed joint's loop area over the last cycle, `E_D` \[J\].
+    pub energy: f64,
+    /// The detailed joint's largest force on the deck over it \[N\].
+    pub peak_force: f64,
+    /// The link's loop area (closed form, `4 F (A - F/k)`) \[J\].
+    pub link_energy: f64,
+    /// The joint's equivalent damping ratio with its own secant stiffness,
+    /// `E_D / (4 pi (peak_force A / 2))` [-].
+    pub damping_joint: f64,
+    /// On the config's single-DOF bridge (none for a modal one), the
+    /// damping ratio the joint adds at that deck amplitude, `E_D / (4 pi
+    /// (K + k_sec) A^2 / 2)` [-].
+    pub damping_bridge: Option<f64>,
+    /// Times \[s\], openings \[m\] and the detailed joint's force on the deck
+    /// \[N\] over the whole run (every cycle).
+    pub t: Vec<f64>,
+    /// Openings \[m\].
+    pub u: Vec<f64>,
+    /// The detailed joint's force on the deck \[N\].
+    pub force: Vec<f64>,
+    /// The index of the last cycle's first sample.
+    pub last_cycle: usize,
+}
+
+/// The mass and damper identified under the calibration earthquake.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DynamicFit {
+    /// The record's name.
+    pub record: String,
+    /// RMS of the link's force on the deck against the detailed joint's
+    /// over the run \[N\].
+    pub rms: f64,
+    /// The detailed joint's peak force on the deck \[N\].
+    pub peak_detailed: f64,
+    /// The link's \[N\].
+    pub peak_link: f64,
+    /// The detailed joint's friction energy \[J\].
+    pub friction_detailed: f64,
+    /// The link's \[J\].
+    pub friction_link: f64,
+}
+
+/// The calibrated link and how well it fits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Calibration {
+    /// The link's parameters.
+    pub link: LinkConfig,
+    /// The hand calculation of the friction force \[N\].
+    pub hand_friction: f64,
+    /// RMS of the fit's force error over the loops \[N\].
+    pub fit_rms: f64,
+    /// The closing movement until every cell is closed \[m\].
+    pub gap: f64,
+    /// The opening movement at which the cells reach their capacity \[m\].
+    pub capacity: f64,
+    /// Cells [-].
+    pub cells: usize,
+    /// The loops.
+    pub loops: Vec<LoopSummary>,
+    /// The mass of the joint's kinetic energy sliding as a whole \[kg\].
+    pub kinetic_mass: f64,
+    /// The calibration earthquake's fit, if one ran.
+    pub dynamic: Option<DynamicFit>,
+    /// The options it ran with.
+    pub options: CalibrationOptions,
+}
+
+/// Calibrates the link of `config`'s joint (the detailed one of `[joint]`).
+pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibration, ModelError> {
+    config.validate()?;
+    let j = &config.joint;
+    if !j.enabled || j.is_link() {
+        return Err(ModelError::Invalid {
+            field: "joint.model".to_string(),
+            value: if j.enabled { "\"link\"".to_string() } else { "joint.enabled = false".to_string() },
+            reason: "the calibration needs the detailed joint (joint.model = \"detailed\", the default)".to_string(),
+        });
+    }
+    if options.amplitudes.is_empty() || options.amplitudes.iter().any(|a| !(a.is_finite() && *a > 0.0 && *a <= 2.0)) {
+        return Err(ModelError::Invalid {
+            field: "amplitudes".to_string(),
+            value: format!("{:?}", options.amplitudes),
+            reason: "give at least one amplitude, each above 0 and at most 2 m".to_string(),
+        });
+    }
+    let mut loops = Vec::with_capacity(options.amplitudes.len());
+    for &a in &options.amplitudes {
+        let mut c = config.clone();
+        c.service.amplitude = a;
+        c.service.speed = options.speed;
+        c.service.cycles = options.cycles;
+        // (each reversal rounded over at most a quarter of a stroke)
+        c.service.blend = c.service.blend.min(0.25 * 2.0 * a / options.speed);
+        let r = crate::service::service(&c)?;
+        let period = r.period;
+        let last = r.t.last().copied().unwrap_or(0.0) - period;
+        let last_cycle = r.t.partition_point(|t| *t < last);
+        let peak_force = r.joint_force[last_cycle..].iter().fold(0.0f64, |m, f| m.max(f.abs()));
+        loops.push(LoopSummary {
+            amplitude: a,
+            energy: r.loop_work_per_cycle,
+            peak_force,
+            link_energy: 0.0,
+            damping_joint: r.loop_work_per_cycle / (4.0 * std::f64::consts::PI * 0.5 * peak_force * a),
+            damping_bridge: None,
+            t: r.t,
+            u: r.u,
+            force: r.joint_force,
+            last_cycle,
+        });
+    }
+    let (stiffness, friction, fit_rms) = fit(&loops);
+    let geo = Geometry::new(config)?;
+    let mass = moving_mass(config, &geo);
+    let gap_stiffness = closed_stiffness(config, options.contact_force);
+    let bridge = config.bridge.modal.is_none().then(|| config.bridge.mass * config.bridge.omega().powi(2));
+    for l in &mut loops {
+        let a = l.amplitude;
+        let yield_u = friction / stiffness;
+        l.link_energy = if a > yield_u { 4.0 * friction * (a - yield_u) } else { 0.0 };
+        let k_sec = l.peak_force / a;
+        l.damping_bridge = bridge.map(|kb| l.energy / (4.0 * std::f64::consts::PI * 0.5 * (kb + k_sec) * a * a));
+    }
+    let cells = j.cells();
+    let gap_hertz = (j.contact.law == ContactLawConfig::Hertz)
+        .then(|| 2.0 * j.contact.hertz_stiffness / (j.cells() as f64).powf(1.5));
+    let mut link = LinkConfig { stiffness, friction, mass, gap_stiffness, gap_hertz, damping: None, v_eps: None };
+    let dynamic = match &options.record {
+        Some(record) => Some(identify(config, record, &mut link)?),
+        None => None,
+    };
+    Ok(Calibration {
+        link,
+        kinetic_mass: mass,
+        dynamic,
+        hand_friction: hand_friction(config, &geo),
+        fit_rms,
+        gap: cells as f64 * j.clear_subgap(),
+        capacity: cells as f64 * (j.capacity.max_subgap - j.clear_subgap()),
+        cells,
+        loops,
+        options: options.clone(),
+    })
+}
+
+/// The joint's force on the deck and friction energy in a run of `config`
+/// under `record`: (force history, peak, friction energy).
+fn joint_force(config: &Config, record: &quakejoint_motion::Record) -> Result<(Vec<f64>, f64, f64), ModelError> {
+    let options = crate::run::RunOptions { histories: true, ..Default::default() };
+    let r = crate::run::simulate_records(config, record, None, &options)?;
+    let h = r.histories.map(|h| h.joint_force).unwrap_or_default();
+    Ok((h, r.peak_joint_force, r.friction_energy))
+}
+
+/// Identifies the link's mass and damper (see the module documentation)
+/// and sets them in `link`.
+fn identify(
+    config: &Config,
+    record: &quakejoint_motion::Record,
+    link: &mut LinkConfig,
+) -> Result<DynamicFit, ModelError> {
+    let (detailed, peak_detailed, friction_detailed) = joint_force(config, record)?;
+    let kinetic = link.mass;
+    let mut best: Option<(f64, LinkConfig, f64, f64)> = None;
+    for factor in [0.125, 0.25, 0.5, 1.0, 2.0] {
+        for c in [0.0, 1e4, 3e4, 1e5, 3e5, 1e6, 3e6, 1e7] {
+            let candidate = LinkConfig { mass: factor * kinetic, damping: Some(c), ..link.clone() };
+            let mut lc = config.clone();
+            lc.joint.model = Some(crate::config::JointKind::Link);
+            lc.joint.link = Some(candidate.clone());
+            let (f, peak, fe) = joint_force(&lc, record)?;
+            let n = f.len().min(detailed.len()).max(1);
+            let rms = (f.iter().zip(&detailed).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / n as f64).sqrt();
+            // (the history and its peak, the force the abutment is designed for, alike)
+            let score = rms / peak_detailed + (peak - peak_detailed).abs() / peak_detailed;
+            if best.as_ref().is_none_or(|b| score < b.0) {
+                best = Some((score, candidate, peak, fe));
+            }
+        }
+    }
+    let (_, chosen, peak_link, friction_link) = best.expect("the grid is not empty");
+    let mut lc = config.clone();
+    lc.joint.model = Some(crate::config::JointKind::Link);
+    lc.joint.link = Some(chosen.clone());
+    let f = joint_force(&lc, record)?.0;
+    let n = f.len().min(detailed.len()).max(1);
+    let rms = (f.iter().zip(&detailed).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / n as f64).sqrt();
+    *link = chosen;
+    Ok(DynamicFit { record: record.name.clone(), rms, peak_detailed, peak_link, friction_detailed, friction_link })
+}
+
+/// The elastic-perfectly-plastic force on the deck (resisting the opening)
+/// over an opening history, from rest.
+pub fn elastoplastic(u: &[f64], stiffness: f64, friction: f64) -> Vec<f64> {
+    let mut f = 0.0f64;
+    let mut last = u.first().copied().unwrap_or(0.0);
+    u.iter()
+        .map(|&x| {
+            f = (f - stiffness * (x - last)).clamp(-friction, friction);
+            last = x;
+            f
+        })
+        .collect()
+}
+
+/// Mean over the loops of each loop's mean squared error of the law over
+/// its last cycle (the law run from rest over the whole history; the first
+/// cycle's start from rest is left out of the error).
+fn misfit(loops: &[LoopSummary], stiffness: f64, friction: f64) -> f64 {
+    loops
+        .iter()
+        .map(|l| {
+            let law = elastoplastic(&l.u, stiffness, friction);
+            let first = l.last_cycle;
+            let n = (l.u.len() - first).max(1) as f64;
+            law[first..].iter().zip(&l.force[first..]).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / n
+        })
+        .sum::<f64>()
+        / loops.len() as f64
+}
+
+/// Golden-section minimum of `f` on `[a, b]` (60 steps: the bracket
+/// shrinks by 3e-13).
+fn golden(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let r = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..60 {
+        if fc < fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - r * (b - a);
+            fc = f(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + r * (b - a);
+            fd = f(d);
+        }
+    }
+    (a + b) / 2.0
+}
+
+/// `(k, F, rms)`: first the least squares in both (for each `k` the best
+/// `F` by golden section up to the largest force seen; `log k` on a grid
+/// from 1e4 to 1e12 N/m, refined about the best point); then `F` so that
+/// the widest loop's area is the detailed joint's, `4 F (A - F / k) =
+/// E_D` (the least squares pull `F` below the sliding plateau where the
+/// detailed joint's bearings start to slide one after the other, and the
+/// dissipation is what the bridge feels), and `k` again by least squares
+/// with that `F`.
+fn fit(loops: &[LoopSummary]) -> (f64, f64, f64) {
+    let top = loops.iter().map(|l| l.peak_force).fold(0.0f64, f64::max);
+    let best_f = |k: f64| golden(|f| misfit(loops, k, f), 0.0, top);
+    let cost = |lk: f64| {
+        let k = 10f64.powf(lk);
+        misfit(loops, k, best_f(k))
+    };
+    let grid: Vec<f64> = (0..=64).map(|i| 4.0 + 8.0 * i as f64 / 64.0).collect();
+    let i = (0..grid.len()).min_by(|&a, &b| cost(grid[a]).total_cmp(&cost(grid[b]))).unwrap_or(0);
+    let (lo, hi) = (grid[i.saturating_sub(1)], grid[(i + 1).min(grid.len() - 1)]);
+    let mut k = 10f64.powf(golden(cost, lo, hi));
+    let mut f = best_f(k);
+    if let Some(wide) = loops.iter().max_by(|a, b| a.amplitude.total_cmp(&b.amplitude)) {
+        // F^2 / k - A F + E_D / 4 = 0, the root below k A / 2
+        let (a, e) = (wide.amplitude, wide.energy);
+        let disc = a * a - e / k;
+        if disc >= 0.0 && e > 0.0 {
+            f = k * (a - disc.sqrt()) / 2.0;
+            let lk = golden(|lk| misfit(loops, 10f64.powf(lk), f), lo - 1.0, hi + 1.0);
+            k = 10f64.powf(lk);
+        }
+    }
+    (k, f, misfit(loops, k, f).sqrt())
+}
+
+/// The hand calculation of the friction force on the deck at rest \[N\].
+fn hand_friction(config: &Config, geo: &Geometry) -> f64 {
+    let fr = &config.joint.friction;
+    let n1 = (geo.center_beams + 1) as f64;
+    let per_bearing = fr.mu * fr.surfaces * fr.normal_force;
+    geo.supports
+        .iter()
+        .map(|s| {
+            let dl = match s.kind {
+                SupportKind::Joist => geo.gap / (geo.gap * geo.gap + s.box_dy * s.box_dy).sqrt(),
+                SupportKind::Guide => 1.0,
+            };
+            (1..=geo.center_beams).map(|i| per_bearing * i as f64 / n1 * dl).sum::<f64>()
+        })
+        .sum()
+}
+
+/// The joint's mass moving with the deck: kinetic energy over `V^2 / 2`
+/// \[kg\] (see the module documentation).
+fn moving_mass(config: &Config, geo: &Geometry) -> f64 {
+    let j = &config.joint;
+    let n1 = (geo.center_beams + 1) as f64;
+    let beam = j.center_beam.mass + geo.supports.len() as f64 * j.bearing.mass;
+    let beams: f64 = (1..=geo.center_beams).map(|i| beam * (i as f64 / n1).powi(2)).sum();
+    let joists: f64 = geo
+        .supports
+        .iter()
+        .filter(|s| s.kind == SupportKind::Joist)
+        .map(|s| {
+            let r2 = geo.gap * geo.gap + s.box_dy * s.box_dy;
+            // about the pivot: its centre at half the pivot-to-box distance at rest
+            let about_pivot = j.support_beam.inertia() + j.support_beam.mass * r2 / 4.0;
+            about_pivot * (s.box_dy / r2).powi(2)
+        })
+        .sum();
+    beams + joists
+}
+
+/// The closed joint's stiffness \[N/m\] (see the module documentation).
+fn closed_stiffness(config: &Config, contact_force: f64) -> f64 {
+    let c = &config.joint.contact;
+    let n1 = config.joint.cells() as f64;
+    match c.law {
+        ContactLawConfig::Linear => 2.0 * c.linear_stiffness / n1,
+        ContactLawConfig::Hertz => {
+            let cell = (contact_force / (2.0 * c.hertz_stiffness)).powf(2.0 / 3.0);
+            contact_force / (n1 * cell)
+        }
+    }
+}

@@ -1,0 +1,197 @@
+//! The joint as one link element between the deck and the abutment
+//! (`joint.model = "link"`, docs/link.md).
+//!
+//! Along the joint's x, with `u` the deck's opening relative to the
+//! abutment:
+//!
+//! - a spring `k` (the stuck joint: bushings and joists in series), with a
+//!   damper `c` beside it, from the deck to the joint's moving mass `m` (its center beams and bearings,
+//!   which stay when the joint sticks and move with the deck when it
+//!   slides), which slides on the abutment against the Coulomb force `F`
+//!   (the bearings' friction as the swivel kinematics pass it to the deck;
+//!   regularised below `v_eps`): statically an elastic-perfectly-plastic
+//!   force, OpenSees' `ElasticPP` with `E = k` and `epsyP = F / k`;
+//! - a gap: once the deck has closed the joint by the sum of its clear
+//!   sub-gaps at rest, `(Nc + 1) (pitch - width)`, every cell is closed and
+//!   the deck meets the abutment through the linear spring `k_c`
+//!   (no damping: OpenSees' `ElasticPPGap`).
+//!
+//! The cells are taken as opening alike (the intercept theorem): a cell is
+//! `g0 + u / (Nc + 1)`, checked against `joint.capacity.max_subgap`.
+
+use quakejoint_solver::{
+    Body, BodyId, Bushing, Contact, ContactLaw, Coord, ForceElement, Friction, FrictionLaw, System,
+};
+
+use crate::config::JointConfig;
+use crate::error::ModelError;
+
+/// The link's parts in the solver system.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkParts {
+    /// The deck side.
+    pub deck: BodyId,
+    /// The joint's moving mass, between the spring and the friction.
+    pub slider: BodyId,
+    /// The spring \[N/m\].
+    pub stiffness: f64,
+    /// The damper with the spring \[N s/m\].
+    pub damping: f64,
+    /// The abutment side (the ground, or a body).
+    pub abutment: BodyId,
+    /// The closing movement until every cell is closed \[m\].
+    pub gap: f64,
+    /// Cells (sub-gaps) [-].
+    pub cells: usize,
+    /// The clear sub-gap at rest \[m\].
+    pub clear: f64,
+    /// The cells' capacity \[m\].
+    pub max_subgap: f64,
+    /// The solver's number of the gap's contact (set by the generator;
+    /// none without contact).
+    pub contact: Option<usize>,
+}
+
+/// Adds the link of `joint` between `deck` and `abutment` to `sys`
+/// (`sign` -1: the joint turned half a turn; `prefix` starts the names).
+pub fn add_link(
+    sys: &mut System,
+    joint: &JointConfig,
+    deck: BodyId,
+    abutment: BodyId,
+    sign: f64,
+    prefix: &str,
+) -> Result<LinkParts, ModelError> {
+    let l = joint.link.as_ref().ok_or_else(|| ModelError::Invalid {
+        field: "joint.link".to_string(),
+        value: "none".to_string(),
+        reason: "joint.model = \"link\" needs [joint.link]".to_string(),
+    })?;
+    let body = |name: String, mass: f64| {
+        let b = Body::new(name, mass, 1.0, [0.0; 3]).only(&[Coord::X]);
+        if sign < 0.0 {
+            b.with_base_mass([[-mass, 0.0], [0.0, -mass]])
+        } else {
+            b
+        }
+    };
+    let slider = sys.add_body(body(format!("{prefix}link mass"), l.mass));
+    sys.add_force_named(
+        format!("{prefix}link spring"),
+        ForceElement::Bushing(Bushing {
+            frame_body: deck,
+            frame_point: [0.0, 0.0],
+            body: slider,
+            point: [0.0, 0.0],
+            stiffness: [l.stiffness, 0.0],
+            damping: [l.damping.unwrap_or(0.0), 0.0],
+            rest: [0.0, 0.0],
+        }),
+    );
+    if l.friction > 0.0 {
+        sys.add_force_named(
+            format!("{prefix}link friction"),
+            ForceElement::Friction(Friction {
+                slider,
+                point: [0.0, 0.0],
+                base: abutment,
+                mu: 1.0,
+                normal_force: l.friction,
+                surfaces: 1.0,
+                v_eps: l.v_eps(),
+                law: FrictionLaw::Linear,
+            }),
+        );
+    }
+    let cells = joint.cells();
+    let clear = joint.clear_subgap();
+    let gap = cells as f64 * clear;
+    if joint.contact.enabled {
+        sys.add_force_named(
+            format!("{prefix}link gap"),
+            ForceElement::Contact(Contact {
+                body: deck,
+                point: [0.0, 0.0],
+                base: abutment,
+                edge_point: [-gap, 0.0],
+                edge_normal: [1.0, 0.0],
+                law: match l.gap_hertz {
+                    Some(stiffness) => ContactLaw::Hertz {
+                        stiffness,
+                        restitution: joint.contact.restitution,
+                        damping: crate::generator::hertz_damping(&joint.contact),
+                    },
+                    None => ContactLaw::Linear { stiffness: l.gap_stiffness, restitution: 1.0 },
+                },
+                reduced_mass: None,
+            }),
+        );
+    }
+    Ok(LinkParts {
+        deck,
+        slider,
+        stiffness: l.stiffness,
+        damping: l.damping.unwrap_or(0.0),
+        abutment,
+        gap,
+        cells,
+        clear,
+        max_subgap: joint.capacity.max_subgap,
+        contact: None,
+    })
+}
+
+/// What a run watches of a link: its opening's extremes and its closure.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LinkWatch {
+    /// Smallest opening \[m\] (negative: closing).
+    pub min_u: f64,
+    /// Largest opening \[m\].
+    pub max_u: f64,
+    /// First time the joint closed \[s\] (every cell closed).
+    pub closed_at: Option<f64>,
+    /// First time a cell opened beyond its capacity \[s\].
+    pub beyond_capacity_at: Option<f64>,
+    /// Times the joint closed [-].
+    pub closures: u64,
+    /// Whether it is closed now.
+    closed: bool,
+    /// Peak force of the closed joint on the deck \[N\].
+    pub peak_gap_force: f64,
+    /// Time of `peak_gap_force` \[s\].
+    pub peak_gap_time: f64,
+    /// Deepest closure beyond the gap \[m\].
+    pub max_overlap: f64,
+}
+
+impl LinkWatch {
+    /// Records the opening `u` at time `t` of the link `parts`, its closed
+    /// joint pushing the deck with `gap_force` \[N\].
+    pub fn update(&mut self, parts: &LinkParts, t: f64, u: f64, gap_force: f64) {
+        self.min_u = self.min_u.min(u);
+        self.max_u = self.max_u.max(u);
+        let overlap = -(u + parts.gap);
+        let closed = overlap > 0.0;
+        if closed {
+            if !self.closed {
+                self.closures += 1;
+                self.closed_at.get_or_insert(t);
+            }
+            self.max_overlap = self.max_overlap.max(overlap);
+            if gap_force > self.peak_gap_force {
+                self.peak_gap_force = gap_force;
+                self.peak_gap_time = t;
+            }
+        }
+        self.closed = closed;
+        if self.beyond_capacity_at.is_none() && parts.clear + u / parts.cells as f64 > parts.max_subgap {
+            self.beyond_capacity_at = Some(t);
+        }
+    }
+
+    /// The narrowest and widest cell \[m\] (the cells alike).
+    pub fn cells(&self, parts: &LinkParts) -> [f64; 2] {
+        let n = parts.cells as f64;
+        [parts.clear + self.min_u / n, parts.clear + self.max_u / n]
+    }
+}

@@ -1,0 +1,129 @@
+//! `calibrate`: the joint's link element from the detailed joint, with its
+//! exports (docs/link.md), as `quakejoint calibrate` gives them.
+
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use quakejoint_model::calibrate::{calibrate as run_calibration, export, CalibrationOptions};
+use quakejoint_model::run::{load_records, run_window};
+use quakejoint_model::Config;
+
+use crate::config::PyConfig;
+use crate::convert::{real_opt, Numbers};
+use crate::record::PyRecord;
+use crate::{config_error, model_error};
+
+/// Calibrates the link element of the config's (detailed) joint: service
+/// loops at `amplitudes` [m] (default 0.002 to 0.1 m) at `speed` [m/s]
+/// (default 0.02) for the spring and the slider, and, with `earthquake`
+/// (default True), a run of the config's bridge under `record` (a
+/// `quakejoint.Record`; default the config's) for the mass and the damper.
+/// Returns a dict: stiffness [N/m], friction [N], hand_friction [N], mass
+/// and kinetic_mass [kg], damping [N s/m], gap [m], gap_stiffness [N/m],
+/// gap_hertz [N/m^1.5] (None for a joint with the linear contact law),
+/// capacity [m], cells, fit_rms [N], loops (one dict per amplitude:
+/// amplitude, energy, link_energy [J], peak_force [N], damping_joint,
+/// damping_bridge, and the arrays t, u, force), earthquake (the dynamic
+/// fit, or None) and exports (the texts of link.toml, link.tcl,
+/// link_opensees.py and link_sap2000.txt by those names). GIL released.
+#[pyfunction]
+#[pyo3(signature = (config=None, *, amplitudes=None, speed=None, contact_force=None, record=None, earthquake=true))]
+fn calibrate<'py>(
+    py: Python<'py>,
+    config: Option<&PyConfig>,
+    amplitudes: Option<&Bound<'py, PyAny>>,
+    speed: Option<&Bound<'py, PyAny>>,
+    contact_force: Option<&Bound<'py, PyAny>>,
+    record: Option<&PyRecord>,
+    earthquake: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (cfg, base, source) = match config {
+        Some(c) => (c.config.clone(), c.base_dir.clone(), c.source.clone()),
+        None => (Config::default(), std::path::PathBuf::from("."), "config (defaults)".to_string()),
+    };
+    let mut options = CalibrationOptions::default();
+    if let Some(a) = amplitudes {
+        options.amplitudes = Numbers::at_most_1d(a, "calibrate", "amplitudes")?.values;
+    }
+    if let Some(s) = real_opt(speed, "calibrate", "speed")? {
+        options.speed = s;
+    }
+    if let Some(f) = real_opt(contact_force, "calibrate", "contact_force")? {
+        options.contact_force = f;
+    }
+    if earthquake {
+        let loaded = match record {
+            Some(r) => r.loaded.clone(),
+            None => load_records(&cfg, &base).map_err(|e| config_error(e, &source))?.0,
+        };
+        options.record = Some(run_window(&cfg, &loaded.record));
+    }
+    let c = py.detach(|| run_calibration(&cfg, &options)).map_err(model_error)?;
+    let l = &c.link;
+    let d = PyDict::new(py);
+    for (k, v) in [
+        ("stiffness", l.stiffness),
+        ("friction", l.friction),
+        ("hand_friction", c.hand_friction),
+        ("mass", l.mass),
+        ("kinetic_mass", c.kinetic_mass),
+        ("damping", l.damping.unwrap_or(0.0)),
+        ("gap", c.gap),
+        ("gap_stiffness", l.gap_stiffness),
+        ("capacity", c.capacity),
+        ("fit_rms", c.fit_rms),
+    ] {
+        d.set_item(k, v)?;
+    }
+    d.set_item("cells", c.cells)?;
+    d.set_item("gap_hertz", l.gap_hertz)?;
+    let loops = PyList::empty(py);
+    for p in &c.loops {
+        let e = PyDict::new(py);
+        for (k, v) in [
+            ("amplitude", p.amplitude),
+            ("energy", p.energy),
+            ("link_energy", p.link_energy),
+            ("peak_force", p.peak_force),
+            ("damping_joint", p.damping_joint),
+            ("damping_bridge", p.damping_bridge.unwrap_or(f64::NAN)),
+        ] {
+            e.set_item(k, v)?;
+        }
+        e.set_item("t", PyArray1::from_slice(py, &p.t))?;
+        e.set_item("u", PyArray1::from_slice(py, &p.u))?;
+        e.set_item("force", PyArray1::from_slice(py, &p.force))?;
+        loops.append(e)?;
+    }
+    d.set_item("loops", loops)?;
+    let quake = match &c.dynamic {
+        Some(f) => {
+            let e = PyDict::new(py);
+            e.set_item("record", f.record.clone())?;
+            for (k, v) in [
+                ("rms", f.rms),
+                ("peak_link", f.peak_link),
+                ("peak_detailed", f.peak_detailed),
+                ("friction_link", f.friction_link),
+                ("friction_detailed", f.friction_detailed),
+            ] {
+                e.set_item(k, v)?;
+            }
+            e.into_any()
+        }
+        None => py.None().into_bound(py),
+    };
+    d.set_item("earthquake", quake)?;
+    let exports = PyDict::new(py);
+    exports.set_item("link.toml", export::toml(&c, &source))?;
+    exports.set_item("link.tcl", export::opensees_tcl(&c, &source))?;
+    exports.set_item("link_opensees.py", export::opensees_py(&c, &source))?;
+    exports.set_item("link_sap2000.txt", export::sap2000(&c, &source))?;
+    d.set_item("exports", exports)?;
+    Ok(d)
+}
+
+/// Adds `calibrate` to the module.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(calibrate, m)?)
+}

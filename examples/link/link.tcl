@@ -1,0 +1,32 @@
+# quakejoint link element, calibrated from configs/paper.toml
+# units: N, m, kg, s
+# spring (stuck joint)      k   = 5.690202e7 N/m
+# slider (friction)         F   = 2.573247e5 N
+# moving mass               m   = 4.974967e3 kg
+# damper with the spring    c   = 0.000000e0 N s/m
+# closing movement (gap)    g   = 1.120000e0 m  (28 cells)
+# closed-joint stiffness    k_c = 5.165160e7 N/m
+# opening capacity              = 1.120000e0 m  (cells at joint.capacity.max_subgap)
+# the opening u is the deck's displacement away from the abutment; the element acts along it
+#
+# quakejointLink abutNode deckNode newNode firstTag
+#   abutNode, deckNode: existing nodes at the same place, the deck lying toward
+#   +x (the global X) of the joint (swap them for a joint whose deck lies toward -x);
+#   newNode: a new node tag (the moving mass); firstTag: the first of 5 free material
+#   and element tags. 2D model (-ndm 2 -ndf 3); in 3D fix the new node's other 5 DOFs.
+proc quakejointLink {abutNode deckNode newNode firstTag} {
+    set xy [nodeCoord $deckNode]
+    node $newNode [lindex $xy 0] [lindex $xy 1] -mass 4.974967377404348e3 0.0 0.0
+    fix $newNode 0 1 1
+    set k 5.690202221956255e7
+    set F 2.5732466057310026e5
+    set kStick [expr {1000 * $k}]
+    uniaxialMaterial Elastic [expr {$firstTag + 3}] $k
+    uniaxialMaterial Viscous [expr {$firstTag + 4}] 0e0 1.0
+    uniaxialMaterial Parallel $firstTag [expr {$firstTag + 3}] [expr {$firstTag + 4}]
+    uniaxialMaterial ElasticPP [expr {$firstTag + 1}] $kStick [expr {$F / $kStick}]
+    uniaxialMaterial ElasticPPGap [expr {$firstTag + 2}] 5.1651597924325414e7 -1.0e20 -1.12e0
+    element zeroLength $firstTag $newNode $deckNode -mat $firstTag -dir 1
+    element zeroLength [expr {$firstTag + 1}] $abutNode $newNode -mat [expr {$firstTag + 1}] -dir 1
+    element zeroLength [expr {$firstTag + 2}] $abutNode $deckNode -mat [expr {$firstTag + 2}] -dir 1
+}

@@ -1,0 +1,129 @@
+"""The joint's link element exported by `quakejoint calibrate`, run by
+OpenSees on a single-DOF deck: the proof that the exported element does in
+OpenSees what quakejoint's `joint.model = "link"` does (docs/link.md).
+
+    python scripts/opensees/link_sdof.py --link out/link_opensees.py \
+        --mass 1e6 --period 1.0 --record ground_motions/RSN753_LOMAP_CLS090-hor2.AT2
+
+The model (2D, ndf 3, units N, m, kg, s):
+- node 1: the ground and abutment (fixed); node 2: the deck, its mass M
+  along x (y and rotation fixed);
+- the bridge: a zeroLength from 1 to 2 along x with Parallel(Elastic K,
+  Viscous C) materials, K = M (2 pi / T)^2, C = 2 zeta sqrt(K M);
+- the link: `add_link(ops, 1, 2, 3, 100)` of the exported file (node 3 the
+  joint's moving mass);
+- UniformExcitation along x with the record's acceleration (a Path series
+  of its samples, then one zero, as scripts/opensees/at2.py reads them);
+- Newmark average acceleration, DT / substeps (default 20), Newton with
+  NormDispIncr 1e-10, output every DT for the record's length + extra.
+
+Reported: Sa (the deck's peak absolute acceleration), the peak force of
+the link on the deck (its spring and damper element's plus its gap
+element's basic forces), the slider's friction energy (its force times
+its slip, summed over the steps), and the histories.
+"""
+import argparse
+import importlib.util
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import openseespy.opensees as ops
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from at2 import ground_at, ground_samples, read_at2  # noqa: E402
+
+
+def load_link(path):
+    """The exported openseespy module (link_opensees.py)."""
+    spec = importlib.util.spec_from_file_location("quakejoint_link", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def run(link_path, mass, period, damping, record, scale=1.0, substeps=20, extra=0.0):
+    link = load_link(link_path)
+    dt, acc = read_at2(record)
+    acc = np.asarray(acc) * scale
+    k = mass * (2 * math.pi / period) ** 2
+    c = 2 * damping * math.sqrt(k * mass)
+
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ops.node(1, 0.0, 0.0)
+    ops.fix(1, 1, 1, 1)
+    ops.node(2, 0.0, 0.0, "-mass", mass, 0.0, 0.0)
+    ops.fix(2, 0, 1, 1)
+    ops.uniaxialMaterial("Elastic", 1, k)
+    ops.uniaxialMaterial("Viscous", 2, c, 1.0)
+    ops.uniaxialMaterial("Parallel", 3, 1, 2)
+    ops.element("zeroLength", 1, 1, 2, "-mat", 3, "-dir", 1)
+    link.add_link(ops, 1, 2, 3, 100)
+
+    ops.timeSeries("Path", 1, "-dt", dt, "-values", *ground_samples(acc))
+    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+    ops.constraints("Plain")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    ops.test("NormDispIncr", 1e-10, 50)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+
+    n_out = int(round((len(acc) * dt + extra) / dt))
+    h = dt / substeps
+    t = np.zeros(n_out + 1)
+    u = np.zeros(n_out + 1)
+    a_rel = np.zeros(n_out + 1)
+    force = np.zeros(n_out + 1)
+    friction_energy = 0.0
+    slip_prev = ops.nodeDisp(3, 1)
+    for j in range(1, n_out + 1):
+        for _ in range(substeps):
+            if ops.analyze(1, h) != 0:
+                raise RuntimeError(f"OpenSees failed at t = {ops.getTime()}")
+            slip = ops.nodeDisp(3, 1)
+            f_slider = ops.eleResponse(101, "basicForce")[0]
+            friction_energy += abs(f_slider * (slip - slip_prev)) if abs(f_slider) >= 0.999 * link.FRICTION else 0.0
+            slip_prev = slip
+        t[j] = ops.getTime()
+        u[j] = ops.nodeDisp(2, 1)
+        a_rel[j] = ops.nodeAccel(2, 1)
+        # the spring's force on the deck (its j node) and the gap's
+        force[j] = -ops.eleResponse(100, "basicForce")[0] - ops.eleResponse(102, "basicForce")[0]
+    a_abs = a_rel + ground_at(t, dt, acc)
+    m = len(acc)
+    return {
+        "sa": float(np.max(np.abs(a_abs[:m]))),
+        "sd": float(np.max(np.abs(u[:m]))),
+        "peak_joint_force": float(np.max(np.abs(force))),
+        "friction_energy": friction_energy,
+        "t": t,
+        "u": u,
+        "a_abs": a_abs,
+        "force": force,
+    }
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--link", required=True, help="link_opensees.py written by quakejoint calibrate")
+    ap.add_argument("--mass", type=float, required=True, help="[kg] deck mass")
+    ap.add_argument("--period", type=float, required=True, help="[s] deck period")
+    ap.add_argument("--damping", type=float, default=0.05, help="deck damping ratio (default 0.05)")
+    ap.add_argument("--record", required=True, help="PEER AT2 record")
+    ap.add_argument("--scale", type=float, default=1.0, help="factor on the record")
+    ap.add_argument("--substeps", type=int, default=20, help="time steps per record step (default 20)")
+    ap.add_argument("--json", action="store_true", help="print the peaks as JSON")
+    a = ap.parse_args(argv)
+    r = run(a.link, a.mass, a.period, a.damping, a.record, a.scale, a.substeps)
+    peaks = {k: r[k] for k in ("sa", "sd", "peak_joint_force", "friction_energy")}
+    print(json.dumps(peaks) if a.json else "\n".join(f"{k:18s} {v:.6g}" for k, v in peaks.items()))
+
+
+if __name__ == "__main__":
+    main()
