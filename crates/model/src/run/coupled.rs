@@ -349,7 +349,8 @@ impl EarthquakeObserver {
         if let (true, Some(c)) = (histories, &mut contacts) {
             c.log = Some(Vec::new());
         }
-        let n_gaps = model.geometry.as_ref().map_or(0, |g| g.center_beams + 1);
+        // (a link's cells open alike: one series stands for them all)
+        let n_gaps = model.geometry.as_ref().map_or(usize::from(model.link.is_some()), |g| g.center_beams + 1);
         let histories = histories.then(|| Histories {
             center_beam_dx: vec![Vec::new(); model.center_beams.len()],
             subgaps: vec![Vec::new(); n_gaps],
@@ -508,7 +509,7 @@ impl EarthquakeObserver {
         self.sv.update(ud, t);
         self.joint_force.update(fj, t);
         self.check(t, q);
-        if self.gaps.is_some() {
+        if self.gaps.is_some() || self.link.is_some() {
             let x = asm.force_extremes(ws, q, v);
             self.bushing = self.bushing.max(x.bushing);
             self.friction = self.friction.max(x.friction);
@@ -538,6 +539,12 @@ impl EarthquakeObserver {
                 }
                 for (series, &f) in h.contact_force.iter_mut().zip(&self.gap_forces) {
                     series.push(f);
+                }
+            }
+            if let Some(l) = &self.link {
+                let cell = l.cell();
+                for series in h.subgaps.iter_mut().chain(h.subgaps_wide.iter_mut()) {
+                    series.push(cell);
                 }
             }
         }
@@ -577,6 +584,8 @@ struct LinkObserver {
     slider: usize,
     abutment: Option<usize>,
     watch: crate::link::LinkWatch,
+    /// The opening at the last update \[m\].
+    u: f64,
 }
 
 impl LinkObserver {
@@ -585,13 +594,22 @@ impl LinkObserver {
         let deck = asm.coordinate(parts.deck, quakejoint_solver::Coord::X)?;
         let slider = asm.coordinate(parts.slider, quakejoint_solver::Coord::X)?;
         let abutment = asm.coordinate(parts.abutment, quakejoint_solver::Coord::X);
-        Some(Self { parts, contacts: Vec::new(), deck, slider, abutment, watch: crate::link::LinkWatch::default() })
+        Some(Self {
+            parts,
+            contacts: Vec::new(),
+            deck,
+            slider,
+            abutment,
+            watch: crate::link::LinkWatch::default(),
+            u: 0.0,
+        })
     }
 
     /// Watches the state `(q, v)` at `t`; returns the link's force on the
     /// deck (its spring's and damper's and, closed, its gap's) \[N\].
     fn update(&mut self, t: f64, q: &[f64], v: &[f64], asm: &Assembly, ws: &mut quakejoint_solver::Workspace) -> f64 {
         let u = q[self.deck] - self.abutment.map_or(0.0, |c| q[c]);
+        self.u = u;
         let gap = match self.parts.contact {
             Some(i) => {
                 self.contacts.resize(asm.contact_count(), Default::default());
@@ -612,6 +630,11 @@ impl LinkObserver {
 
     fn cells(&self) -> [f64; 2] {
         self.watch.cells(&self.parts)
+    }
+
+    /// The cells' clear width at the last update \[m\].
+    fn cell(&self) -> f64 {
+        self.parts.clear + self.u / self.parts.cells as f64
     }
 
     /// The closures as pounding: the closed joint's force on the deck.
