@@ -57,8 +57,9 @@ def figure(path, window=None):
     with h5py.File(path, "r") as f:
         if "history" not in f or "points" not in f:
             sys.exit(
-                f"{path}: no histories of a modal bridge in it: run `quakejoint simulate CONFIG --output "
-                f"{Path(path).name}` with [bridge.modal] (plot_history.py draws a single-DOF deck's run)"
+                f"{path}: not a run of a bridge given by its modes: this script draws one run of `quakejoint "
+                f"simulate CONFIG --output run.h5` with [bridge.modal]; plot_history.py draws a single-DOF run's "
+                f"histories and a sweep's"
             )
         if "joint_force" not in f["history"] or np.isnan(f["history/joint_force"][:]).all():
             sys.exit(f"{path}: a run of the bridge alone (--no-joint): there are no joints to draw")

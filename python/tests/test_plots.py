@@ -271,5 +271,5 @@ def test_bridge_draws_each_joint_and_the_points(two_joints):
 
 def test_bridge_refuses_a_single_dof_run(run_h5):
     run, _ = run_h5
-    with pytest.raises(SystemExit, match="no histories of a modal bridge"):
+    with pytest.raises(SystemExit, match="not a run of a bridge given by its modes"):
         script("plot_bridge").figure(run)

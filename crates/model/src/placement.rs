@@ -92,20 +92,8 @@ pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
                 reason: "a joint's abutment and deck sides cannot move with the same point".to_string(),
             });
         }
+        // (its range checked with the config: Config::validate)
         let abutment_lag = j.abutment_lag.unwrap_or(0.0);
-        let lag_error = |reason: &str| ModelError::Invalid {
-            field: field("abutment_lag"),
-            value: format!("{abutment_lag}"),
-            reason: reason.to_string(),
-        };
-        if abutment_lag.is_nan() || abutment_lag.abs() > MAX_ABUTMENT_LAG {
-            return Err(lag_error("must be between -10 and 10 s"));
-        }
-        if abutment_lag != 0.0 && abutment_point.is_some() {
-            return Err(lag_error(
-                "a joint at an in-span hinge (abutment_point) has no abutment of its own for the ground motion to reach",
-            ));
-        }
         out.push(Place {
             name: j.name.clone(),
             prefix: format!("{}: ", j.name),

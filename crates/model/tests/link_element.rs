@@ -18,7 +18,8 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-const LINK: &str = "[joint.link]\nstiffness = 5e6\nfriction = 9e3\nmass = 800.0\ngap_stiffness = 1e8\ngap_hertz = 5e9\n";
+const LINK: &str =
+    "[joint.link]\nstiffness = 5e6\nfriction = 9e3\nmass = 800.0\ngap_stiffness = 1e8\ngap_hertz = 5e9\n";
 
 fn run(pitch: f64, capacity: f64) -> quakejoint_model::run::RunResult {
     let text = format!(

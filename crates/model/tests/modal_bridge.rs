@@ -228,6 +228,14 @@ fn static_correction_of_two_modes_keeping_one_is_the_second_mode_taken_staticall
     let all = bridge.static_correction(&bridge.kept(None, 1.0, 0.05), &[0, 1], 1.0, "m.toml").unwrap();
     assert!(all.pseudo.is_empty());
 
+    // without ground_x: the flexibility alone, and the run says so
+    let flexible = table.split("ground_x").next().unwrap().to_string();
+    let only = ModalBridge::parse(&format!("{TWO_MODES}{flexible}"), "m.toml").unwrap();
+    let c = only.static_correction(&kept, &[0, 1], 1.0, "m.toml").unwrap();
+    assert!(close(c.pseudo[0].stiffness, w[1] * w[1] / (norm * norm)) && c.pseudo[0].base_mass == 0.0);
+    let warned = only.mode_check(&kept, &[0, 1]).warnings(&only, &[0, 1], true);
+    assert!(warned.iter().any(|w| w.contains("no ground_x")), "{warned:?}");
+
     let none = ModalBridge::parse(TWO_MODES, "m.toml").unwrap();
     let e = none.static_correction(&kept, &[0], 1.0, "m.toml").unwrap_err().to_string();
     assert!(e.contains("bridge.modal.static_correction") && e.contains("m.toml") && e.contains("[static]"), "{e}");

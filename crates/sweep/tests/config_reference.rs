@@ -149,9 +149,21 @@ fn every_key_is_documented_with_its_default() {
         }
     }
     let support_keys = ["kind", "y", "angle_deg"].map(|k| format!("joint.support_beams[k].{k}"));
+    // [[joints]]: every field of an entry, its own [joints.joint] as one row
+    let placed = quakejoint_model::config::PlacedJointConfig {
+        name: "a".into(),
+        deck_point: "p".into(),
+        deck_point_y: Some("q".into()),
+        deck_side: quakejoint_model::config::DeckSide::PlusX,
+        abutment_point: Some("r".into()),
+        abutment_lag: Some(0.1),
+        joint: Some(Default::default()),
+    };
+    let placed: toml::Table = toml::from_str(&toml::to_string(&placed).unwrap()).unwrap();
+    let joints_keys: Vec<String> = placed.keys().map(|k| format!("joints[k].{k}")).collect();
     let mut sweep_keys: Vec<String> = quakejoint_sweep::plan::SWEEP_KEYS.iter().map(|k| format!("sweep.{k}")).collect();
     sweep_keys.extend(quakejoint_sweep::plan::SUITE_KEYS.iter().map(|k| format!("sweep.suite.{k}")));
-    for key in support_keys.iter().chain(&sweep_keys) {
+    for key in support_keys.iter().chain(&sweep_keys).chain(&joints_keys) {
         if !rows.contains_key(key) {
             problems.push(format!("{key}: not documented"));
         }
@@ -161,7 +173,8 @@ fn every_key_is_documented_with_its_default() {
         let known = all.contains_key(key)
             || record_keys.contains(key)
             || support_keys.contains(key)
-            || sweep_keys.contains(key);
+            || sweep_keys.contains(key)
+            || joints_keys.contains(key);
         if !known {
             problems.push(format!("{key}: documented but not a key of the config"));
         }

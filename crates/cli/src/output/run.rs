@@ -28,9 +28,23 @@ fn fields_json(r: &RunResult) -> serde_json::Value {
     serde_json::Value::Object(map)
 }
 
+/// What a joint's config changes about how it is modelled: its link
+/// element, its abutment's lag.
+fn joint_model_lines(config: &Config, name: &str) {
+    let placed = config.joints.iter().find(|p| p.name == name);
+    let joint = placed.and_then(|p| p.joint.as_ref()).unwrap_or(&config.joint);
+    if joint.is_link() {
+        out!("  modelled as its link element (joint.model = \"link\", docs/link.md)");
+    }
+    if let Some(lag) = placed.and_then(|p| p.abutment_lag).filter(|&l| l > 0.0) {
+        out!("  its abutment reached {lag} s after the bridge's other supports (abutment_lag: wave passage)");
+    }
+}
+
 /// The lines of one more joint of `[[joints]]`.
-fn placed_joint_lines(j: &PlacedJointResult) {
+fn placed_joint_lines(config: &Config, j: &PlacedJointResult) {
     out!("joint \"{}\"", j.name);
+    joint_model_lines(config, &j.name);
     out!("  its deck point: Sa {:.5} m/s^2 at t = {:.3} s, Sd {:.6} m, Sv {:.5} m/s", j.sa, j.t_sa, j.sd, j.sv);
     out!("  peak joint force on the deck  {:>12.1} N", j.peak_joint_force);
     if let (Some(lo), Some(hi), Some(dev)) = (j.min_subgap, j.max_subgap, j.max_subgap_deviation) {
@@ -53,10 +67,11 @@ fn placed_joint_lines(j: &PlacedJointResult) {
 }
 
 /// A modal bridge's points and base shear, with the joints and without.
-fn bridge_lines(r: &RunResult) {
+fn bridge_lines(config: &Config, r: &RunResult) {
     if r.points.is_empty() {
         return;
     }
+    let corrected = config.bridge.modal.as_ref().is_some_and(|m| m.corrected());
     if let Some((check, warnings)) = &r.mode_check {
         let mass =
             check.mass_ratio.map_or("no total_mass_x in the file".to_string(), |m| format!("{:.1} %", m * 100.0));
@@ -84,6 +99,12 @@ fn bridge_lines(r: &RunResult) {
                     r.points[q].name
                 );
             }
+        }
+        if corrected {
+            out!(
+                "  the static correction adds the modes left out at the joints' points (bridge.modal.static_correction): \
+                 they have all of the full model's static flexibility"
+            );
         }
         for w in warnings {
             eprintln!("warning: {w}");
@@ -209,7 +230,7 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
     out!("  Sd   {:>12.6} m      at t = {:.3} s", r.sd, r.t_sd);
     out!("  Sv   {:>12.5} m/s    at t = {:.3} s", r.sv, r.t_sv);
     if r.exact_linear {
-        bridge_lines(r);
+        bridge_lines(config, r);
         out!("validity: not checked (no joint)");
         return;
     }
@@ -244,6 +265,7 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
     }
     let first = config.joints.first().map_or_else(|| "joint demands".to_string(), |j| format!("joint \"{}\"", j.name));
     out!("{first}");
+    joint_model_lines(config, config.joints.first().map_or("", |j| j.name.as_str()));
     out!("  peak joint force on the deck  {:>12.1} N", r.peak_joint_force);
     out!("  peak bushing force            {:>12.1} N", r.peak_bushing_force);
     out!("  peak friction force           {:>12.1} N", r.peak_friction_force);
@@ -273,9 +295,9 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
         out!("  deepest penetration           {:>12.3} mm", p.max_penetration * 1e3);
     }
     for j in &r.joints {
-        placed_joint_lines(j);
+        placed_joint_lines(config, j);
     }
-    bridge_lines(r);
+    bridge_lines(config, r);
     if !r.joints.is_empty() {
         out!("  (bushing and friction peaks, friction and contact energy: all joints together)");
     }

@@ -85,9 +85,9 @@ pub struct PlacedJointConfig {
     /// at an in-span hinge between two frames); none: the ground.
     pub abutment_point: Option<String>,
     /// How much later the ground motion reaches this joint's abutment than
-    /// the bridge's other supports \[s\] (wave passage: the abutment moves
-    /// along x as the ground did that long before; negative: it is reached
-    /// first); none: 0, one motion everywhere. Not with `abutment_point`.
+    /// the bridge's other supports \[s\], 0 to 10 (wave passage: the
+    /// abutment moves along x as the ground did that long before); none:
+    /// 0, one motion everywhere. Not with `abutment_point`.
     pub abutment_lag: Option<f64>,
     /// The joint (`[joints.joint]`, the keys of `[joint]`); none: `[joint]`.
     pub joint: Option<JointConfig>,
@@ -621,6 +621,36 @@ fn check_modal(config: &Config, m: &ModalConfig) -> Result<(), ModelError> {
     }
     if let Some(f) = m.period_scale {
         check("bridge.modal.period_scale", f)?;
+    }
+    for (k, j) in config.joints.iter().enumerate() {
+        check_lag(k, j)?;
+    }
+    Ok(())
+}
+
+/// A joint's `abutment_lag`: from 0 to [`crate::placement::MAX_ABUTMENT_LAG`],
+/// and only at an abutment.
+fn check_lag(k: usize, j: &PlacedJointConfig) -> Result<(), ModelError> {
+    let Some(lag) = j.abutment_lag else { return Ok(()) };
+    let field = format!("joints[{k}].abutment_lag");
+    let max = crate::placement::MAX_ABUTMENT_LAG;
+    if lag.is_nan() || !(0.0..=max).contains(&lag) {
+        return Err(invalid(
+            &field,
+            lag,
+            &format!(
+                "must be between 0 and {max} s: the time the ground motion reaches this abutment after the bridge's \
+                 other supports (an abutment reached first would have to start displaced; give the bridge's \
+                 record as the first support's and the lag to the later abutment)"
+            ),
+        ));
+    }
+    if lag != 0.0 && j.abutment_point.is_some() {
+        return Err(invalid(
+            &field,
+            lag,
+            "a joint at an in-span hinge (abutment_point) has no abutment of its own for the ground motion to reach",
+        ));
     }
     Ok(())
 }

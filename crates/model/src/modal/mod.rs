@@ -68,7 +68,9 @@ pub struct Mode {
 #[serde(deny_unknown_fields)]
 pub struct StaticResponse {
     /// Displacement of each point (relative to the ground) under a
-    /// ground acceleration of 1 m/s^2 along x, `-K^-1 M r_x` \[s^2\].
+    /// ground acceleration of 1 m/s^2 along x, `-K^-1 M r_x` \[s^2\]
+    /// (empty: not given).
+    #[serde(default)]
     pub ground_x: Vec<f64>,
     /// Static flexibility between the points \[m/N\] (n x n).
     #[serde(default)]
@@ -184,7 +186,7 @@ impl ModalBridge {
             }
         }
         if let Some(s) = &self.static_response {
-            if s.ground_x.len() != n || s.ground_x.iter().any(|v| !v.is_finite()) {
+            if (!s.ground_x.is_empty() && s.ground_x.len() != n) || s.ground_x.iter().any(|v| !v.is_finite()) {
                 return Err(bad(
                     "static.ground_x".into(),
                     format!("{} values", s.ground_x.len()),
@@ -677,6 +679,13 @@ impl ModeCheck {
             ));
         }
         if corrected {
+            if bridge.static_response.as_ref().is_some_and(|s| s.ground_x.is_empty()) {
+                out.push(
+                    "the modes file's [static] table has no ground_x: the static correction adds the flexibility of \
+                     the modes left out but not their static response to the ground motion"
+                        .to_string(),
+                );
+            }
             return out;
         }
         for &p in points {

@@ -68,9 +68,10 @@ const NEGATIVE: f64 = 1e-6;
 impl ModalBridge {
     /// The static displacement per unit ground acceleration along x of the
     /// modes left out at each point, `r` \[s^2\], for the `kept` modes of a
-    /// run with `period_scale` (none without a `[static]` table).
+    /// run with `period_scale` (none without a `[static]` table or its
+    /// `ground_x`).
     pub fn ground_residual(&self, kept: &[KeptMode], period_scale: f64) -> Option<Vec<f64>> {
-        let s = self.static_response.as_ref()?;
+        let s = self.static_response.as_ref().filter(|s| !s.ground_x.is_empty())?;
         let scale = period_scale * period_scale;
         Some(
             s.ground_x
