@@ -7,7 +7,7 @@
 //!   elastic-perfectly-plastic law run over the same opening history (least
 //!   squares over every loop's last cycle, each loop weighted alike), `F`
 //!   then set so that the widest loop dissipates what the detailed joint's
-//!   does ([`fit`]). The hand
+//!   does. The hand
 //!   calculation of the friction force, `F_hand = mu n_s N sum_ik (i / (Nc +
 //!   1)) dl_k/du` (`dl/du` = `cos theta_k` on a joist, 1 on the guide: the
 //!   swivel kinematics), is reported beside it.
