@@ -274,7 +274,7 @@ pub struct CalibrateArgs {
     #[arg(long)]
     pub no_earthquake: bool,
     /// Folder for the exports: link.toml, link.tcl, link_opensees.py, link_sap2000.txt,
-    /// loops.csv (default: <config name>_link next to the config).
+    /// loops.csv (default: the config's name with _link, next to it).
     #[arg(long)]
     pub output_dir: Option<PathBuf>,
     #[command(flatten)]
