@@ -81,30 +81,27 @@ def test_calibration_of_the_reference_joint(link):
     [(1e6, 1.0, "RSN753_LOMAP_CLS090-hor2.AT2"), (1e7, 0.5, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2")],
 )
 def test_the_exported_element_in_opensees_is_quakejoints_link(link, mass, period, record):
-    """The same element in two engines: Sa to 2.5e-3, the friction energy
-    to 2 %, the peak force on the deck to 10 %. Not closer: the undamped
-    mass sticking and slipping on its spring is sensitive to how each
-    engine sticks (quakejoint's friction regularised below v_eps, OpenSees'
-    ElasticPP elastic at 1000 k): v_eps from 1e-3 to 1e-4 moves quakejoint's
-    Sa by 3.5e-3 and its peak force by 7 % (docs/link.md)."""
+    """The same element in two engines: Sa to 1e-3, the friction energy to
+    1 %, the peak force on the deck to 2 % (quakejoint integrates a run of
+    links to 1e-10, where its stick-slip converges: docs/link.md)."""
     _openseespy()
     import link_sdof
 
     ours = qj.simulate(deck(link, mass, period, "link", record), history=False)
     theirs = link_sdof.run(link["dir"] / "link_opensees.py", mass, period, 0.05, GM / record)
-    assert abs(theirs["sa"] / ours.sa - 1) < 2.5e-3, (theirs["sa"], ours.sa)
-    assert abs(theirs["friction_energy"] / ours.friction_energy - 1) < 0.02
-    assert abs(theirs["peak_joint_force"] / ours.peak_joint_force - 1) < 0.10
+    assert abs(theirs["sa"] / ours.sa - 1) < 1e-3, (theirs["sa"], ours.sa)
+    assert abs(theirs["friction_energy"] / ours.friction_energy - 1) < 0.01
+    assert abs(theirs["peak_joint_force"] / ours.peak_joint_force - 1) < 0.02
 
 
 def test_the_link_against_the_detailed_joint(link):
     """Where the joint matters and the link holds (docs/link.md, "Where it
-    holds"): a 1e7 kg deck at 1 s under Corralitos 090 (the calibration
-    earthquake was the other component, 000)."""
-    record = "RSN753_LOMAP_CLS090-hor2.AT2"
-    detailed = qj.simulate(deck(link, 1e7, 1.0, "detailed", record), history=False)
-    linked = qj.simulate(deck(link, 1e7, 1.0, "link", record), history=False)
-    alone = qj.simulate(deck(link, 1e7, 1.0, "detailed", record), joint=False, history=False)
+    holds"): a 1e6 kg deck at 1 s under El Centro 180 (the joint takes 27 %
+    off Sa; the calibration earthquake was Corralitos 000)."""
+    record = "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
+    detailed = qj.simulate(deck(link, 1e6, 1.0, "detailed", record), history=False)
+    linked = qj.simulate(deck(link, 1e6, 1.0, "link", record), history=False)
+    alone = qj.simulate(deck(link, 1e6, 1.0, "detailed", record), joint=False, history=False)
     assert abs(linked.sa / detailed.sa - 1) < 0.03
     assert abs(linked.friction_energy / detailed.friction_energy - 1) < 0.10
     assert abs(linked.peak_joint_force / detailed.peak_joint_force - 1) < 0.10
