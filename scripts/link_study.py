@@ -5,17 +5,21 @@ alone, under three records none of which calibrated the link.
 
     quakejoint calibrate configs/paper.toml \
         --record ground_motions/RSN753_LOMAP_CLS000-hor1.AT2 --output-dir examples/link
-    python3 scripts/link_study.py examples/link/link.toml --work /tmp/link_study
+    python3 scripts/link_study.py examples/link/link.toml --work /tmp/link_study [--opensees]
 
 Prints one markdown row per deck, period and record: Sa, the peak force on
 the deck, the friction energy, and the joint's effect on Sa, detailed
-against link (about 2.5 s of runs per row).
+against link (about 2.5 s of runs per row). The link is quakejoint's
+`joint.model = "link"`, or with --opensees the exported element run by
+OpenSees itself (scripts/opensees/link_sdof.py on the link_opensees.py next
+to the link.toml; openseespy needed).
 """
 import argparse
 import json
 import math
 import re
 import subprocess
+import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -46,7 +50,12 @@ def main(argv=None):
     ap.add_argument("link", help="link.toml written by quakejoint calibrate")
     ap.add_argument("--work", default="link_study", help="folder for the configs (default link_study)")
     ap.add_argument("--quakejoint", default="quakejoint", help="the command (default: quakejoint on PATH)")
+    ap.add_argument("--opensees", action="store_true",
+                    help="run the link in OpenSees (link_opensees.py beside the link.toml) instead of quakejoint")
     a = ap.parse_args(argv)
+    if a.opensees:
+        sys.path.insert(0, str(ROOT / "scripts" / "opensees"))
+        import link_sdof
     base = (ROOT / "configs" / "paper.toml").read_text()
     base = base[: base.index("[sweep]")]
     link = Path(a.link).read_text()
@@ -63,7 +72,11 @@ def main(argv=None):
                 for model in ("detailed", "link"):
                     path = work / f"{model}_{mass:.0e}_{period}_{record}.toml"
                     path.write_text(config(base, link, mass, period, model, record))
-                    out[model] = run(a.quakejoint, path)
+                    if model == "link" and a.opensees:
+                        out[model] = link_sdof.run(Path(a.link).parent / "link_opensees.py", mass, period, 0.05,
+                                                   ROOT / "ground_motions" / record)
+                    else:
+                        out[model] = run(a.quakejoint, path)
                 alone = run(a.quakejoint, path, "--no-joint")["sa"]
                 d, k = out["detailed"], out["link"]
                 rel = lambda key: 100 * (k[key] / d[key] - 1)  # noqa: E731
