@@ -13,11 +13,15 @@
 #   abutNode, deckNode: existing nodes at the same place, the deck lying toward
 #   +x (the global X) of the joint (swap them for a joint whose deck lies toward -x);
 #   newNode: a new node tag (the moving mass); firstTag: the first of 5 free material
-#   and element tags. 2D model (-ndm 2 -ndf 3); in 3D fix the new node's other 5 DOFs.
+#   and element tags. 2D or 3D: the new node takes the deck node's coordinates and DOFs,
+#   its mass and freedom along the first (global X).
 proc quakejointLink {abutNode deckNode newNode firstTag} {
-    set xy [nodeCoord $deckNode]
-    node $newNode [lindex $xy 0] [lindex $xy 1] -mass 4.974967377404348e3 0.0 0.0
-    fix $newNode 0 1 1
+    set ndf [llength [nodeDisp $deckNode]]
+    set mass [list -mass 4.974967377404348e3]
+    set fixed [list 0]
+    for {set i 1} {$i < $ndf} {incr i} { lappend mass 0.0; lappend fixed 1 }
+    node $newNode {*}[nodeCoord $deckNode] {*}$mass
+    fix $newNode {*}$fixed
     set k 5.690202221956255e7
     set F 2.5732466057310026e5
     set kStick [expr {1000 * $k}]

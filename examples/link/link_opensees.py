@@ -23,10 +23,11 @@ def add_link(ops, abut_node, deck_node, new_node, first_tag):
     """Adds the link between two existing nodes at the same place, the deck lying
     toward +X of the joint (swap them otherwise); new_node: a new node tag (the
     moving mass); first_tag: the first of 5 free material tags (and of 3 element tags).
-    2D model (ndm 2, ndf 3)."""
-    x, y = ops.nodeCoord(deck_node)
-    ops.node(new_node, x, y, "-mass", MASS, 0.0, 0.0)
-    ops.fix(new_node, 0, 1, 1)
+    2D or 3D: the new node takes the deck node's coordinates and DOFs, its mass
+    and freedom along the first (global X)."""
+    ndf = len(ops.nodeDisp(deck_node))
+    ops.node(new_node, *ops.nodeCoord(deck_node), "-mass", MASS, *([0.0] * (ndf - 1)))
+    ops.fix(new_node, 0, *([1] * (ndf - 1)))
     k_stick = STICK_FACTOR * STIFFNESS
     ops.uniaxialMaterial("Elastic", first_tag + 3, STIFFNESS)
     ops.uniaxialMaterial("Viscous", first_tag + 4, DAMPING, 1.0)

@@ -271,7 +271,7 @@ pub struct CalibrateArgs {
     #[arg(long)]
     pub record: Option<PathBuf>,
     /// Skip the calibration earthquake: the mass of the joint's kinetic energy, no damper.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "record")]
     pub no_earthquake: bool,
     /// Folder for the exports: link.toml, link.tcl, link_opensees.py, link_sap2000.txt,
     /// loops.csv (default: the config's name with _link, next to it).

@@ -38,12 +38,16 @@ pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
     let c = calibrate(&config, &options)?;
     let dir = a.output_dir.unwrap_or_else(|| default_dir(&a.config));
     let written = write_exports(&c, &dir, &a.config.display().to_string())?;
+    for w in &c.warnings {
+        eprintln!("warning: {w}");
+    }
     if a.print.json {
         println!("{}", serde_json::to_string_pretty(&json_of(&c, &written))?);
     } else {
         print!("{}", table(&c, &a.config, &written));
     }
-    Ok(ExitCode::SUCCESS)
+    // (a calibration resting on what the model flags says so in its exit code)
+    Ok(if c.warnings.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(crate::commands::FLAGGED) })
 }
 
 fn default_dir(config: &Path) -> PathBuf {
@@ -86,7 +90,7 @@ fn loops_csv(c: &Calibration) -> String {
 fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
     let l = &c.link;
     let mut s = String::new();
-    let _ = writeln!(s, "{}: the joint's link element (docs/link.md)", config.display());
+    let _ = writeln!(s, "{}: the link element of its [joint] (docs/link.md)", config.display());
     let _ = writeln!(s, "  spring (stuck joint)       {:>12.4e} N/m", l.stiffness);
     let _ = writeln!(
         s,
@@ -136,6 +140,12 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
             p.amplitude, p.energy, p.link_energy, p.peak_force, p.damping_joint, bridge
         );
     }
+    if !c.warnings.is_empty() {
+        let _ = writeln!(s, "WARNINGS (the calibration cannot stand behind all of it):");
+        for w in &c.warnings {
+            let _ = writeln!(s, "  {w}");
+        }
+    }
     let _ = writeln!(s, "written:");
     for w in written {
         let _ = writeln!(s, "  {}", w.display());
@@ -158,6 +168,8 @@ fn json_of(c: &Calibration, written: &[PathBuf]) -> serde_json::Value {
         })),
         "gap": c.gap,
         "gap_stiffness": l.gap_stiffness,
+        "gap_hertz": l.gap_hertz,
+        "warnings": c.warnings,
         "capacity": c.capacity,
         "cells": c.cells,
         "fit_rms": c.fit_rms,

@@ -356,7 +356,7 @@ fn print_warnings(records: &[&LoadedRecord]) {
 }
 
 /// Exit code 4: the run finished outside what the model can stand behind.
-const FLAGGED: u8 = 4;
+pub(crate) const FLAGGED: u8 = 4;
 
 fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     let (config, text) = read_config(&a.config)?;

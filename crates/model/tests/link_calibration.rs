@@ -112,3 +112,27 @@ fn one_beam_on_a_guide_and_a_joist_gives_the_hand_calculations_friction_and_stif
     let joists = 2.0 * sb.mass * sb.length * sb.length / 3.0 * (dy / (g0 * g0 + dy * dy)).powi(2);
     assert!(c.kinetic_mass > beam / 4.0 && c.kinetic_mass < beam / 4.0 + joists, "mass {}", c.kinetic_mass);
 }
+
+/// Loops that cannot calibrate are refused or left out, and a calibration
+/// resting on what the model flags says so: the small joint of
+/// configs/small.toml racks beyond its capacity in its 50 and 100 mm loops
+/// and is itself flagged under Corralitos 090.
+#[test]
+fn calibrations_the_model_cannot_stand_behind_say_so() {
+    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let config = Config::from_file(&root.join("configs/small.toml")).unwrap();
+    let beyond = CalibrationOptions { amplitudes: vec![0.01, 0.2], ..CalibrationOptions::default() };
+    let e = calibrate(&config, &beyond).unwrap_err().to_string();
+    assert!(e.contains("amplitudes") && e.contains("inside the joint"), "{e}");
+    let tiny = CalibrationOptions { amplitudes: vec![1e-6], ..CalibrationOptions::default() };
+    let e = calibrate(&config, &tiny).unwrap_err().to_string();
+    assert!(e.contains("hardly slides"), "{e}");
+
+    let (x, _) = quakejoint_model::run::load_records(&config, &root.join("configs")).unwrap();
+    let window = quakejoint_model::run::run_window(&config, &x.record);
+    let c = calibrate(&config, &CalibrationOptions { record: Some(window), ..CalibrationOptions::default() }).unwrap();
+    eprintln!("{:#?}", c.warnings);
+    assert!(c.warnings.iter().any(|w| w.contains("0.05 m is left out") && w.contains("capacity_exceeded")));
+    assert!(c.warnings.iter().any(|w| w.contains("flagged under the calibration earthquake")));
+    assert!(c.loops.iter().all(|l| l.amplitude < 0.05));
+}

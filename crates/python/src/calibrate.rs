@@ -25,7 +25,9 @@ use crate::{config_error, model_error};
 /// amplitude, energy, link_energy [J], peak_force [N], damping_joint,
 /// damping_bridge, and the arrays t, u, force), earthquake (the dynamic
 /// fit, or None) and exports (the texts of link.toml, link.tcl,
-/// link_opensees.py and link_sap2000.txt by those names). GIL released.
+/// link_opensees.py and link_sap2000.txt by those names), warnings (what
+/// the calibration cannot stand behind: loops left out, a poor fit, a
+/// flagged calibration earthquake). GIL released.
 #[pyfunction]
 #[pyo3(signature = (config=None, *, amplitudes=None, speed=None, contact_force=None, record=None, earthquake=true))]
 fn calibrate<'py>(
@@ -77,6 +79,7 @@ fn calibrate<'py>(
     }
     d.set_item("cells", c.cells)?;
     d.set_item("gap_hertz", l.gap_hertz)?;
+    d.set_item("warnings", c.warnings.clone())?;
     let loops = PyList::empty(py);
     for p in &c.loops {
         let e = PyDict::new(py);

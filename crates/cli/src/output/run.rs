@@ -34,7 +34,10 @@ fn joint_model_lines(config: &Config, name: &str) {
     let placed = config.joints.iter().find(|p| p.name == name);
     let joint = placed.and_then(|p| p.joint.as_ref()).unwrap_or(&config.joint);
     if joint.is_link() {
-        out!("  modelled as its link element (joint.model = \"link\", docs/link.md)");
+        out!(
+            "  modelled as its link element (joint.model = \"link\", docs/link.md): its cells open alike; the \
+             beams' racking and impacts between them are not in it"
+        );
     }
     if let Some(lag) = placed.and_then(|p| p.abutment_lag).filter(|&l| l > 0.0) {
         out!("  its abutment reached {lag} s after the bridge's other supports (abutment_lag: wave passage)");

@@ -61,11 +61,15 @@ pub fn opensees_tcl(c: &Calibration, source: &str) -> String {
          #   abutNode, deckNode: existing nodes at the same place, the deck lying toward\n\
          #   +x (the global X) of the joint (swap them for a joint whose deck lies toward -x);\n\
          #   newNode: a new node tag (the moving mass); firstTag: the first of 5 free material\n\
-         #   and element tags. 2D model (-ndm 2 -ndf 3); in 3D fix the new node's other 5 DOFs.\n\
+         #   and element tags. 2D or 3D: the new node takes the deck node's coordinates and DOFs,\n\
+         #   its mass and freedom along the first (global X).\n\
          proc quakejointLink {{abutNode deckNode newNode firstTag}} {{\n\
-         \x20   set xy [nodeCoord $deckNode]\n\
-         \x20   node $newNode [lindex $xy 0] [lindex $xy 1] -mass {m:e} 0.0 0.0\n\
-         \x20   fix $newNode 0 1 1\n\
+         \x20   set ndf [llength [nodeDisp $deckNode]]\n\
+         \x20   set mass [list -mass {m:e}]\n\
+         \x20   set fixed [list 0]\n\
+         \x20   for {{set i 1}} {{$i < $ndf}} {{incr i}} {{ lappend mass 0.0; lappend fixed 1 }}\n\
+         \x20   node $newNode {{*}}[nodeCoord $deckNode] {{*}}$mass\n\
+         \x20   fix $newNode {{*}}$fixed\n\
          \x20   set k {k:e}\n\
          \x20   set F {f:e}\n\
          \x20   set kStick [expr {{{stick} * $k}}]\n\
@@ -105,10 +109,11 @@ pub fn opensees_py(c: &Calibration, source: &str) -> String {
          \x20   \"\"\"Adds the link between two existing nodes at the same place, the deck lying\n\
          \x20   toward +X of the joint (swap them otherwise); new_node: a new node tag (the\n\
          \x20   moving mass); first_tag: the first of 5 free material tags (and of 3 element tags).\n\
-         \x20   2D model (ndm 2, ndf 3).\"\"\"\n\
-         \x20   x, y = ops.nodeCoord(deck_node)\n\
-         \x20   ops.node(new_node, x, y, \"-mass\", MASS, 0.0, 0.0)\n\
-         \x20   ops.fix(new_node, 0, 1, 1)\n\
+         \x20   2D or 3D: the new node takes the deck node's coordinates and DOFs, its mass\n\
+         \x20   and freedom along the first (global X).\"\"\"\n\
+         \x20   ndf = len(ops.nodeDisp(deck_node))\n\
+         \x20   ops.node(new_node, *ops.nodeCoord(deck_node), \"-mass\", MASS, *([0.0] * (ndf - 1)))\n\
+         \x20   ops.fix(new_node, 0, *([1] * (ndf - 1)))\n\
          \x20   k_stick = STICK_FACTOR * STIFFNESS\n\
          \x20   ops.uniaxialMaterial(\"Elastic\", first_tag + 3, STIFFNESS)\n\
          \x20   ops.uniaxialMaterial(\"Viscous\", first_tag + 4, DAMPING, 1.0)\n\
@@ -155,8 +160,8 @@ pub fn sap2000(c: &Calibration, source: &str) -> String {
         (
             "QJ_GAP",
             "Gap",
-            "deck joint",
             "abutment joint",
+            "deck joint",
             format!("U1 nonlinear: K = {:.6e} N/m, Open = {:.6e} m", l.gap_stiffness, c.gap),
         ),
     ];
@@ -164,8 +169,10 @@ pub fn sap2000(c: &Calibration, source: &str) -> String {
     out.push_str(
         "; Define > Section Properties > Link/Support Properties, one per row; a new joint J at the\n\
          ; deck joint's place with mass U1 below (Assign > Joint > Masses), restrained in U2, U3, R1-R3;\n\
-         ; U1 along the bridge, the deck lying toward +U1 of the joint. Nonlinear direct integration\n\
-         ; (or FNA) time history.\n",
+         ; each link drawn from the first joint (I) to the second (J) of its row, its local axis 1 set along\n\
+         ; the bridge (Assign > Link/Support > Local Axes: a zero-length link's axis 1 is otherwise vertical),\n\
+         ; the deck lying toward +1 of the joint, so that the gap closes when the deck moves toward the\n\
+         ; abutment. Nonlinear direct integration (or FNA) time history.\n",
     );
     out.push_str("property\ttype\tfrom\tto\tU1\n");
     for (name, kind, from, to, u1) in rows {

@@ -141,6 +141,10 @@ pub struct Calibration {
     pub dynamic: Option<DynamicFit>,
     /// The options it ran with.
     pub options: CalibrationOptions,
+    /// What the calibration cannot stand behind: loops left out, a poor
+    /// fit, a calibration earthquake the detailed joint is flagged in, a
+    /// mass or damper at the edge of the search.
+    pub warnings: Vec<String>,
 }
 
 /// Calibrates the link of `config`'s joint (the detailed one of `[joint]`).
@@ -161,8 +165,25 @@ pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibr
             reason: "give at least one amplitude, each above 0 and at most 2 m".to_string(),
         });
     }
-    let mut loops = Vec::with_capacity(options.amplitudes.len());
-    for &a in &options.amplitudes {
+    // (the opening the cells take, and the closing that closes them all)
+    let reach =
+        (j.cells() as f64 * (j.capacity.max_subgap - j.clear_subgap())).min(j.cells() as f64 * j.clear_subgap());
+    if let Some(a) = options.amplitudes.iter().find(|&&a| a >= reach) {
+        return Err(ModelError::Invalid {
+            field: "amplitudes".to_string(),
+            value: format!("{a}"),
+            reason: format!(
+                "the loops must stay inside the joint: below {reach} m, where its cells reach their capacity or all \
+                 close"
+            ),
+        });
+    }
+    let mut amplitudes = options.amplitudes.clone();
+    amplitudes.sort_by(f64::total_cmp);
+    amplitudes.dedup();
+    let mut warnings = Vec::new();
+    let mut loops = Vec::with_capacity(amplitudes.len());
+    for &a in &amplitudes {
         let mut c = config.clone();
         c.service.amplitude = a;
         c.service.speed = options.speed;
@@ -170,6 +191,15 @@ pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibr
         // (each reversal rounded over at most a quarter of a stroke)
         c.service.blend = c.service.blend.min(0.25 * 2.0 * a / options.speed);
         let r = crate::service::service(&c)?;
+        if r.validity.flags.is_flagged() || r.contact_work_per_cycle > 0.0 {
+            // (its cells racked beyond their capacity, or its beams pounded:
+            // not the law of a joint in service)
+            warnings.push(format!(
+                "the service loop at {a} m is left out of the fit: {}",
+                if r.validity.flags.is_flagged() { r.validity.flags.label() } else { "its beams pound".to_string() }
+            ));
+            continue;
+        }
         let period = r.period;
         let last = r.t.last().copied().unwrap_or(0.0) - period;
         let last_cycle = r.t.partition_point(|t| *t < last);
@@ -187,7 +217,33 @@ pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibr
             last_cycle,
         });
     }
+    if loops.is_empty() {
+        return Err(ModelError::Invalid {
+            field: "amplitudes".to_string(),
+            value: format!("{amplitudes:?}"),
+            reason: format!("every service loop was left out: {}", warnings.join("; ")),
+        });
+    }
     let (stiffness, friction, fit_rms) = fit(&loops);
+    let widest = loops.iter().map(|l| l.amplitude).fold(0.0, f64::max);
+    if friction / stiffness > 0.5 * widest {
+        return Err(ModelError::Invalid {
+            field: "amplitudes".to_string(),
+            value: format!("{amplitudes:?}"),
+            reason: format!(
+                "the widest loop ({widest} m) hardly slides (the fitted law yields at {:.3e} m): give amplitudes \
+                 several times larger",
+                friction / stiffness
+            ),
+        });
+    }
+    if fit_rms > 0.2 * friction {
+        warnings.push(format!(
+            "the elastic-perfectly-plastic law fits the loops poorly: RMS {:.3e} N, {:.0} % of the slider force",
+            fit_rms,
+            100.0 * fit_rms / friction
+        ));
+    }
     let geo = Geometry::new(config)?;
     let mass = moving_mass(config, &geo);
     let gap_stiffness = closed_stiffness(config, options.contact_force);
@@ -204,9 +260,26 @@ pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibr
         .then(|| 2.0 * j.contact.hertz_stiffness / (j.cells() as f64).powf(1.5));
     let mut link = LinkConfig { stiffness, friction, mass, gap_stiffness, gap_hertz, damping: None, v_eps: None };
     let dynamic = match &options.record {
-        Some(record) => Some(identify(config, record, &mut link)?),
+        Some(record) => Some(identify(config, record, &mut link, &mut warnings)?),
         None => None,
     };
+    for (key, v) in [
+        ("stiffness", link.stiffness),
+        ("friction", link.friction),
+        ("mass", link.mass),
+        ("gap_stiffness", link.gap_stiffness),
+    ] {
+        let field = format!("joint.link.{key}");
+        if let Some((_, bound)) = crate::limits::limit(&field) {
+            if !bound.contains(v) {
+                return Err(ModelError::Invalid {
+                    field,
+                    value: format!("{v:e}"),
+                    reason: format!("the calibration gives a value outside {}: check the loops", bound.describe()),
+                });
+            }
+        }
+    }
     Ok(Calibration {
         link,
         kinetic_mass: mass,
@@ -218,6 +291,7 @@ pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibr
         cells,
         loops,
         options: options.clone(),
+        warnings,
     })
 }
 
@@ -236,8 +310,20 @@ fn identify(
     config: &Config,
     record: &quakejoint_motion::Record,
     link: &mut LinkConfig,
+    warnings: &mut Vec<String>,
 ) -> Result<DynamicFit, ModelError> {
-    let (detailed, peak_detailed, friction_detailed) = joint_force(config, record)?;
+    let options = crate::run::RunOptions { histories: true, ..Default::default() };
+    let r = crate::run::simulate_records(config, record, None, &options)?;
+    if r.validity.flags.is_flagged() {
+        warnings.push(format!(
+            "the detailed joint is flagged under the calibration earthquake {} ({}): the mass and damper rest on a \
+             run the model cannot stand behind (choose a record it takes)",
+            record.name,
+            r.validity.flags.label()
+        ));
+    }
+    let (detailed, peak_detailed, friction_detailed) =
+        (r.histories.map(|h| h.joint_force).unwrap_or_default(), r.peak_joint_force, r.friction_energy);
     let kinetic = link.mass;
     let mut best: Option<(f64, LinkConfig, f64, f64)> = None;
     for factor in [0.125, 0.25, 0.5, 1.0, 2.0] {
@@ -257,6 +343,18 @@ fn identify(
         }
     }
     let (_, chosen, peak_link, friction_link) = best.expect("the grid is not empty");
+    let at_edge = chosen.mass <= 0.125 * kinetic * (1.0 + 1e-12)
+        || chosen.mass >= 2.0 * kinetic * (1.0 - 1e-12)
+        || chosen.damping == Some(1e7);
+    if at_edge {
+        warnings.push(format!(
+            "the mass ({:.4e} kg) or the damper ({:.1e} N s/m) found under {} is at the edge of the search (mass 1/8 \
+             to 2 times {kinetic:.4e} kg, damper 0 to 1e7 N s/m)",
+            chosen.mass,
+            chosen.damping.unwrap_or(0.0),
+            record.name
+        ));
+    }
     let mut lc = config.clone();
     lc.joint.model = Some(crate::config::JointKind::Link);
     lc.joint.link = Some(chosen.clone());
