@@ -13,6 +13,9 @@ The engine of the `quakejoint` command on numpy arrays (SI units throughout):
   time histories; `service(config)`: the hysteresis loop of the joint;
 - `calibrate(config)`: the joint's link element for a global bridge model,
   with its OpenSees, SAP2000 and TOML exports (docs/link.md);
+- `fit_fragility(intensities, runs, exceeded)`, `bootstrap_fragility(...)`,
+  `limit_state_frequency(median, beta, hazard_im, hazard_rate)`: lognormal
+  fragility by maximum likelihood on stripe counts and its risk at a site;
 - `read_sweep(path)`: a `quakejoint sweep` file as labelled arrays,
   `.to_xarray()` (extra `xarray`) and `.to_dataframe()` (extra `pandas`).
 
@@ -29,7 +32,10 @@ from ._quakejoint import (  # noqa: F401
     SimulationError,
     Spectrum,
     __version__,
+    bootstrap_fragility,
     calibrate,
+    fit_fragility,
+    limit_state_frequency,
     service,
     simulate,
     spectrum,
@@ -46,7 +52,10 @@ __all__ = [
     "SimulationError",
     "Spectrum",
     "Sweep",
+    "bootstrap_fragility",
     "calibrate",
+    "fit_fragility",
+    "limit_state_frequency",
     "read_sweep",
     "service",
     "simulate",

@@ -228,5 +228,19 @@ def calibrate(
     """The joint's link element: stiffness, friction, mass, damping, gap, fit, loops, exports (docs/link.md)."""
     ...
 
+def fit_fragility(intensities: Any, runs: Any, exceeded: Any) -> dict[str, float]:
+    """Lognormal fragility by maximum likelihood on stripe counts: median, beta, log_likelihood, standard errors."""
+    ...
+
+def bootstrap_fragility(
+    outcomes: list[list[int]], intensities: Any, samples: int = 1000, seed: int = 0, level: float = 0.9
+) -> dict[str, Any]:
+    """Bootstrap intervals of the fragility over records (outcomes 1, 0 or -1 per record and stripe)."""
+    ...
+
+def limit_state_frequency(median: float, beta: float, hazard_intensity: Any, hazard_frequency: Any) -> float:
+    """Mean annual frequency of the limit state over a hazard curve [1/year]."""
+    ...
+
 def service(config: Optional[Config] = None) -> dict[str, Any]:
     """The service loop: t, u, joint_force, center-beam motions, works per cycle [J], validity."""

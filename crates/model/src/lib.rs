@@ -14,6 +14,7 @@ pub mod calibrate;
 pub mod config;
 pub mod error;
 pub mod fields;
+pub mod fragility;
 pub mod generator;
 pub mod geometry;
 pub mod history;

@@ -7,7 +7,9 @@
 //!   command line validates them;
 //! - `run`: coupled earthquake runs and service loops, with the GIL
 //!   released and Ctrl-C honoured;
-//! - `calibrate`: the joint's link element and its exports.
+//! - `calibrate`: the joint's link element and its exports;
+//! - `fragility`: lognormal fragility fits, their bootstrap, and the mean
+//!   annual frequency of a limit state.
 //!
 //! Errors are Python exceptions with the command line's messages:
 //! `InputError` where the command line exits with 2 (bad input),
@@ -22,6 +24,7 @@ use pyo3::prelude::*;
 mod calibrate;
 mod config;
 mod convert;
+mod fragility;
 mod record;
 mod run;
 
@@ -98,5 +101,6 @@ fn _quakejoint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     config::register(m)?;
     run::register(m)?;
     calibrate::register(m)?;
+    fragility::register(m)?;
     Ok(())
 }

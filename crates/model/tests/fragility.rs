@@ -1,4 +1,4 @@
-//! Fragility fitting and risk (`quakejoint_sweep::fragility`), against
+//! Fragility fitting and risk (`quakejoint_model::fragility`), against
 //! what is known independently of the fit:
 //!
 //! - counts drawn from known lognormal fragilities (several medians and
@@ -13,7 +13,7 @@
 //! - the bootstrap gives the same intervals for the same seed, bit for bit;
 //! - counts that determine no fragility are refused, saying why.
 
-use quakejoint_sweep::fragility::{
+use quakejoint_model::fragility::{
     bootstrap, fit, mean_annual_frequency, phi_cdf, Fragility, FragilityError, SplitMix64, Stripe,
 };
 
