@@ -144,6 +144,26 @@ def test_opensees_transient_is_modal():
     assert np.max(np.abs(a_m - a_abs)) < 1e-8 * np.max(np.abs(a_abs))
 
 
+def coupled_newmark(m, k, c, load, dt, n_out, substeps=10):
+    """The points' displacements every dt of q'' + c q' + k q = load(t) on
+    the modes (mass-normalised, M = I), at rest at t = 0, by Newmark's
+    average acceleration at dt / substeps: the scheme OpenSees runs."""
+    h = dt / substeps
+    keff = 4 / h ** 2 * np.eye(len(k)) + 2 / h * c + k
+    q = np.zeros(len(k))
+    v = np.zeros(len(k))
+    a = load(0.0)
+    u = [q @ m["shape"]]
+    for step in range(n_out * substeps):
+        q1 = np.linalg.solve(keff, load((step + 1) * h) + 4 / h ** 2 * q + 4 / h * v + a + c @ (2 / h * q + v))
+        a1 = 4 / h ** 2 * (q1 - q) - 4 / h * v - a
+        v = v + h / 2 * (a + a1)
+        q, a = q1, a1
+        if (step + 1) % substeps == 0:
+            u.append(q @ m["shape"])
+    return np.array(u)
+
+
 def test_end_springs_keep_the_bridges_modal_damping():
     """`transient.py --end-springs`: springs added after modalDamping leave
     the damping that of the bridge's own modes (5 % each) and have none, the
@@ -169,22 +189,7 @@ def test_end_springs_keep_the_bridges_modal_damping():
     ends = m["shape"][:, :2]  # left end, right end
     k = np.diag(omega ** 2) + ends @ np.diag(springs) @ ends.T
     c = np.diag(2 * m["damping"] * omega)
-    substeps = 10
-    h = dt / substeps
-    keff = 4 / h ** 2 * np.eye(len(omega)) + 2 / h * c + k
-    q = np.zeros(len(omega))
-    v = np.zeros(len(omega))
-    a = -m["gamma_x"] * modal_check.ground_at(0.0, dt, acc)
-    u_m = [q @ m["shape"]]
-    for step in range((n - 1) * substeps):
-        p1 = -m["gamma_x"] * modal_check.ground_at((step + 1) * h, dt, acc)
-        q1 = np.linalg.solve(keff, p1 + 4 / h ** 2 * q + 4 / h * v + a + c @ (2 / h * q + v))
-        a1 = 4 / h ** 2 * (q1 - q) - 4 / h * v - a
-        v = v + h / 2 * (a + a1)
-        q, a = q1, a1
-        if (step + 1) % substeps == 0:
-            u_m.append(q @ m["shape"])
-    u_m = np.array(u_m)
+    u_m = coupled_newmark(m, k, c, lambda time: -m["gamma_x"] * modal_check.ground_at(time, dt, acc), dt, n - 1)
     assert np.max(np.abs(u_m - u)) < 1e-8 * np.max(np.abs(u))
     # the springs matter: the ends move otherwise than without them
     _, free = modal_check.read_csv(CSV)
@@ -219,26 +224,13 @@ def test_lagged_spring_is_the_modes_pulled_by_a_late_abutment():
     left = m["shape"][:, 0]
     k = np.diag(omega ** 2) + stiffness * np.outer(left, left)
     c = np.diag(2 * m["damping"] * omega)
-    substeps = 10
-    h = dt / substeps
 
     def load(time):
         d = ground_displacement(time - lag, dt, acc) - ground_displacement(time, dt, acc)
         return -m["gamma_x"] * modal_check.ground_at(time, dt, acc) + stiffness * left * d
 
-    keff = 4 / h ** 2 * np.eye(len(omega)) + 2 / h * c + k
-    q = np.zeros(len(omega))
-    v = np.zeros(len(omega))
-    a = load(0.0)
-    u_m = [q @ m["shape"]]
-    for step in range((n - 1) * substeps):
-        q1 = np.linalg.solve(keff, load((step + 1) * h) + 4 / h ** 2 * q + 4 / h * v + a + c @ (2 / h * q + v))
-        a1 = 4 / h ** 2 * (q1 - q) - 4 / h * v - a
-        v = v + h / 2 * (a + a1)
-        q, a = q1, a1
-        if (step + 1) % substeps == 0:
-            u_m.append(q @ m["shape"])
-    assert np.max(np.abs(np.array(u_m) - u)) < 1e-8 * np.max(np.abs(u))
+    u_m = coupled_newmark(m, k, c, load, dt, n - 1)
+    assert np.max(np.abs(u_m - u)) < 1e-8 * np.max(np.abs(u))
 
 
 def test_modal_check_first_10_s():

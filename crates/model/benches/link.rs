@@ -7,23 +7,12 @@
 //!     cargo bench -p quakejoint-model --bench link
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
-use quakejoint_model::run::{load_records, simulate_records, RunOptions, RunResult};
+use quakejoint_model::run::RunResult;
 use quakejoint_model::Config;
 
 fn fastest(base_dir: &Path, config: &Config) -> (f64, RunResult) {
-    let (x, _) = load_records(config, base_dir).expect("records");
-    let mut best = (f64::INFINITY, RunResult::default());
-    for _ in 0..3 {
-        let start = Instant::now();
-        let r = simulate_records(config, &x.record, None, &RunOptions::default()).expect("run");
-        let t = start.elapsed().as_secs_f64();
-        if t < best.0 {
-            best = (t, r);
-        }
-    }
-    best
+    quakejoint_model::verification::fastest_run(base_dir, config, 3).expect("run")
 }
 
 fn main() {

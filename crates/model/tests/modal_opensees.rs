@@ -24,23 +24,8 @@ fn data() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/three_span")
 }
 
-/// OpenSees' histories: time, then (u, a_abs) of each point in the modes
-/// file's order.
 fn opensees() -> (Vec<f64>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(data().join("opensees_corralitos090.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    assert!(header[1].starts_with("left end u") && header[3].starts_with("right end u"), "{header:?}");
-    let mut t = Vec::new();
-    let mut cols = vec![Vec::new(); header.len() - 1];
-    for l in lines {
-        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
-        t.push(v[0]);
-        for (c, x) in cols.iter_mut().zip(&v[1..]) {
-            c.push(*x);
-        }
-    }
-    (t, cols)
+    common::opensees_csv("opensees_corralitos090.csv")
 }
 
 /// max |a - b| over the common samples / max |b| there.

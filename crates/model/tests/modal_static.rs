@@ -22,6 +22,8 @@
 //!   it (the same equations); with few modes the correction brings the ends'
 //!   displacement close to it. The errors are printed against the modes.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use quakejoint_model::modal::ModalBridge;
@@ -91,22 +93,8 @@ fn corrected_modes_settle_at_the_full_models_static_answer() {
     }
 }
 
-/// OpenSees' histories with the springs: time, then (u, a_abs) of each point.
 fn opensees() -> (Vec<f64>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(data().join("opensees_corralitos090_end_springs.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    assert!(header[1].starts_with("left end u") && header[3].starts_with("right end u"), "{header:?}");
-    let mut t = Vec::new();
-    let mut cols = vec![Vec::new(); header.len() - 1];
-    for l in lines {
-        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
-        t.push(v[0]);
-        for (c, x) in cols.iter_mut().zip(&v[1..]) {
-            c.push(*x);
-        }
-    }
-    (t, cols)
+    common::opensees_csv("opensees_corralitos090_end_springs.csv")
 }
 
 #[test]

@@ -19,6 +19,8 @@
 //!   work) counted.
 //! - Bad values are refused, naming the field.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use quakejoint_model::modal::ModalBridge;
@@ -36,23 +38,8 @@ fn data() -> PathBuf {
     root().join("tests/data/three_span")
 }
 
-/// OpenSees' histories with the lagged spring: time, then (u, a_abs) of
-/// each point.
 fn opensees() -> (Vec<f64>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(data().join("opensees_corralitos090_lagged_spring.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    assert!(header[1].starts_with("left end u"), "{header:?}");
-    let mut t = Vec::new();
-    let mut cols = vec![Vec::new(); header.len() - 1];
-    for l in lines {
-        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
-        t.push(v[0]);
-        for (c, x) in cols.iter_mut().zip(&v[1..]) {
-            c.push(*x);
-        }
-    }
-    (t, cols)
+    common::opensees_csv("opensees_corralitos090_lagged_spring.csv")
 }
 
 #[test]

@@ -128,3 +128,25 @@ pub fn manual_table(outcomes: &[Result<Outcome, String>]) -> String {
     }
     t
 }
+
+/// The fastest of `repeats` runs of `config` under its record (read
+/// against `base_dir`): the wall-clock time \[s\] and that run's result
+/// (the benchmarks' measure).
+pub fn fastest_run(
+    base_dir: &Path,
+    config: &crate::Config,
+    repeats: usize,
+) -> Result<(f64, crate::run::RunResult), String> {
+    let (x, _) = crate::run::load_records(config, base_dir).map_err(|e| e.to_string())?;
+    let mut best = (f64::INFINITY, crate::run::RunResult::default());
+    for _ in 0..repeats {
+        let start = std::time::Instant::now();
+        let r = crate::run::simulate_records(config, &x.record, None, &crate::run::RunOptions::default())
+            .map_err(|e| e.to_string())?;
+        let t = start.elapsed().as_secs_f64();
+        if t < best.0 {
+            best = (t, r);
+        }
+    }
+    Ok(best)
+}

@@ -27,3 +27,24 @@ pub fn at_omega(mut config: Config, omega: f64) -> Config {
     (config.bridge.w0, config.bridge.period) = (Some(omega), None);
     config
 }
+
+/// An OpenSees transient of the three-span bridge (`tests/data/three_span/<csv>`):
+/// time, then (u, a_abs) of each point in the modes file's order; the
+/// header must name the left end's u second and the right end's fourth.
+pub fn opensees_csv(csv: &str) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/three_span").join(csv);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert!(header[1].starts_with("left end u") && header[3].starts_with("right end u"), "{header:?}");
+    let mut t = Vec::new();
+    let mut cols = vec![Vec::new(); header.len() - 1];
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        t.push(v[0]);
+        for (c, x) in cols.iter_mut().zip(&v[1..]) {
+            c.push(*x);
+        }
+    }
+    (t, cols)
+}
