@@ -325,7 +325,7 @@ fn identify(
     let (detailed, peak_detailed, friction_detailed) =
         (r.histories.map(|h| h.joint_force).unwrap_or_default(), r.peak_joint_force, r.friction_energy);
     let kinetic = link.mass;
-    let mut best: Option<(f64, LinkConfig, f64, f64)> = None;
+    let mut best: Option<(f64, LinkConfig, f64, f64, f64)> = None;
     for factor in [0.125, 0.25, 0.5, 1.0, 2.0] {
         for c in [0.0, 1e4, 3e4, 1e5, 3e5, 1e6, 3e6, 1e7] {
             let candidate = LinkConfig { mass: factor * kinetic, damping: Some(c), ..link.clone() };
@@ -338,11 +338,11 @@ fn identify(
             // (the history and its peak, the force the abutment is designed for, alike)
             let score = rms / peak_detailed + (peak - peak_detailed).abs() / peak_detailed;
             if best.as_ref().is_none_or(|b| score < b.0) {
-                best = Some((score, candidate, peak, fe));
+                best = Some((score, candidate, peak, fe, rms));
             }
         }
     }
-    let (_, chosen, peak_link, friction_link) = best.expect("the grid is not empty");
+    let (_, chosen, peak_link, friction_link, rms) = best.expect("the grid is not empty");
     let at_edge = chosen.mass <= 0.125 * kinetic * (1.0 + 1e-12)
         || chosen.mass >= 2.0 * kinetic * (1.0 - 1e-12)
         || chosen.damping == Some(1e7);
@@ -355,12 +355,6 @@ fn identify(
             record.name
         ));
     }
-    let mut lc = config.clone();
-    lc.joint.model = Some(crate::config::JointKind::Link);
-    lc.joint.link = Some(chosen.clone());
-    let f = joint_force(&lc, record)?.0;
-    let n = f.len().min(detailed.len()).max(1);
-    let rms = (f.iter().zip(&detailed).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / n as f64).sqrt();
     *link = chosen;
     Ok(DynamicFit { record: record.name.clone(), rms, peak_detailed, peak_link, friction_detailed, friction_link })
 }
