@@ -40,7 +40,7 @@ from ._quakejoint import (  # noqa: F401
     simulate,
     spectrum,
 )
-from .sweep import Sweep, read_sweep  # noqa: F401
+from .sweep import Fragility, LimitStateFragility, Sweep, read_sweep  # noqa: F401
 
 __all__ = [
     "G",
@@ -51,6 +51,8 @@ __all__ = [
     "RunResult",
     "SimulationError",
     "Spectrum",
+    "Fragility",
+    "LimitStateFragility",
     "Sweep",
     "bootstrap_fragility",
     "calibrate",

@@ -17,6 +17,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
+import math
+
 import h5py
 import numpy as np
 
@@ -86,6 +88,9 @@ class Sweep:
     #: a bridge given by its modes: the joints after the first of
     #: [[joints]], by name: {field: array of the results' shape}
     joints: dict = field(default_factory=dict)
+    #: a multiple-stripe sweep ([sweep.stripes]): its stripes and the
+    #: fitted fragility of each limit state (`Fragility`); None otherwise
+    fragility: Optional["Fragility"] = None
 
     @property
     def dims(self) -> tuple:
@@ -327,9 +332,118 @@ def read_sweep(path) -> Sweep:
             flag_names=_flag_names(str(wj["validity"].attrs.get("meaning", ""))),
             attrs={k: (v.item() if hasattr(v, "item") else v) for k, v in f.attrs.items()},
             suite=_suite(f),
+            fragility=_fragility(f),
         )
         sweep.statistics = _statistics(s) if "statistics" in s else None
         return sweep
+
+
+@dataclass(repr=False)
+class LimitStateFragility:
+    """One limit state of a multiple-stripe sweep (`/fragility/<key>`).
+
+    `outcome` has the results' shape (case, record, damping, period): 1
+    exceeded, 0 not, -1 failed, -2 not run, -3 not reported by the run.
+    The counts (`runs`, `exceeded`, `failed`, `not_run`, `undetermined`,
+    `flagged`) have shape (case, damping, period, stripe); the fit
+    (`median` [g], `beta`, `se_ln_median`, `se_beta`, `median_lo`,
+    `median_hi`, `beta_lo`, `beta_hi`, `annual_frequency` [1/year],
+    `return_period` [year]) and `note` shape (case, damping, period),
+    NaN where the counts determine no fit (the note says why)."""
+
+    key: str
+    name: str
+    kind: str
+    definition: str
+    arrays: dict
+
+    def __getattr__(self, name):
+        try:
+            return self.__dict__["arrays"][name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __repr__(self) -> str:
+        return f"LimitStateFragility({self.name!r}, median={self.arrays['median'].ravel()}, beta={self.arrays['beta'].ravel()})"
+
+    def probability(self, im, case: int = 0, damping: int = 0, period: int = 0) -> np.ndarray:
+        """The fitted P(exceeded | intensity `im` [g]) of one curve (NaN
+        where there is no fit)."""
+        m, b = self.arrays["median"][case, damping, period], self.arrays["beta"][case, damping, period]
+        im = np.asarray(im, dtype=float)
+        erf = np.vectorize(math.erf)
+        return 0.5 * (1.0 + erf(np.log(im / m) / (b * math.sqrt(2.0))))
+
+
+@dataclass(repr=False)
+class Fragility:
+    """The stripes of a multiple-stripe sweep and its limit states.
+
+    `measure` is `sa` (Sa(T1), pseudo-spectral acceleration at
+    `measure_period` [s] and `measure_damping`) or `pga`; `levels` [g] the
+    stripes; `ground_records` the records as given with their intensity
+    as read (`ground_intensity` [g]); per record of the sweep (the scaled
+    copies, `Sweep.records`): `record_ground`, `record_stripe`,
+    `record_factor`. `hazard` is (intensity [g], annual frequency) or
+    None; `limit_states` maps each key to a `LimitStateFragility`."""
+
+    measure: str
+    measure_label: str
+    measure_period: Optional[float]
+    measure_damping: Optional[float]
+    levels: np.ndarray
+    ground_records: list
+    ground_intensity: np.ndarray
+    record_ground: np.ndarray
+    record_stripe: np.ndarray
+    record_factor: np.ndarray
+    failed: str
+    hazard: Optional[tuple]
+    limit_states: dict
+
+    def __repr__(self) -> str:
+        return (
+            f"Fragility({self.measure_label}, levels={list(self.levels)} g, "
+            f"limit_states={list(self.limit_states)})"
+        )
+
+    def __getitem__(self, key: str) -> LimitStateFragility:
+        return self.limit_states[key]
+
+
+def _fragility(f) -> Optional[Fragility]:
+    if "fragility" not in f:
+        return None
+    g = f["fragility"]
+    states = {}
+    for key in g:
+        if isinstance(g[key], h5py.Group):
+            h = g[key]
+            arrays = {n: h[n][()] for n in h}
+            arrays["note"] = _text(arrays["note"])
+            states[key] = LimitStateFragility(
+                key=key,
+                name=str(h.attrs["name"]),
+                kind=str(h.attrs["kind"]),
+                definition=str(h.attrs["definition"]),
+                arrays=arrays,
+            )
+    sa = g.attrs["measure"] == "sa"
+    return Fragility(
+        measure=str(g.attrs["measure"]),
+        measure_label=str(g.attrs["measure_label"]),
+        measure_period=float(g["measure_period"][()]) if sa else None,
+        measure_damping=float(g["measure_damping"][()]) if sa else None,
+        levels=g["levels"][()],
+        ground_records=list(_text(g["ground_record"][()])),
+        ground_intensity=g["ground_intensity"][()],
+        record_ground=g["record_ground"][()],
+        record_stripe=g["record_stripe"][()],
+        record_factor=g["record_factor"][()],
+        failed=str(g.attrs["failed"]),
+        hazard=(g["hazard_intensity"][()], g["hazard_frequency"][()]) if "hazard_intensity" in g else None,
+        limit_states=states,
+    )
 
 
 def _verify(f, path: str) -> None:

@@ -80,6 +80,7 @@ pub const FIELDS: &[Field] = &[
     field("sv", "m/s", "peak deck velocity relative to the ground", |r| r.sv).per_job(),
     field("t_sv", "s", "time of `sv`", |r| r.t_sv).per_job(),
     field("peak_joint_force", "N", "peak force of the joint on the deck", |r| r.peak_joint_force).per_job(),
+    field("peak_abutment_force", "N", "peak force of the joint on its abutment: its joist pivots, guide welds and the abutment's edge-beam contacts (on the adjacent segment with `[bridge.far]`; NaN for a link element)", |r| r.peak_abutment_force).per_job(),
     field("peak_bushing_force", "N", "peak force of a bushing", |r| r.peak_bushing_force).per_job(),
     field("peak_friction_force", "N", "peak friction force of a bearing", |r| r.peak_friction_force).per_job(),
     field("friction_energy", "J", "energy dissipated by friction", |r| r.friction_energy).per_job(),
@@ -103,6 +104,7 @@ pub const FIELDS: &[Field] = &[
     })
     .per_job(),
     field("max_penetration", "m", "deepest penetration of a contact", |r| r.pounding.max_penetration).per_job(),
+    field("max_impact_speed", "m/s", "fastest approach of two faces at a contact's onset (0 without contact; NaN for a link element and without the joint)", |r| r.pounding.max_impact_speed).per_job(),
     field("energy_error", "1", "energy balance error relative to the earthquake's work", |r| r.energy_error).per_job(),
     field("max_position_residual", "m", "largest constraint residual of the translational equations", |r| r.residuals.position).per_job(),
     field("max_angle_residual", "rad", "largest constraint residual of the angular equations", |r| r.residuals.angle).per_job(),

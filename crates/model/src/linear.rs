@@ -65,6 +65,7 @@ fn not_computed(record: &Record) -> RunResult {
         validity: crate::validity::Validity::not_checked("no joint: the exact linear solution of the bridge alone"),
         // not computed without the joint (NaN in every output)
         peak_joint_force: f64::NAN,
+        peak_abutment_force: f64::NAN,
         peak_bushing_force: f64::NAN,
         peak_friction_force: f64::NAN,
         friction_energy: f64::NAN,

@@ -37,6 +37,9 @@ pub struct Pounding {
     pub peak_deck_contact_force: f64,
     /// Deepest penetration of a contact \[m\].
     pub max_penetration: f64,
+    /// Fastest approach of two faces at a contact's onset \[m/s\] (NaN
+    /// where the joint does not track its impacts: a link element).
+    pub max_impact_speed: f64,
 }
 
 impl Default for Pounding {
@@ -49,6 +52,7 @@ impl Default for Pounding {
             contact_energy: 0.0,
             peak_deck_contact_force: 0.0,
             max_penetration: 0.0,
+            max_impact_speed: 0.0,
         }
     }
 }
@@ -64,6 +68,7 @@ impl Pounding {
             contact_energy: f64::NAN,
             peak_deck_contact_force: f64::NAN,
             max_penetration: f64::NAN,
+            max_impact_speed: f64::NAN,
         }
     }
 }
@@ -141,6 +146,7 @@ impl ContactWatch {
         for e in view.events.iter().filter(|e| own.contains(&e.contact)) {
             if let ContactEventKind::Onset { speed } = e.kind {
                 self.result.impacts += u64::from(speed >= IMPACT_SPEED);
+                self.result.max_impact_speed = self.result.max_impact_speed.max(speed);
                 if let Some(log) = &mut self.log {
                     log.push(Impact { time: e.time, place: self.places[e.contact - self.first], speed });
                 }

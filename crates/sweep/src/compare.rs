@@ -115,6 +115,18 @@ pub fn sweep_differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
     if !suites_equal(&a.suite, &b.suite) {
         out.push("the suites (/suite) differ".to_string());
     }
+    match (&a.fragility, &b.fragility) {
+        (Some(x), Some(y)) => {
+            if x.stripes != y.stripes {
+                out.push("the stripes (/fragility: levels, records, factors) differ".to_string());
+            }
+            if x.spec != y.spec {
+                out.push("the limit states or their fitting (/fragility attribute config) differ".to_string());
+            }
+        }
+        (None, None) => {}
+        _ => out.push("one file is a multiple-stripe sweep (/fragility), the other is not".to_string()),
+    }
     for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
         if !bits_equal(&a.results.without[k], &b.results.without[k]) {
             out.push(format!("the spectrum without the joint ({name}) differs"));

@@ -9,6 +9,7 @@
 pub mod compare;
 pub mod error;
 pub mod fault;
+pub mod fragility;
 pub mod journal;
 pub mod lock;
 pub mod merge;

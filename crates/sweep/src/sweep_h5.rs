@@ -16,8 +16,9 @@ use quakejoint_io::run_h5::{write_provenance, Provenance};
 use quakejoint_io::OutputError;
 
 /// Version of the sweep file layout (10: sweeps over a bridge given by
-/// its modes).
-pub const SCHEMA_VERSION: u32 = 10;
+/// its modes; 11: `/fragility`, and the per-job fields
+/// `peak_abutment_force` and `max_impact_speed`).
+pub const SCHEMA_VERSION: u32 = 11;
 
 /// What a sweep over a bridge given by its modes stores beside the grid.
 #[derive(Debug, Clone, PartialEq)]
@@ -84,6 +85,9 @@ pub struct SweepFile {
     pub records: Vec<StoredRecord>,
     /// The suite's target and scaling, when the records are a suite.
     pub suite: Option<StoredSuite>,
+    /// The stripes and the limit states fitted on them, when the sweep is
+    /// a multiple-stripe analysis (`/fragility`).
+    pub fragility: Option<crate::fragility::StoredFragility>,
     /// The result arrays.
     pub results: Results,
 }
@@ -222,6 +226,12 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         }
         if let Some(suite) = &f.suite {
             write_suite(file, suite, &record, (&period, axis))?;
+        }
+        if let Some(fragility) = &f.fragility {
+            let scales = crate::fragility::h5::Scales {
+                axes: [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, axis)],
+            };
+            crate::fragility::write_fragility(file, fragility, r, &scales)?;
         }
         if !r.joints.is_empty() {
             // the joints after the first, as a run's /joints/<k> (k from 1)

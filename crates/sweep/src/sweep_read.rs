@@ -23,6 +23,9 @@ use quakejoint_io::read::{attr, attr_number, group, number, text, values};
 use quakejoint_io::run_h5::{Provenance, RecordSource};
 use quakejoint_io::OutputError;
 
+/// Per-job fields that files written before schema 11 lack (read as NaN).
+const SINCE_SCHEMA_11: [&str; 2] = ["peak_abutment_force", "max_impact_speed"];
+
 /// Whether two arrays hold the same bits.
 pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
@@ -77,7 +80,12 @@ fn read_results(spec: &Group, dims: [usize; 4], joints: Option<&[String]>) -> hd
     };
     let with = group(spec, "with_joint")?;
     for (k, name) in FIELDS.iter().enumerate() {
-        results.values[k] = values(&with, name)?;
+        results.values[k] = if SINCE_SCHEMA_11.contains(name) && !with.link_exists(name) {
+            // not computed by the version that wrote the file
+            vec![f64::NAN; dims.iter().product()]
+        } else {
+            values(&with, name)?
+        };
     }
     results.status = values(&with, "status")?;
     results.messages = text(&with, "message")?;
@@ -329,8 +337,10 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
             cases,
             records,
             suite: read_suite(&file)?,
+            fragility: None,
             results,
         };
+        f.fragility = crate::fragility::read_fragility(&file, &f.results)?;
         read_histories(&file, &mut f)?;
         check_counts(&file, &f)?;
         Ok(f)

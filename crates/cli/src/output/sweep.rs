@@ -48,6 +48,18 @@ pub fn sweep_summary(
             "retry_command": retry.map(|n| &n.command),
             "wall_time_s": s.wall_time_s,
             "peak_memory_mb": s.peak_memory_mb,
+            "fragility": s.fragility.as_ref().map(|(f, rows)| json!({
+                "measure": f.stripes.measure.label(),
+                "units": "g",
+                "levels": f.stripes.levels,
+                "curves": rows.iter().map(|r| json!({
+                    "limit_state": r.name, "key": r.key,
+                    "median": finite(r.median), "beta": finite(r.beta),
+                    "median_interval": r.median_interval.map(finite), "beta_interval": r.beta_interval.map(finite),
+                    "annual_frequency": finite(r.annual_frequency),
+                    "exceeded": r.exceeded, "runs": r.runs, "note": r.note,
+                })).collect::<Vec<_>>(),
+            })),
         });
         out!("{v}");
         return;
@@ -86,6 +98,9 @@ pub fn sweep_summary(
     if let Some(mb) = s.peak_memory_mb {
         out!("peak memory: {mb:.0} MB");
     }
+    if let Some((f, rows)) = &s.fragility {
+        out!("{}", quakejoint_sweep::fragility::summary(f, rows).trim_end());
+    }
     if !s.failed.is_empty() {
         out!("{} jobs failed:", s.failed.len());
         for (case, record, z, t, msg) in &s.failed {
@@ -114,6 +129,11 @@ pub fn sweep_summary(
             out!("  ... and {} more (all in the output's /spectrum/with_joint/findings)", s.flagged.len() - SHOWN);
         }
     }
+}
+
+/// A number for JSON: null when not finite.
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
 }
 
 /// How many flagged jobs carry each flag.

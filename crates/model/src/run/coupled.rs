@@ -176,6 +176,7 @@ pub fn simulate_records(
         sv: obs.sv.value,
         t_sv: obs.sv.time,
         peak_joint_force: obs.joint_force.value,
+        peak_abutment_force: if obs.abutment_links.is_empty() { f64::NAN } else { obs.abutment_force.value },
         peak_bushing_force: obs.bushing,
         peak_friction_force: obs.friction,
         friction_energy: e.friction,
@@ -280,6 +281,11 @@ struct EarthquakeObserver {
     /// The adjacent segment's deck: its x coordinate and body.
     far: Option<(usize, BodyId)>,
     abutment_links: Vec<ConstraintId>,
+    /// The support beams, one per link of `abutment_links`.
+    supports: Vec<BodyId>,
+    /// The joint's force on its abutment side (its links and the
+    /// abutment's edge-beam contacts).
+    abutment_force: Peak,
     deck_body: BodyId,
     boxes: Vec<ConstraintId>,
     bridge: Bridge,
@@ -371,6 +377,8 @@ impl EarthquakeObserver {
             deck_y: asm.coordinate(model.deck, quakejoint_solver::Coord::Y),
             far: model.far_deck.and_then(|b| asm.coordinate(b, quakejoint_solver::Coord::X).map(|c| (c, b))),
             abutment_links: model.abutment_links.clone(),
+            supports: model.supports.clone(),
+            abutment_force: Peak::default(),
             deck_body: model.deck,
             boxes: model.joist_boxes.clone(),
             bridge: model.bridge,
@@ -447,6 +455,18 @@ impl EarthquakeObserver {
         };
         let reaction = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body);
         let mut fj = reaction[0] + pushed;
+        if !self.abutment_links.is_empty() {
+            // the links' reactions on the support beams, turned round, and
+            // the abutment's edge-beam contacts
+            let held: f64 = self
+                .abutment_links
+                .iter()
+                .zip(&self.supports)
+                .map(|(&c, &b)| asm.reaction_sum(ws, t, q, lam, &[c], b)[0])
+                .sum();
+            let pushed_abutment = self.contacts.as_ref().map_or(0.0, |w| w.far_push());
+            self.abutment_force.update(pushed_abutment - held, t);
+        }
         if let Some(l) = &mut self.link {
             fj = l.update(t, q, v, asm, ws);
         }
@@ -646,6 +666,8 @@ impl LinkObserver {
             peak_contact_time: w.peak_gap_time,
             peak_deck_contact_force: w.peak_gap_force,
             max_penetration: w.max_overlap / self.parts.cells as f64,
+            // (a link's closure is no one beam's impact)
+            max_impact_speed: f64::NAN,
             ..Pounding::default()
         }
     }

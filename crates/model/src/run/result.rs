@@ -69,6 +69,10 @@ pub struct RunResult {
     pub t_sv: f64,
     /// Peak force of the joint on the deck \[N\].
     pub peak_joint_force: f64,
+    /// Peak force of the joint on its abutment (its pivots, welds and the
+    /// abutment's edge-beam contacts; on the adjacent segment with
+    /// `[bridge.far]`) \[N\]; NaN without a detailed joint.
+    pub peak_abutment_force: f64,
     /// Peak bushing force \[N\].
     pub peak_bushing_force: f64,
     /// Peak friction force of one bearing \[N\].

@@ -46,6 +46,7 @@ mod cost;
 mod grid;
 mod modal;
 mod records;
+mod stripes;
 mod suite;
 
 pub use cases::Case;
@@ -60,11 +61,23 @@ use modal::modal_axis;
 pub use modal::{modal_alone, ModalSweep};
 use records::window_warning;
 pub use records::SweepRecord;
+use stripes::stripes_of;
+pub use stripes::{Measure, StripeRun, Stripes, STRIPES_KEYS};
 use suite::{suite_of, suite_warnings};
 pub use suite::{Suite, SUITE_KEYS};
 /// The keys of the `[sweep]` table.
-pub const SWEEP_KEYS: [&str; 8] =
-    ["periods", "period_scales", "damping", "records", "cases", "histories", "checkpoint_seconds", "suite"];
+pub const SWEEP_KEYS: [&str; 10] = [
+    "periods",
+    "period_scales",
+    "damping",
+    "records",
+    "cases",
+    "histories",
+    "checkpoint_seconds",
+    "suite",
+    "stripes",
+    "fragility",
+];
 
 /// Longest interval between checkpoints or progress lines \[s\] (116 days;
 /// the longest run allowed, `simulation.max_wall_time`, is as long).
@@ -82,6 +95,12 @@ pub struct Plan {
     /// The suite's target and scaling, when the records are a suite
     /// (`[sweep.suite]`).
     pub suite: Option<Suite>,
+    /// The stripes of a multiple-stripe analysis (`[sweep.stripes]`):
+    /// `records` are then the records as given scaled to every level.
+    pub stripes: Option<Stripes>,
+    /// The limit states, hazard and fitting of the stripes
+    /// (`[sweep.fragility]`; its defaults when the table is absent).
+    pub fragility: Option<crate::fragility::FragilitySpec>,
     /// Damping ratios [-] (a bridge given by its modes: one,
     /// `bridge.damping`, the damping of the modes the file gives none for).
     pub damping: Vec<f64>,
@@ -159,6 +178,9 @@ fn without_run_settings(table: &toml::Table) -> toml::Table {
     let mut t = table.clone();
     strip(&mut t);
     t.remove("checkpoint_seconds");
+    // limit states, hazard and fitting change no job's result: a finished
+    // sweep is refitted by running it again
+    t.remove("fragility");
     if let Some(toml::Value::Array(cases)) = t.get_mut("cases") {
         for case in cases {
             if let toml::Value::Table(c) = case {
@@ -167,6 +189,40 @@ fn without_run_settings(table: &toml::Table) -> toml::Table {
         }
     }
     t
+}
+
+/// Refuses what stripes cannot go with: a suite's scaling, a record's own
+/// scaling (each would be undone) and a transverse record (it would stay
+/// unscaled).
+fn stripes_allowed(sweep: &toml::Table, config: &Config, records: &[SweepRecord]) -> Result<(), SweepError> {
+    if sweep.contains_key("suite") {
+        return Err(sweep_err(
+            "sweep.stripes",
+            "the stripes scale every record to every level; a suite's scaling to a target ([sweep.suite]) would be \
+             undone: remove [sweep.suite] and list its records in sweep.records",
+        ));
+    }
+    if let Some(y) = &config.record_y {
+        return Err(sweep_err(
+            "sweep.stripes",
+            format!(
+                "the stripes scale the records along the bridge; [record_y] ({}) would stay unscaled: remove it",
+                y.file.display()
+            ),
+        ));
+    }
+    for (i, r) in records.iter().enumerate() {
+        if r.spec.scale != 1.0 || r.spec.target_pga_g.is_some() {
+            return Err(sweep_err(
+                &format!("sweep.records[{i}]"),
+                format!(
+                    "{}: the stripes scale every record to every level; remove `scale` and `target_pga_g`",
+                    r.spec.file.display()
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 impl Plan {
@@ -334,6 +390,26 @@ impl Plan {
             }
             None => None,
         };
+        // the records as given: the window warnings are about them
+        let given = sweep.contains_key("stripes").then(|| records.clone());
+        let (stripes, stripe_warnings) = match sweep.get("stripes") {
+            Some(v) => {
+                stripes_allowed(&sweep, &base_config, &records)?;
+                let (s, w) = stripes_of(v, &periods, &damping, &mut records, &base_config)?;
+                (Some(s), w)
+            }
+            None => (None, Vec::new()),
+        };
+        let fragility = match (&stripes, sweep.get("fragility")) {
+            (Some(_), f) => Some(crate::fragility::FragilitySpec::from_toml(f, base_dir)?),
+            (None, Some(_)) => {
+                return Err(sweep_err(
+                    "sweep.fragility",
+                    "limit states are fitted on stripes: add [sweep.stripes] (the measure and its levels)",
+                ))
+            }
+            (None, None) => None,
+        };
         let record_y = base_config.record_y.clone().map(|s| SweepRecord::load(s, base_dir)).transpose()?;
         for (i, r) in records.iter().enumerate() {
             if records[..i].iter().any(|o| o.record.name == r.record.name) {
@@ -442,9 +518,10 @@ impl Plan {
         if let Some(suite) = &suite {
             warnings.extend(suite_warnings(suite));
         }
-        for r in &records {
+        for r in given.as_ref().unwrap_or(&records) {
             warnings.extend(window_warning(&base_config, &r.record, &periods, &damping, modal.as_ref()));
         }
+        warnings.extend(stripe_warnings);
         let mut used = base_config.clone();
         used.sweep = Some(sweep.clone());
         // the config as resolved, defaults included, so that a change of a
@@ -463,6 +540,8 @@ impl Plan {
             records,
             record_y,
             suite,
+            stripes,
+            fragility,
             damping,
             periods,
             modal,

@@ -115,6 +115,9 @@ pub struct Summary {
     /// Peak resident memory of the process \[MB\] (Linux; for cluster job
     /// requests).
     pub peak_memory_mb: Option<f64>,
+    /// A multiple-stripe sweep: its stripes and the fitted curves of the
+    /// jobs in the output.
+    pub fragility: Option<(crate::fragility::StoredFragility, Vec<crate::fragility::CurveRow>)>,
 }
 
 /// `<output>.journal`.
@@ -183,6 +186,11 @@ pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>, provenance: Proven
         damping: plan.damping.clone(),
         cases: plan.cases.iter().map(|c| c.name.clone()).collect(),
         suite: plan.suite.as_ref().map(|s| crate::suite_h5::StoredSuite::of(s, &plan.periods)),
+        fragility: plan
+            .stripes
+            .as_ref()
+            .zip(plan.fragility.as_ref())
+            .map(|(stripes, spec)| crate::fragility::StoredFragility { stripes: stripes.clone(), spec: spec.clone() }),
         records: plan
             .records
             .iter()
@@ -417,5 +425,12 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         output: output.clone(),
         journal: jpath,
         peak_memory_mb: quakejoint_model::resources::peak_memory_mb(),
+        fragility: file.fragility.as_ref().map(|f| {
+            let label = |c: usize, z: usize, t: usize| {
+                format!("{} / {}", plan.cases[c].name, plan.axis_label(t))
+                    + &if plan.damping.len() > 1 { format!(" / damping {}", plan.damping[z]) } else { String::new() }
+            };
+            (f.clone(), crate::fragility::rows(f, &file.results, &label))
+        }),
     })
 }

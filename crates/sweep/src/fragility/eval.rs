@@ -1,0 +1,221 @@
+//! The limit states evaluated on a sweep's results, counted stripe by
+//! stripe and fitted: one curve per case, damping ratio and period.
+
+use quakejoint_model::fragility::{bootstrap, fit, mean_annual_frequency, Fragility, Intervals, Stripe};
+use quakejoint_model::validity::Flags;
+
+use super::spec::{Failed, FragilitySpec, Kind, LimitState};
+use crate::plan::Stripes;
+use crate::results::{status, Results};
+
+/// A run's outcome for a limit state (`/fragility/<key>/outcome`).
+pub mod outcome {
+    /// The limit state was exceeded.
+    pub const EXCEEDED: i8 = 1;
+    /// It was not.
+    pub const NOT_EXCEEDED: i8 = 0;
+    /// The run failed (stopped, invalid parameters, simulation failed).
+    pub const FAILED: i8 = -1;
+    /// The run has not run (another shard's, or not reached yet).
+    pub const NOT_RUN: i8 = -2;
+    /// The run finished but does not report what the limit state tests
+    /// (NaN in the field).
+    pub const UNDETERMINED: i8 = -3;
+}
+
+/// The runs of one stripe for one limit state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StripeCounts {
+    /// Runs that count.
+    pub runs: u32,
+    /// Of them, runs that exceeded the limit state.
+    pub exceeded: u32,
+    /// Failed runs (counted as exceeding, or left out, as the config says).
+    pub failed: u32,
+    /// Runs not run.
+    pub not_run: u32,
+    /// Finished runs that do not report what the limit state tests (left out).
+    pub undetermined: u32,
+    /// Runs counted that the model flags for another reason than the
+    /// limit state itself (beams passing through each other, say).
+    pub flagged: u32,
+}
+
+/// A limit state's fragility for one case, damping ratio and period.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    /// The counts, stripe by stripe.
+    pub counts: Vec<StripeCounts>,
+    /// The maximum-likelihood fit (median in g), if the counts determine one.
+    pub fit: Option<Fragility>,
+    /// Its bootstrap intervals, if asked for and determined.
+    pub intervals: Option<Intervals>,
+    /// Its mean annual frequency at the site \[1/year\] (NaN without a
+    /// hazard curve or a fit).
+    pub annual_frequency: f64,
+    /// What a user should know about the curve (empty when nothing).
+    pub note: String,
+}
+
+/// One limit state over the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimitStateResult {
+    /// Every job's outcome ([`outcome`]), in the sweep's job order.
+    pub outcome: Vec<i8>,
+    /// Its curves, by case, damping ratio and period (`(c * nz + z) * nt + t`).
+    pub curves: Vec<Curve>,
+}
+
+/// A job's outcome for `ls`.
+fn outcome_of(ls: &LimitState, spec: &FragilitySpec, r: &Results, j: usize) -> i8 {
+    if let Kind::Without { measure, threshold } = ls.test {
+        let x = r.without[measure][r.without_index(j)];
+        return if x.is_nan() { outcome::NOT_RUN } else { i8::from(x > threshold) };
+    }
+    match r.status[j] {
+        status::NOT_RUN => return outcome::NOT_RUN,
+        status::OK => {}
+        _ => return if spec.failed == Failed::Exceed { outcome::EXCEEDED } else { outcome::FAILED },
+    }
+    match ls.test {
+        Kind::Flag(f) => i8::from(r.validity[j] & f.0 != 0),
+        Kind::Field { field, threshold, above } => {
+            let x = r.values[field][j];
+            if x.is_nan() {
+                outcome::UNDETERMINED
+            } else {
+                i8::from(if above { x > threshold } else { x < threshold })
+            }
+        }
+        Kind::Without { .. } => unreachable!("handled above"),
+    }
+}
+
+/// The limit states of `spec` on `results` (a sweep over `stripes`).
+pub fn evaluate(spec: &FragilitySpec, stripes: &Stripes, results: &Results) -> Vec<LimitStateResult> {
+    let [nc, nr, nz, nt] = results.dims;
+    let n = results.status.len();
+    let ns = stripes.levels.len();
+    let ng = stripes.ground.len();
+    spec.limit_states
+        .iter()
+        .map(|ls| {
+            let outcome: Vec<i8> = (0..n).map(|j| outcome_of(ls, spec, results, j)).collect();
+            let own = match ls.test {
+                Kind::Flag(f) => f.0,
+                _ => 0,
+            };
+            let mut curves = Vec::with_capacity(nc * nz * nt);
+            for c in 0..nc {
+                for z in 0..nz {
+                    for t in 0..nt {
+                        let job = |rec: usize| ((c * nr + rec) * nz + z) * nt + t;
+                        let mut counts = vec![StripeCounts::default(); ns];
+                        let mut by_record = vec![vec![None; ns]; ng];
+                        for (rec, run) in stripes.runs.iter().enumerate() {
+                            let j = job(rec);
+                            let k = &mut counts[run.stripe];
+                            let o = outcome[j];
+                            let ran_ok = results.status[j] == status::OK;
+                            if results.status[j] != status::NOT_RUN
+                                && !ran_ok
+                                && !matches!(ls.test, Kind::Without { .. })
+                            {
+                                k.failed += 1;
+                            }
+                            match o {
+                                outcome::EXCEEDED | outcome::NOT_EXCEEDED => {
+                                    k.runs += 1;
+                                    k.exceeded += u32::from(o == outcome::EXCEEDED);
+                                    let flags = Flags(results.validity[j] & !own & !Flags::NOT_CHECKED.0);
+                                    if ran_ok && !matches!(ls.test, Kind::Without { .. }) && flags.is_flagged() {
+                                        k.flagged += 1;
+                                    }
+                                    by_record[run.ground][run.stripe] = Some(o == outcome::EXCEEDED);
+                                }
+                                outcome::NOT_RUN => k.not_run += 1,
+                                outcome::UNDETERMINED => k.undetermined += 1,
+                                _ => {}
+                            }
+                        }
+                        curves.push(curve(spec, stripes, counts, &by_record));
+                    }
+                }
+            }
+            LimitStateResult { outcome, curves }
+        })
+        .collect()
+}
+
+/// Fits one curve from its counts (`by_record[g][s]`: record `g`'s
+/// outcome at stripe `s`, for the bootstrap).
+fn curve(spec: &FragilitySpec, stripes: &Stripes, counts: Vec<StripeCounts>, by_record: &[Vec<Option<bool>>]) -> Curve {
+    let data: Vec<Stripe> = stripes
+        .levels
+        .iter()
+        .zip(&counts)
+        .map(|(&intensity, k)| Stripe { intensity, runs: k.runs, exceeded: k.exceeded })
+        .collect();
+    let mut notes = Vec::new();
+    let (failed, not_run, undetermined, flagged) = counts
+        .iter()
+        .fold((0, 0, 0, 0), |a, k| (a.0 + k.failed, a.1 + k.not_run, a.2 + k.undetermined, a.3 + k.flagged));
+    if failed > 0 {
+        notes.push(match spec.failed {
+            Failed::Exclude => format!("{failed} failed runs left out (sweep.fragility.failed = \"exclude\")"),
+            Failed::Exceed => {
+                format!("{failed} failed runs counted as exceeding (sweep.fragility.failed = \"exceed\")")
+            }
+        });
+    }
+    if not_run > 0 {
+        notes.push(format!("{not_run} runs not run yet (or another shard's): the fit is on the runs finished"));
+    }
+    if undetermined > 0 {
+        notes.push(format!("{undetermined} runs do not report what the limit state tests (NaN): left out"));
+    }
+    if flagged > 0 {
+        notes.push(format!(
+            "{flagged} runs counted are flagged by the model for another reason (see their validity): the curve rests \
+             on results the model cannot stand behind"
+        ));
+    }
+    let fitted = fit(&data);
+    let (fit, intervals, annual_frequency) = match fitted {
+        Ok(f) => {
+            let intervals = if spec.bootstrap > 0 {
+                let levels = &stripes.levels;
+                match bootstrap(by_record, levels, spec.bootstrap, spec.seed, spec.confidence) {
+                    Ok(i) => {
+                        if i.undetermined > 0 {
+                            notes.push(format!(
+                                "{} of {} bootstrap resamples determined no fragility (left out of the intervals)",
+                                i.undetermined, spec.bootstrap
+                            ));
+                        }
+                        Some(i)
+                    }
+                    Err(e) => {
+                        notes.push(format!("no intervals: {e}"));
+                        None
+                    }
+                }
+            } else {
+                None
+            };
+            let annual = match &spec.hazard {
+                Some((points, _)) => mean_annual_frequency(&f, points).unwrap_or_else(|e| {
+                    notes.push(format!("no annual frequency: {e}"));
+                    f64::NAN
+                }),
+                None => f64::NAN,
+            };
+            (Some(f), intervals, annual)
+        }
+        Err(e) => {
+            notes.push(format!("no fit: {e}"));
+            (None, None, f64::NAN)
+        }
+    };
+    Curve { counts, fit, intervals, annual_frequency, note: notes.join("; ") }
+}

@@ -1,0 +1,245 @@
+//! `/fragility` of a sweep file (layout in `docs/hdf5-layout.md`): the
+//! stripes, the limit states' definitions, every run's outcome, the
+//! counts and the fitted curves. Written from the results at every
+//! write; read back, it is computed again from the results and must
+//! agree bit for bit.
+
+use ndarray::{ArrayView3, ArrayView4};
+
+use quakejoint_io::h5::{array, attach_scales, attr_str, scalar, strings, strings_1d};
+use quakejoint_io::read::{attr, group, number, text, values};
+
+use super::eval::{evaluate, LimitStateResult};
+use super::spec::FragilitySpec;
+use crate::plan::{Measure, StripeRun, Stripes};
+use crate::results::Results;
+
+/// A sweep's stripes and what is fitted on them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StoredFragility {
+    /// The stripes.
+    pub stripes: Stripes,
+    /// The limit states, hazard and fitting.
+    pub spec: FragilitySpec,
+}
+
+fn shape_err(e: ndarray::ShapeError) -> hdf5::Error {
+    hdf5::Error::from(e.to_string())
+}
+
+/// The datasets of a curve, per case, damping ratio and period.
+const CURVE_FIELDS: [(&str, &str, &str); 11] = [
+    ("median", "g", "the fragility's median: the level at which half the runs exceed the limit state"),
+    ("beta", "1", "the fragility's dispersion (lognormal standard deviation)"),
+    ("se_ln_median", "1", "standard error of ln(median) from the likelihood's curvature"),
+    ("se_beta", "1", "standard error of beta from the likelihood's curvature"),
+    ("log_likelihood", "1", "the binomial log-likelihood at the fit"),
+    ("median_lo", "g", "lower end of the bootstrap interval of the median"),
+    ("median_hi", "g", "upper end of the bootstrap interval of the median"),
+    ("beta_lo", "1", "lower end of the bootstrap interval of beta"),
+    ("beta_hi", "1", "upper end of the bootstrap interval of beta"),
+    ("annual_frequency", "1/year", "mean annual frequency of exceeding the limit state at the site"),
+    ("return_period", "year", "1 / annual_frequency"),
+];
+
+/// The counts of a curve, per case, damping ratio, period and stripe.
+const COUNT_FIELDS: [(&str, &str); 6] = [
+    ("runs", "runs that count"),
+    ("exceeded", "of them, runs that exceeded the limit state"),
+    ("failed", "failed runs (left out, or counted as exceeding: the group's attribute failed)"),
+    ("not_run", "runs not run (another shard's, or not reached yet)"),
+    ("undetermined", "finished runs that do not report what the limit state tests (left out)"),
+    ("flagged", "runs counted that the model flags for another reason than the limit state"),
+];
+
+fn curve_values(r: &LimitStateResult) -> [Vec<f64>; 11] {
+    let nan = f64::NAN;
+    let mut out: [Vec<f64>; 11] = Default::default();
+    for c in &r.curves {
+        let f = c.fit;
+        let i = c.intervals.as_ref();
+        let v = [
+            f.map_or(nan, |f| f.median),
+            f.map_or(nan, |f| f.beta),
+            f.map_or(nan, |f| f.se_ln_median),
+            f.map_or(nan, |f| f.se_beta),
+            f.map_or(nan, |f| f.log_likelihood),
+            i.map_or(nan, |i| i.median[0]),
+            i.map_or(nan, |i| i.median[1]),
+            i.map_or(nan, |i| i.beta[0]),
+            i.map_or(nan, |i| i.beta[1]),
+            c.annual_frequency,
+            1.0 / c.annual_frequency,
+        ];
+        for (o, x) in out.iter_mut().zip(v) {
+            o.push(x);
+        }
+    }
+    out
+}
+
+fn count_values(r: &LimitStateResult) -> [Vec<u32>; 6] {
+    let mut out: [Vec<u32>; 6] = Default::default();
+    for c in &r.curves {
+        for k in &c.counts {
+            for (o, x) in out.iter_mut().zip([k.runs, k.exceeded, k.failed, k.not_run, k.undetermined, k.flagged]) {
+                o.push(x);
+            }
+        }
+    }
+    out
+}
+
+/// The scales of the sweep's axes: case, record, damping, period (and its label).
+pub struct Scales<'a> {
+    /// The four axes' datasets and labels.
+    pub axes: [(&'a hdf5::Dataset, &'a str); 4],
+}
+
+/// Writes `/fragility`.
+pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results, scales: &Scales) -> hdf5::Result<()> {
+    let (s, spec) = (&f.stripes, &f.spec);
+    let g = file.create_group("fragility")?;
+    attr_str(&g, "measure", s.measure.key())?;
+    attr_str(&g, "measure_label", &s.measure.label())?;
+    attr_str(&g, "units", "g")?;
+    if let Measure::Sa { period, damping } = s.measure {
+        scalar(&g, "measure_period", period, "s")?;
+        scalar(&g, "measure_damping", damping, "1")?;
+    }
+    attr_str(&g, "config", &toml::to_string(&spec.to_toml()).unwrap_or_default())?;
+    attr_str(&g, "failed", if spec.failed == super::Failed::Exclude { "exclude" } else { "exceed" })?;
+    let levels = array(&g, "levels", &s.levels[..])?;
+    attr_str(&levels, "units", "g")?;
+    quakejoint_io::h5::set_scale(&levels, "stripe")?;
+    let names: Vec<String> = s.ground.iter().map(|g| g.0.clone()).collect();
+    strings_1d(&g, "ground_record", &names)?;
+    let im: Vec<f64> = s.ground.iter().map(|g| g.1).collect();
+    let ds = array(&g, "ground_intensity", &im[..])?;
+    attr_str(&ds, "units", "g")?;
+    attr_str(&ds, "meaning", "each record's intensity as read, over the runs' window")?;
+    let record = [scales.axes[1]];
+    let rg: Vec<u32> = s.runs.iter().map(|r| r.ground as u32).collect();
+    let rs: Vec<u32> = s.runs.iter().map(|r| r.stripe as u32).collect();
+    let rf: Vec<f64> = s.runs.iter().map(|r| r.factor).collect();
+    for (meaning, ds) in [
+        ("index into ground_record of each record of the sweep", array(&g, "record_ground", &rg[..])?),
+        ("index into levels of each record of the sweep", array(&g, "record_stripe", &rs[..])?),
+        ("the factor on the record as read", array(&g, "record_factor", &rf[..])?),
+    ] {
+        attr_str(&ds, "meaning", meaning)?;
+        attach_scales(&ds, &record)?;
+    }
+    if let Some((points, source)) = &spec.hazard {
+        let (i, q): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+        let ds = array(&g, "hazard_intensity", &i[..])?;
+        attr_str(&ds, "units", "g")?;
+        let ds = array(&g, "hazard_frequency", &q[..])?;
+        attr_str(&ds, "units", "1/year")?;
+        attr_str(&g, "hazard_source", source)?;
+    }
+    let [nc, nr, nz, nt] = results.dims;
+    let ns = s.levels.len();
+    let curve_axes = [scales.axes[0], scales.axes[2], scales.axes[3]];
+    for (ls, r) in spec.limit_states.iter().zip(evaluate(spec, s, results)) {
+        let lg = g.create_group(&ls.key)?;
+        attr_str(&lg, "name", &ls.name)?;
+        attr_str(&lg, "kind", &ls.kind)?;
+        attr_str(&lg, "definition", &ls.definition)?;
+        let view = ArrayView4::from_shape((nc, nr, nz, nt), &r.outcome[..]).map_err(shape_err)?;
+        let ds = array(&lg, "outcome", view)?;
+        attach_scales(&ds, &scales.axes)?;
+        attr_str(&ds, "meaning", "1 exceeded, 0 not, -1 failed, -2 not run, -3 not reported by the run (NaN)")?;
+        for ((name, meaning), data) in COUNT_FIELDS.iter().zip(count_values(&r)) {
+            let view = ArrayView4::from_shape((nc, nz, nt, ns), &data[..]).map_err(shape_err)?;
+            let ds = array(&lg, name, view)?;
+            attach_scales(&ds, &[curve_axes[0], curve_axes[1], curve_axes[2], (&levels, "stripe")])?;
+            attr_str(&ds, "meaning", meaning)?;
+        }
+        for ((name, units, meaning), data) in CURVE_FIELDS.iter().zip(curve_values(&r)) {
+            let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape_err)?;
+            let ds = array(&lg, name, view)?;
+            attach_scales(&ds, &curve_axes)?;
+            attr_str(&ds, "units", units)?;
+            attr_str(&ds, "meaning", meaning)?;
+        }
+        let notes: Vec<String> = r.curves.iter().map(|c| c.note.clone()).collect();
+        let ds = strings(&lg, "note", &notes, &[nc, nz, nt])?;
+        attach_scales(&ds, &curve_axes)?;
+    }
+    Ok(())
+}
+
+/// Reads `/fragility`'s definitions (None when the sweep has no stripes)
+/// and checks every stored array against the one computed again from
+/// `results`.
+pub fn read_fragility(file: &hdf5::File, results: &Results) -> hdf5::Result<Option<StoredFragility>> {
+    if !file.link_exists("fragility") {
+        return Ok(None);
+    }
+    let g = group(file, "fragility")?;
+    let measure = match attr(&g, "measure")?.as_str() {
+        "sa" => Measure::Sa { period: number(&g, "measure_period")?, damping: number(&g, "measure_damping")? },
+        "pga" => Measure::Pga,
+        other => return Err(hdf5::Error::from(format!("/fragility attribute measure {other:?}: not sa or pga"))),
+    };
+    let levels: Vec<f64> = values(&g, "levels")?;
+    let names = text(&g, "ground_record")?;
+    let im: Vec<f64> = values(&g, "ground_intensity")?;
+    let rg: Vec<u32> = values(&g, "record_ground")?;
+    let rs: Vec<u32> = values(&g, "record_stripe")?;
+    let rf: Vec<f64> = values(&g, "record_factor")?;
+    let fits = names.len() == im.len()
+        && rg.len() == results.dims[1]
+        && rs.len() == rg.len()
+        && rf.len() == rg.len()
+        && rg.iter().all(|&x| (x as usize) < names.len())
+        && rs.iter().all(|&x| (x as usize) < levels.len());
+    if !fits {
+        return Err(hdf5::Error::from("/fragility: the stripes do not match the sweep's records"));
+    }
+    let runs = rg
+        .iter()
+        .zip(&rs)
+        .zip(&rf)
+        .map(|((&ground, &stripe), &factor)| StripeRun { ground: ground as usize, stripe: stripe as usize, factor })
+        .collect();
+    let stripes = Stripes { measure, levels, ground: names.into_iter().zip(im).collect(), runs };
+    let config: toml::Table = toml::from_str(&attr(&g, "config")?)
+        .map_err(|e| hdf5::Error::from(format!("/fragility attribute config: {e}")))?;
+    let mut spec = FragilitySpec::from_toml(Some(&toml::Value::Table(config)), std::path::Path::new("."))
+        .map_err(|e| hdf5::Error::from(format!("/fragility attribute config: {e}")))?;
+    if g.attr("hazard_source").is_ok() {
+        if let Some(h) = &mut spec.hazard {
+            h.1 = attr(&g, "hazard_source")?;
+        }
+    }
+    let disagrees = |what: String| {
+        hdf5::Error::from(format!(
+            "{what} does not match the results it is derived from: the file is damaged or was changed after it was \
+             written"
+        ))
+    };
+    for (ls, r) in spec.limit_states.iter().zip(evaluate(&spec, &stripes, results)) {
+        let lg = group(&g, &ls.key)?;
+        let path = |name: &str| format!("/fragility/{}/{name}", ls.key);
+        if values::<i8>(&lg, "outcome")? != r.outcome {
+            return Err(disagrees(path("outcome")));
+        }
+        for ((name, _), data) in COUNT_FIELDS.iter().zip(count_values(&r)) {
+            if values::<u32>(&lg, name)? != data {
+                return Err(disagrees(path(name)));
+            }
+        }
+        for ((name, _, _), data) in CURVE_FIELDS.iter().zip(curve_values(&r)) {
+            if !crate::sweep_read::same_bits(&values::<f64>(&lg, name)?, &data) {
+                return Err(disagrees(path(name)));
+            }
+        }
+        let notes: Vec<String> = r.curves.iter().map(|c| c.note.clone()).collect();
+        if text(&lg, "note")? != notes {
+            return Err(disagrees(path("note")));
+        }
+    }
+    Ok(Some(StoredFragility { stripes, spec }))
+}
