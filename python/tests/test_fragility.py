@@ -63,3 +63,100 @@ def test_bootstrap_is_seeded_and_bad_input_is_refused():
         qj.fit_fragility([0.5, 1.0], [10, 10], [0, 0])
     with pytest.raises(qj.InputError, match="whole numbers"):
         qj.fit_fragility([0.5, 1.0], [10, 10.5], [1, 2])
+
+
+STRIPES = """
+[sweep]
+periods = [1.0]
+records = [{{ file = "{a}" }}, {{ file = "{b}" }}, {{ file = "{c}" }}, {{ file = "{d}" }}]
+[sweep.stripes]
+measure = "pga"
+levels = [0.05, 0.1, 0.15, 0.2, 0.3, 0.4]
+[sweep.fragility]
+bootstrap = 100
+hazard = {{ intensity = [0.01, 0.1, 1.0, 10.0], frequency = [1.0, 1e-2, 1e-4, 1e-6] }}
+[[sweep.fragility.limit_states]]
+kind = "capacity"
+[[sweep.fragility.limit_states]]
+kind = "pounding"
+speed = 0.1
+[[sweep.fragility.limit_states]]
+kind = "abutment_force"
+force = 1.0e5
+[[sweep.fragility.limit_states]]
+kind = "field"
+field = "max_subgap"
+above = 0.07
+[[sweep.fragility.limit_states]]
+kind = "deck"
+measure = "sd"
+above = 0.05
+"""
+
+
+@pytest.fixture(scope="module")
+def stripes_sweep(cli, tmp_path_factory):
+    from conftest import ROOT, SMALL_JOINT, run_cli
+
+    gm = ROOT / "ground_motions"
+    names = ["RSN753_LOMAP_CLS090-hor2", "RSN753_LOMAP_CLS000-hor1", "RSN6_IMPVALL.I_I-ELC180-hor1", "RSN6_IMPVALL.I_I-ELC270-hor2"]
+    files = dict(zip("abcd", (gm / f"{n}.AT2" for n in names)))
+    d = tmp_path_factory.mktemp("stripes")
+    cfg = d / "stripes.toml"
+    cfg.write_text(SMALL_JOINT + "[simulation]\nduration = 4.0\n" + STRIPES.format(**files))
+    out = d / "stripes.h5"
+    run_cli(cli, "sweep", cfg, "--output", out)
+    return out
+
+
+def test_limit_states_counted_by_hand_from_the_hdf5_fields_equal_the_tools(stripes_sweep):
+    """Issue 30's check: each limit state evaluated here from the runs' own
+    fields and flags (/spectrum/with_joint, /spectrum/without_joint) gives
+    the tool's outcomes and counts, and its fit equals scipy's maximum
+    likelihood on those counts."""
+    s = qj.read_sweep(stripes_sweep)
+    fr = s.fragility
+    assert fr is not None and fr.measure == "pga"
+    w, wo = s.with_joint, s.without_joint
+    capacity = [b for b, n in s.flag_names if n == "capacity_exceeded"][0]
+    ok = s.status == 0
+    by_hand = {
+        "cell_beyond_capacity": (s.validity & capacity) != 0,
+        "pounding_at_0_1_m_s": w["max_impact_speed"] > 0.1,
+        "abutment_force_above_0_1_mn": w["peak_abutment_force"] > 1e5,
+        "max_subgap_above_0_07_m": w["max_subgap"] > 0.07,
+        "deck_sd_above_0_05_m_with_the_joint": w["sd"] > 0.05,
+        # the bridge alone: (record, damping, period) for every case
+        "deck_sd_above_0_05_m_without_the_joint": np.broadcast_to(wo["sd"] > 0.05, s.status.shape),
+    }
+    assert set(by_hand) == set(fr.limit_states), sorted(fr.limit_states)
+    stripe = fr.record_stripe
+    for key, exceeded in by_hand.items():
+        ls = fr[key]
+        expected = np.where(ok | key.endswith("without_the_joint"), exceeded.astype(np.int8), -1)
+        np.testing.assert_array_equal(ls.outcome, expected, err_msg=key)
+        runs = np.array([np.sum(stripe == k) for k in range(len(fr.levels))])
+        hits = np.array([np.sum(exceeded[0, stripe == k, 0, 0]) for k in range(len(fr.levels))])
+        np.testing.assert_array_equal(ls.runs[0, 0, 0], runs, err_msg=key)
+        np.testing.assert_array_equal(ls.exceeded[0, 0, 0], hits, err_msg=key)
+        if np.isfinite(ls.median[0, 0, 0]):
+            m, b = scipy_fit(fr.levels, runs, hits)
+            assert abs(ls.median[0, 0, 0] / m - 1) < 1e-6 and abs(ls.beta[0, 0, 0] / b - 1) < 1e-6, (key, m, b)
+            # the hazard is the power law 1e-4 im^-2: the closed form
+            lam = 1e-4 * ls.median[0, 0, 0] ** -2 * math.exp(4 * ls.beta[0, 0, 0] ** 2 / 2)
+            assert abs(ls.annual_frequency[0, 0, 0] / lam - 1) < 1e-6, key
+            p = ls.probability(ls.median[0, 0, 0])
+            assert abs(p - 0.5) < 1e-12
+        else:
+            assert "no fit" in ls.note[0, 0, 0], key
+    fitted = [k for k in by_hand if np.isfinite(fr[k].median[0, 0, 0])]
+    assert len(fitted) >= 3, fitted
+    # every record of a stripe is scaled to its PGA over the runs' window
+    # (simulation.duration = 4 s) exactly
+    import h5py
+
+    with h5py.File(stripes_sweep) as f:
+        for name, k in zip(s.records, stripe):
+            g = f["records"][name]
+            window = g["acceleration"][: int(4.0 / g["dt"][()] * (1 + 1e-12)) + 1]
+            assert abs(np.max(np.abs(window)) / qj.G / fr.levels[k] - 1) < 1e-12, name

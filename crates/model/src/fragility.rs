@@ -154,6 +154,17 @@ pub fn fit(stripes: &[Stripe]) -> Result<Fragility, FragilityError> {
     // exceeds; the likelihood then grows without bound as beta -> 0
     let top_safe = counted.iter().filter(|s| s.exceeded < s.runs).map(|s| s.intensity).fold(0.0, f64::max);
     let low_fail = counted.iter().filter(|s| s.exceeded > 0).map(|s| s.intensity).fold(f64::INFINITY, f64::min);
+    if top_safe == low_fail {
+        // quasi-complete separation: the likelihood still grows without
+        // bound as beta -> 0, with the median at that level
+        let s =
+            counted.iter().filter(|s| s.intensity == low_fail).fold((0, 0), |a, s| (a.0 + s.exceeded, a.1 + s.runs));
+        return Err(FragilityError::Undetermined(format!(
+            "every run below {low_fail} survives and every run above it exceeds; at {low_fail}, {} of {} exceeded: \
+             the median is about {low_fail} and the dispersion is not determined (add stripes about it)",
+            s.0, s.1
+        )));
+    }
     if top_safe < low_fail {
         return Err(FragilityError::Undetermined(format!(
             "every run below {low_fail} survives and every run from it on exceeds: the median lies between \

@@ -1,7 +1,10 @@
 //! The joint between two bridge segments (`[bridge.far]`).
 //!
 //! - A far segment made rigid and fixed (1e10 kg at 0.01 s) is the
-//!   abutment: the near deck's response must be the abutment case's.
+//!   abutment: the near deck's response must be the abutment case's, and
+//!   the joint's force on the segment (the reactions on its body) the
+//!   force on the abutment (the reactions on the support beams, turned
+//!   round: `peak_abutment_force`).
 //! - Two identical segments under the same ground motion move together:
 //!   the joint between them is carried along rigidly, so it neither slides
 //!   (its friction dissipates next to nothing) nor pounds, the decks stay
@@ -40,6 +43,14 @@ fn a_rigid_fixed_segment_is_the_abutment() {
     // the stiff segment moves with the ground: its Sa is the record's PGA
     assert!((far.sa - far.sa_without).abs() < 1e-3 * far.sa_without, "{far:?}");
     assert!(segments.energy_error < 1e-6);
+    // the joint's force on its abutment side, two ways: the reactions of
+    // its pivots and welds on the segment's body, and the same reactions
+    // on the support beams turned round (peak_abutment_force); and the
+    // fixed abutment's, where only the second way exists
+    let (f, g) = (segments.peak_abutment_force, far.peak_joint_force);
+    assert!((f - g).abs() < 1e-9 * g, "abutment force {f} against the segment's {g}");
+    let a = abutment.peak_abutment_force;
+    assert!((a - f).abs() < 1e-3 * f, "fixed abutment {a} against the rigid segment {f}");
 }
 
 #[test]

@@ -175,6 +175,10 @@ fn counts_that_determine_nothing_are_refused() {
     assert!(none.contains("0 of 20 runs exceeded"), "{none}");
     let separated = fit(&[s(0.5, 10, 0), s(1.0, 10, 10)]).unwrap_err().to_string();
     assert!(separated.contains("not determined"), "{separated}");
+    // quasi-complete separation: the runs overlap at one stripe only, and
+    // the likelihood still grows as beta -> 0 with the median there
+    let quasi = fit(&[s(0.5, 10, 0), s(0.7, 10, 4), s(1.0, 10, 10)]).unwrap_err().to_string();
+    assert!(quasi.contains("at 0.7, 4 of 10 exceeded") && quasi.contains("median is about 0.7"), "{quasi}");
     let one = fit(&[s(0.5, 10, 3)]).unwrap_err().to_string();
     assert!(one.contains("two intensities"), "{one}");
     let bad = fit(&[s(0.5, 10, 11), s(1.0, 10, 3)]).unwrap_err().to_string();

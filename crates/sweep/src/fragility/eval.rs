@@ -95,50 +95,17 @@ fn outcome_of(ls: &LimitState, spec: &FragilitySpec, r: &Results, j: usize) -> i
 pub fn evaluate(spec: &FragilitySpec, stripes: &Stripes, results: &Results) -> Vec<LimitStateResult> {
     let [nc, nr, nz, nt] = results.dims;
     let n = results.status.len();
-    let ns = stripes.levels.len();
-    let ng = stripes.ground.len();
     spec.limit_states
         .iter()
         .map(|ls| {
             let outcome: Vec<i8> = (0..n).map(|j| outcome_of(ls, spec, results, j)).collect();
-            let own = match ls.test {
-                Kind::Flag(f) => f.0,
-                _ => 0,
-            };
             let mut curves = Vec::with_capacity(nc * nz * nt);
             for c in 0..nc {
                 for z in 0..nz {
                     for t in 0..nt {
-                        let job = |rec: usize| ((c * nr + rec) * nz + z) * nt + t;
-                        let mut counts = vec![StripeCounts::default(); ns];
-                        let mut by_record = vec![vec![None; ns]; ng];
-                        for (rec, run) in stripes.runs.iter().enumerate() {
-                            let j = job(rec);
-                            let k = &mut counts[run.stripe];
-                            let o = outcome[j];
-                            let ran_ok = results.status[j] == status::OK;
-                            if results.status[j] != status::NOT_RUN
-                                && !ran_ok
-                                && !matches!(ls.test, Kind::Without { .. })
-                            {
-                                k.failed += 1;
-                            }
-                            match o {
-                                outcome::EXCEEDED | outcome::NOT_EXCEEDED => {
-                                    k.runs += 1;
-                                    k.exceeded += u32::from(o == outcome::EXCEEDED);
-                                    let flags = Flags(results.validity[j] & !own & !Flags::NOT_CHECKED.0);
-                                    if ran_ok && !matches!(ls.test, Kind::Without { .. }) && flags.is_flagged() {
-                                        k.flagged += 1;
-                                    }
-                                    by_record[run.ground][run.stripe] = Some(o == outcome::EXCEEDED);
-                                }
-                                outcome::NOT_RUN => k.not_run += 1,
-                                outcome::UNDETERMINED => k.undetermined += 1,
-                                _ => {}
-                            }
-                        }
-                        curves.push(curve(spec, stripes, counts, &by_record));
+                        let jobs: Vec<usize> = (0..nr).map(|rec| ((c * nr + rec) * nz + z) * nt + t).collect();
+                        let tally = Tally::of(ls, stripes, results, &outcome, &jobs);
+                        curves.push(curve(spec, stripes, tally));
                     }
                 }
             }
@@ -147,9 +114,61 @@ pub fn evaluate(spec: &FragilitySpec, stripes: &Stripes, results: &Results) -> V
         .collect()
 }
 
-/// Fits one curve from its counts (`by_record[g][s]`: record `g`'s
-/// outcome at stripe `s`, for the bootstrap).
-fn curve(spec: &FragilitySpec, stripes: &Stripes, counts: Vec<StripeCounts>, by_record: &[Vec<Option<bool>>]) -> Curve {
+/// The runs of one curve, counted.
+struct Tally {
+    /// Per stripe.
+    counts: Vec<StripeCounts>,
+    /// `by_record[g][s]`: record `g`'s outcome at stripe `s` (for the
+    /// bootstrap; None: the run does not count).
+    by_record: Vec<Vec<Option<bool>>>,
+    /// How many counted runs carry each other flag (`capacity_exceeded 3`).
+    flagged: Vec<String>,
+}
+
+impl Tally {
+    /// Counts `jobs` (the curve's job of each record of the sweep).
+    fn of(ls: &LimitState, stripes: &Stripes, results: &Results, outcome: &[i8], jobs: &[usize]) -> Self {
+        let own = match ls.test {
+            Kind::Flag(f) => f.0,
+            _ => 0,
+        };
+        let alone = matches!(ls.test, Kind::Without { .. });
+        let mut counts = vec![StripeCounts::default(); stripes.levels.len()];
+        let mut by_record = vec![vec![None; stripes.levels.len()]; stripes.ground.len()];
+        let mut other = vec![0u32; Flags::ALL.len()];
+        for (run, &j) in stripes.runs.iter().zip(jobs) {
+            let k = &mut counts[run.stripe];
+            let ran_ok = results.status[j] == status::OK;
+            if results.status[j] != status::NOT_RUN && !ran_ok && !alone {
+                k.failed += 1;
+            }
+            match outcome[j] {
+                o @ (outcome::EXCEEDED | outcome::NOT_EXCEEDED) => {
+                    k.runs += 1;
+                    k.exceeded += u32::from(o == outcome::EXCEEDED);
+                    let flags = Flags(results.validity[j] & !own & !Flags::NOT_CHECKED.0);
+                    if ran_ok && !alone && flags.is_flagged() {
+                        k.flagged += 1;
+                        for (n, (f, _)) in other.iter_mut().zip(Flags::ALL.iter()) {
+                            *n += u32::from(flags.contains(*f));
+                        }
+                    }
+                    by_record[run.ground][run.stripe] = Some(o == outcome::EXCEEDED);
+                }
+                outcome::NOT_RUN => k.not_run += 1,
+                outcome::UNDETERMINED => k.undetermined += 1,
+                _ => {}
+            }
+        }
+        let flagged =
+            Flags::ALL.iter().zip(&other).filter(|(_, &n)| n > 0).map(|((_, name), n)| format!("{name} {n}")).collect();
+        Self { counts, by_record, flagged }
+    }
+}
+
+/// Fits one curve from its tally.
+fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
+    let Tally { counts, by_record, flagged } = tally;
     let data: Vec<Stripe> = stripes
         .levels
         .iter()
@@ -157,9 +176,8 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, counts: Vec<StripeCounts>, by_
         .map(|(&intensity, k)| Stripe { intensity, runs: k.runs, exceeded: k.exceeded })
         .collect();
     let mut notes = Vec::new();
-    let (failed, not_run, undetermined, flagged) = counts
-        .iter()
-        .fold((0, 0, 0, 0), |a, k| (a.0 + k.failed, a.1 + k.not_run, a.2 + k.undetermined, a.3 + k.flagged));
+    let (failed, not_run, undetermined) =
+        counts.iter().fold((0, 0, 0), |a, k| (a.0 + k.failed, a.1 + k.not_run, a.2 + k.undetermined));
     if failed > 0 {
         notes.push(match spec.failed {
             Failed::Exclude => format!("{failed} failed runs left out (sweep.fragility.failed = \"exclude\")"),
@@ -174,10 +192,12 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, counts: Vec<StripeCounts>, by_
     if undetermined > 0 {
         notes.push(format!("{undetermined} runs do not report what the limit state tests (NaN): left out"));
     }
-    if flagged > 0 {
+    if !flagged.is_empty() {
         notes.push(format!(
-            "{flagged} runs counted are flagged by the model for another reason (see their validity): the curve rests \
-             on results the model cannot stand behind"
+            "{} runs counted are flagged by the model for another reason ({}): the curve rests on results the model \
+             cannot stand behind",
+            counts.iter().map(|k| k.flagged).sum::<u32>(),
+            flagged.join(", ")
         ));
     }
     let fitted = fit(&data);
@@ -185,7 +205,7 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, counts: Vec<StripeCounts>, by_
         Ok(f) => {
             let intervals = if spec.bootstrap > 0 {
                 let levels = &stripes.levels;
-                match bootstrap(by_record, levels, spec.bootstrap, spec.seed, spec.confidence) {
+                match bootstrap(&by_record, levels, spec.bootstrap, spec.seed, spec.confidence) {
                     Ok(i) => {
                         if i.undetermined > 0 {
                             notes.push(format!(

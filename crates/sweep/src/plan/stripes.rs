@@ -247,6 +247,10 @@ fn levels_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
             };
             period_range(from, to, count, log)
                 .map_err(|e| sweep_err(field, e.to_string().replace(" s", " g").replace("periods", "levels")))?
+                .into_iter()
+                // 0.3, not 0.30000000000000004, in the records' names
+                .map(|x| format!("{x:.10e}").parse().unwrap_or(x))
+                .collect()
         }
         other => list_of_f64(other, field)?,
     };
