@@ -293,7 +293,7 @@ def write_boxes(placer, fit_text, notes):
     elif not any("no fit" in n for n in notes):
         notes.insert(0, "no fit")
     if notes:
-        joined = [n for n in dict.fromkeys(notes)]
+        joined = list(dict.fromkeys(notes))
 
         def wrapped(width):
             return "\n".join(textwrap.fill(n, width) for n in joined)
@@ -302,22 +302,30 @@ def write_boxes(placer, fit_text, notes):
                      bbox=dict(boxstyle="round,pad=0.3", fc="#fff8e6", ec="0.75", alpha=0.9))
 
 
-def hazard_panel(ax, d, colours):
+def hazard_panel(ax, d):
     intensity, frequency = d["hazard"]
     ax.loglog(intensity, frequency, "o-", color="k", ms=4, lw=1.2, label="hazard curve")
     keep = (intensity > 0) & (frequency > 0)
     li, lf = np.log(intensity[keep]), np.log(frequency[keep])
-    marked = False
+    marks = []
     for st in d["states"]:
         for idx in d["labels"]:
             m = st["median"][idx]
             if np.isfinite(m) and m > 0 and li.size > 1:
-                h = math.exp(np.interp(math.log(m), li, lf))
-                ax.plot(m, h, "v", color="tab:red", ms=7, label=None if marked else "fitted median of a limit state")
                 name = f"{st['name']} ({d['labels'][idx]})" if len(d["labels"]) > 1 else st["name"]
-                ax.annotate(name, (m, h), textcoords="offset points", xytext=(6, 4), fontsize=7,
-                            color="tab:red")
-                marked = True
+                marks.append((m, math.exp(np.interp(math.log(m), li, lf)), name, st["annual_frequency"][idx]))
+    marks.sort()
+    lines = []
+    for k, (m, h, name, lam) in enumerate(marks, start=1):
+        ax.plot(m, h, "v", color="tab:red", ms=7, label=None if k > 1 else "fitted median of a limit state")
+        # numbers alternate above-left and below-right, so that close medians stay apart
+        ax.annotate(str(k), (m, h), textcoords="offset points", xytext=(-9, 5) if k % 2 else (6, -12), fontsize=7.5,
+                    color="tab:red", fontweight="bold")
+        lam_text = f", λ = {lam:.2g} /yr" if np.isfinite(lam) else ""
+        lines.append(f"{k}  {name}: median {fmt(m)} {d['units']}{lam_text}")
+    if lines:
+        ax.text(0.03, 0.04, "\n".join(lines), transform=ax.transAxes, fontsize=7, color="tab:red", va="bottom",
+                bbox=dict(boxstyle="round,pad=0.3", fc="white", ec="0.75", alpha=0.9))
     ax.set_xlabel(f"{d['measure_label']} [{d['units']}]", fontsize=8.5)
     ax.set_ylabel("annual frequency of exceedance [1/yr]", fontsize=8.5)
     ax.set_title("hazard curve" + (f" ({d['hazard_source']})" if d["hazard_source"] else ""), fontsize=9.5)
@@ -348,7 +356,7 @@ def figure(src, hazard=False):
     fig.suptitle(title, fontsize=10.5)
     boxes = [draw_state(ax, st, d, colours, several) for ax, st in zip(axes, panels)]
     if hazard:
-        hazard_panel(axes[len(panels)], d, colours)
+        hazard_panel(axes[len(panels)], d)
     handles = {}
     for ax in axes[:n]:
         for h, label in zip(*ax.get_legend_handles_labels()):

@@ -176,6 +176,22 @@ fn every_file_says_what_produced_it_and_carries_units() {
     assert!(matches!(res.status.code(), Some(0 | 4)), "{}", String::from_utf8_lossy(&res.stderr));
     all.extend(paths_of(&suite_h5));
 
+    // stripes of Sa with a hazard curve: /fragility
+    let stripes = config(
+        &d,
+        "stripes.toml",
+        &format!(
+            "[sweep]\nperiods = [0.5]\nrecords = [{}]\n[sweep.stripes]\nmeasure = \"sa\"\nlevels = [0.05, 0.1]\n\
+             [sweep.fragility]\nbootstrap = 10\nhazard = {{ intensity = [0.1, 1.0], frequency = [1e-2, 1e-4] }}\n",
+            records.join(", ")
+        ),
+        2.0,
+    );
+    let stripes_h5 = d.join("stripes.h5");
+    let res = run(&["sweep", stripes.to_str().unwrap(), "--output", stripes_h5.to_str().unwrap()]);
+    assert!(matches!(res.status.code(), Some(0 | 4)), "{}", String::from_utf8_lossy(&res.stderr));
+    all.extend(paths_of(&stripes_h5));
+
     // service with options from the command line
     let loop_h5 = d.join("loop.h5");
     let medium = root().join("configs/medium.toml");

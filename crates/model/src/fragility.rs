@@ -150,27 +150,64 @@ pub fn fit(stripes: &[Stripe]) -> Result<Fragility, FragilityError> {
             if z == 0 { "the highest of" } else { "or lower" }
         )));
     }
-    // separated: every run below some level survives and every run above it
-    // exceeds; the likelihood then grows without bound as beta -> 0
+    match separation(&counted) {
+        Some(Separation::Quasi { level, exceeded, runs }) => Err(FragilityError::Undetermined(format!(
+            "every run below {level} survives and every run above it exceeds; at {level}, {exceeded} of {runs} \
+             exceeded: the median is about {level} and the dispersion is not determined (add stripes about it)"
+        ))),
+        Some(Separation::Complete { top_safe, low_fail }) => Err(FragilityError::Undetermined(format!(
+            "every run below {low_fail} survives and every run from it on exceeds: the median lies between \
+             {top_safe} and {low_fail} and the dispersion is not determined (add stripes between)"
+        ))),
+        None => newton(stripes, &counted),
+    }
+}
+
+/// How counts are separated, when they are: the likelihood then grows
+/// without bound as beta -> 0.
+enum Separation {
+    /// Every run below `low_fail` survives and every run from it on
+    /// exceeds (`top_safe` is the highest level with a survivor).
+    Complete { top_safe: f64, low_fail: f64 },
+    /// The runs overlap at one level only, `level`, where `exceeded` of
+    /// `runs` exceeded.
+    Quasi { level: f64, exceeded: u32, runs: u32 },
+}
+
+fn separation(counted: &[&Stripe]) -> Option<Separation> {
     let top_safe = counted.iter().filter(|s| s.exceeded < s.runs).map(|s| s.intensity).fold(0.0, f64::max);
     let low_fail = counted.iter().filter(|s| s.exceeded > 0).map(|s| s.intensity).fold(f64::INFINITY, f64::min);
     if top_safe == low_fail {
-        // quasi-complete separation: the likelihood still grows without
-        // bound as beta -> 0, with the median at that level
-        let s =
+        let (exceeded, runs) =
             counted.iter().filter(|s| s.intensity == low_fail).fold((0, 0), |a, s| (a.0 + s.exceeded, a.1 + s.runs));
-        return Err(FragilityError::Undetermined(format!(
-            "every run below {low_fail} survives and every run above it exceeds; at {low_fail}, {} of {} exceeded: \
-             the median is about {low_fail} and the dispersion is not determined (add stripes about it)",
-            s.0, s.1
-        )));
+        Some(Separation::Quasi { level: low_fail, exceeded, runs })
+    } else if top_safe < low_fail {
+        Some(Separation::Complete { top_safe, low_fail })
+    } else {
+        None
     }
-    if top_safe < low_fail {
-        return Err(FragilityError::Undetermined(format!(
-            "every run below {low_fail} survives and every run from it on exceeds: the median lies between \
-             {top_safe} and {low_fail} and the dispersion is not determined (add stripes between)"
-        )));
+}
+
+/// The limit of the likelihood's maximum for separated counts (beta -> 0):
+/// the median at the one overlapping level, or at the geometric middle of
+/// the gap between the levels that separate the runs; None when the counts
+/// are not separated or have no run on one side (every run survived, or
+/// every run exceeded).
+pub fn separated_limit(stripes: &[Stripe]) -> Option<f64> {
+    let counted: Vec<&Stripe> = stripes.iter().filter(|s| s.runs > 0).collect();
+    let (z, n) = counted.iter().fold((0u64, 0u64), |(z, n), s| (z + u64::from(s.exceeded), n + u64::from(s.runs)));
+    if z == 0 || z == n {
+        return None;
     }
+    match separation(&counted)? {
+        Separation::Quasi { level, .. } => Some(level),
+        Separation::Complete { top_safe, low_fail } => Some((top_safe * low_fail).sqrt()),
+    }
+}
+
+/// Newton's method on the probit likelihood of counts that are not
+/// separated.
+fn newton(stripes: &[Stripe], counted: &[&Stripe]) -> Result<Fragility, FragilityError> {
     // start: beta 0.5 about the log-mean of the levels
     let mean_x = counted.iter().map(|s| s.intensity.ln()).sum::<f64>() / counted.len() as f64;
     let (mut a, mut b) = (-mean_x / 0.5, 1.0 / 0.5);
@@ -260,11 +297,20 @@ pub struct Intervals {
     pub median: [f64; 2],
     /// The dispersion's interval.
     pub beta: [f64; 2],
-    /// Resamples whose counts determined no fragility (left out).
+    /// Resamples whose counts determined no fragility, every run having
+    /// survived or every one exceeded (left out).
     pub undetermined: usize,
+    /// Resamples whose counts are separated (every run below a level
+    /// survives, every run above it exceeds): their likelihood's supremum
+    /// is at beta -> 0, and they enter the intervals with beta = 0 and the
+    /// median at [`separated_limit`].
+    pub separated: usize,
 }
 
-/// The bootstrap of [`fit`] over records: `outcomes[r][s]` is record `r`'s
+/// The bootstrap of [`fit`] over records (a resample whose counts are
+/// separated enters with beta = 0, the limit of its likelihood's maximum,
+/// so that the intervals are not biased towards the resamples that
+/// overlap): `outcomes[r][s]` is record `r`'s
 /// outcome at stripe `s` (`Some(true)`: exceeded; `None`: a run that does
 /// not count), `intensities[s]` the stripes' levels; `samples` resamples
 /// of the records with replacement from `seed`, percentile intervals at
@@ -278,7 +324,7 @@ pub fn bootstrap(
 ) -> Result<Intervals, FragilityError> {
     let mut rng = SplitMix64::new(seed);
     let (mut medians, mut betas) = (Vec::with_capacity(samples), Vec::with_capacity(samples));
-    let mut undetermined = 0;
+    let (mut undetermined, mut separated) = (0, 0);
     let n = outcomes.len();
     if n == 0 {
         return Err(FragilityError::Undetermined("no records".into()));
@@ -300,7 +346,15 @@ pub fn bootstrap(
                 medians.push(f.median);
                 betas.push(f.beta);
             }
-            Err(_) => undetermined += 1,
+            // separated counts: the likelihood's supremum, beta -> 0
+            Err(_) => match separated_limit(&stripes) {
+                Some(median) => {
+                    medians.push(median);
+                    betas.push(0.0);
+                    separated += 1;
+                }
+                None => undetermined += 1,
+            },
         }
     }
     if medians.is_empty() {
@@ -317,6 +371,7 @@ pub fn bootstrap(
         median: [percentile(&mut medians, tail), percentile(&mut medians, 1.0 - tail)],
         beta: [percentile(&mut betas, tail), percentile(&mut betas, 1.0 - tail)],
         undetermined,
+        separated,
     })
 }
 

@@ -168,6 +168,30 @@ fn bootstrap_is_deterministic_and_brackets_the_estimate() {
     assert!(a.beta[0] < f.beta && f.beta < a.beta[1]);
 }
 
+/// Records that all exceed from the same level on (a heavy deck under
+/// records scaled to Sa(T1)): every resample is separated, its likelihood's
+/// supremum is at beta -> 0, and the intervals say so (beta 0, the median in
+/// the gap) rather than leaving every resample out. With one record that
+/// holds out a stripe longer, most resamples overlap and fit, and the
+/// separated ones pull beta's interval down to 0.
+#[test]
+fn separated_resamples_enter_the_intervals_at_beta_zero() {
+    let levels = [0.5, 0.6, 0.7, 0.8];
+    let alike: Vec<Vec<Option<bool>>> = (0..5).map(|_| levels.iter().map(|&x| Some(x >= 0.7)).collect()).collect();
+    let i = bootstrap(&alike, &levels, 200, 3, 0.9).unwrap();
+    assert_eq!((i.separated, i.undetermined), (200, 0));
+    assert_eq!(i.beta, [0.0, 0.0]);
+    let gap = (0.6f64 * 0.7).sqrt();
+    assert_eq!(i.median, [gap, gap]);
+    let mut one_later = alike.clone();
+    one_later[0] = levels.iter().map(|&x| Some(x >= 0.8)).collect();
+    one_later[1] = levels.iter().map(|&x| Some(x >= 0.6)).collect();
+    let i = bootstrap(&one_later, &levels, 400, 3, 0.9).unwrap();
+    assert!(i.separated > 0 && i.separated < 400, "{i:?}");
+    assert_eq!(i.beta[0], 0.0, "{i:?}");
+    assert!(i.beta[1] > 0.0, "{i:?}");
+}
+
 #[test]
 fn counts_that_determine_nothing_are_refused() {
     let s = |intensity, runs, exceeded| Stripe { intensity, runs, exceeded };

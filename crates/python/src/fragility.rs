@@ -67,7 +67,9 @@ fn fit_fragility<'py>(
 /// over records: `outcomes[r][s]` is record r's outcome at stripe s (1
 /// exceeded, 0 not, -1 a run that does not count), `samples` resamples from
 /// `seed` (the same seed, the same intervals), at `level`. Returns a dict:
-/// median and beta (each [low, high]), undetermined (resamples left out).
+/// median and beta (each [low, high]), undetermined (resamples left out:
+/// every run survived or every one exceeded), separated (resamples whose
+/// counts are separated, entered with beta = 0 and the median in the gap).
 #[pyfunction]
 #[pyo3(signature = (outcomes, intensities, samples=1000, seed=0, level=0.9))]
 fn bootstrap_fragility<'py>(
@@ -104,6 +106,7 @@ fn bootstrap_fragility<'py>(
     d.set_item("beta", i.beta.to_vec())?;
     d.set_item("level", i.level)?;
     d.set_item("undetermined", i.undetermined)?;
+    d.set_item("separated", i.separated)?;
     Ok(d)
 }
 

@@ -207,9 +207,17 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
                 let levels = &stripes.levels;
                 match bootstrap(&by_record, levels, spec.bootstrap, spec.seed, spec.confidence) {
                     Ok(i) => {
+                        if i.separated > 0 {
+                            notes.push(format!(
+                                "{} of {} bootstrap resamples have separated counts: they enter the intervals with \
+                                 beta = 0",
+                                i.separated, spec.bootstrap
+                            ));
+                        }
                         if i.undetermined > 0 {
                             notes.push(format!(
-                                "{} of {} bootstrap resamples determined no fragility (left out of the intervals)",
+                                "{} of {} bootstrap resamples determined no fragility (every run survived or every \
+                                 one exceeded): left out of the intervals",
                                 i.undetermined, spec.bootstrap
                             ));
                         }
