@@ -61,8 +61,11 @@ _erf = np.vectorize(math.erf, otypes=[float])
 
 
 def lognormal_cdf(x, median, beta):
-    """P = Phi(ln(x / median) / beta), 0 at x <= 0."""
+    """P = Phi(ln(x / median) / beta), 0 at x <= 0; a step at the median
+    for beta = 0 (the end of an interval of separated resamples)."""
     x = np.asarray(x, dtype=float)
+    if beta == 0:
+        return (x >= median).astype(float)
     z = np.full(x.shape, -np.inf)
     positive = x > 0
     z[positive] = np.log(x[positive] / median) / beta
@@ -124,9 +127,9 @@ def load(src):
         if "hazard_intensity" in fr and "hazard_frequency" in fr:
             d["hazard"] = (fr["hazard_intensity"][()], fr["hazard_frequency"][()])
         shape = None
-        for key, g in fr.items():
-            if not isinstance(g, h5py.Group):
-                continue
+        # in the config's order (the attribute index)
+        groups = [(k, g) for k, g in fr.items() if isinstance(g, h5py.Group)]
+        for key, g in sorted(groups, key=lambda kg: int(kg[1].attrs.get("index", 0))):
             state = {
                 "key": key,
                 "name": text(g.attrs.get("name", key)),
@@ -264,7 +267,7 @@ def draw_state(ax, st, d, colours, several):
             ax.plot(grid, p, "-", color=colour, lw=1.6, zorder=3, label=f"{what}fitted lognormal")
             placer.occupy(grid, p)
             ends = [st[n][idx] for n in ("median_lo", "median_hi", "beta_lo", "beta_hi")]
-            if all(np.isfinite(ends)) and min(ends) > 0:
+            if all(np.isfinite(ends)) and min(ends[:2]) > 0 and min(ends[2:]) >= 0:
                 curves = np.array([lognormal_cdf(grid, mm, bb) for mm in ends[:2] for bb in ends[2:]])
                 lo, hi = curves.min(axis=0), curves.max(axis=0)
                 ax.fill_between(grid, lo, hi, color=colour, alpha=0.2, lw=0, zorder=2,

@@ -416,18 +416,19 @@ def _fragility(f) -> Optional[Fragility]:
         return None
     g = f["fragility"]
     states = {}
-    for key in g:
-        if isinstance(g[key], h5py.Group):
-            h = g[key]
-            arrays = {n: h[n][()] for n in h}
-            arrays["note"] = _text(arrays["note"])
-            states[key] = LimitStateFragility(
-                key=key,
-                name=str(h.attrs["name"]),
-                kind=str(h.attrs["kind"]),
-                definition=str(h.attrs["definition"]),
-                arrays=arrays,
-            )
+    # in the config's order (the attribute index)
+    keys = sorted((k for k in g if isinstance(g[k], h5py.Group)), key=lambda k: int(g[k].attrs.get("index", 0)))
+    for key in keys:
+        h = g[key]
+        arrays = {n: h[n][()] for n in h}
+        arrays["note"] = _text(arrays["note"])
+        states[key] = LimitStateFragility(
+            key=key,
+            name=str(h.attrs["name"]),
+            kind=str(h.attrs["kind"]),
+            definition=str(h.attrs["definition"]),
+            arrays=arrays,
+        )
     sa = g.attrs["measure"] == "sa"
     return Fragility(
         measure=str(g.attrs["measure"]),

@@ -244,3 +244,47 @@ def modal_sweep(cli, tmp_path_factory):
     (d / "modal.toml").write_text(MODAL_SWEEP)
     run_cli(cli, "sweep", d / "modal.toml", "--output", d / "modal.h5", "--progress", "none")
     return d / "modal.h5"
+
+
+STRIPES = """
+[sweep]
+periods = [1.0]
+records = [{{ file = "{a}" }}, {{ file = "{b}" }}, {{ file = "{c}" }}, {{ file = "{d}" }}]
+[sweep.stripes]
+measure = "pga"
+levels = [0.05, 0.1, 0.15, 0.2, 0.3, 0.4]
+[sweep.fragility]
+bootstrap = 100
+hazard = {{ intensity = [0.01, 0.1, 1.0, 10.0], frequency = [1.0, 1e-2, 1e-4, 1e-6] }}
+[[sweep.fragility.limit_states]]
+kind = "capacity"
+[[sweep.fragility.limit_states]]
+kind = "pounding"
+speed = 0.1
+[[sweep.fragility.limit_states]]
+kind = "abutment_force"
+force = 1.0e5
+[[sweep.fragility.limit_states]]
+kind = "field"
+field = "max_subgap"
+above = 0.07
+[[sweep.fragility.limit_states]]
+kind = "deck"
+measure = "sd"
+above = 0.05
+"""
+
+
+@pytest.fixture(scope="session")
+def stripes_sweep(cli, tmp_path_factory):
+    """A multiple-stripe sweep: four records at six stripes of PGA on the
+    small joint, with a hazard curve and six limit states."""
+    gm = ROOT / "ground_motions"
+    names = ["RSN753_LOMAP_CLS090-hor2", "RSN753_LOMAP_CLS000-hor1", "RSN6_IMPVALL.I_I-ELC180-hor1", "RSN6_IMPVALL.I_I-ELC270-hor2"]
+    files = dict(zip("abcd", (gm / f"{n}.AT2" for n in names)))
+    d = tmp_path_factory.mktemp("stripes")
+    cfg = d / "stripes.toml"
+    cfg.write_text(SMALL_JOINT + "[simulation]\nduration = 4.0\n" + STRIPES.format(**files))
+    out = d / "stripes.h5"
+    run_cli(cli, "sweep", cfg, "--output", out)
+    return out

@@ -65,50 +65,6 @@ def test_bootstrap_is_seeded_and_bad_input_is_refused():
         qj.fit_fragility([0.5, 1.0], [10, 10.5], [1, 2])
 
 
-STRIPES = """
-[sweep]
-periods = [1.0]
-records = [{{ file = "{a}" }}, {{ file = "{b}" }}, {{ file = "{c}" }}, {{ file = "{d}" }}]
-[sweep.stripes]
-measure = "pga"
-levels = [0.05, 0.1, 0.15, 0.2, 0.3, 0.4]
-[sweep.fragility]
-bootstrap = 100
-hazard = {{ intensity = [0.01, 0.1, 1.0, 10.0], frequency = [1.0, 1e-2, 1e-4, 1e-6] }}
-[[sweep.fragility.limit_states]]
-kind = "capacity"
-[[sweep.fragility.limit_states]]
-kind = "pounding"
-speed = 0.1
-[[sweep.fragility.limit_states]]
-kind = "abutment_force"
-force = 1.0e5
-[[sweep.fragility.limit_states]]
-kind = "field"
-field = "max_subgap"
-above = 0.07
-[[sweep.fragility.limit_states]]
-kind = "deck"
-measure = "sd"
-above = 0.05
-"""
-
-
-@pytest.fixture(scope="module")
-def stripes_sweep(cli, tmp_path_factory):
-    from conftest import ROOT, SMALL_JOINT, run_cli
-
-    gm = ROOT / "ground_motions"
-    names = ["RSN753_LOMAP_CLS090-hor2", "RSN753_LOMAP_CLS000-hor1", "RSN6_IMPVALL.I_I-ELC180-hor1", "RSN6_IMPVALL.I_I-ELC270-hor2"]
-    files = dict(zip("abcd", (gm / f"{n}.AT2" for n in names)))
-    d = tmp_path_factory.mktemp("stripes")
-    cfg = d / "stripes.toml"
-    cfg.write_text(SMALL_JOINT + "[simulation]\nduration = 4.0\n" + STRIPES.format(**files))
-    out = d / "stripes.h5"
-    run_cli(cli, "sweep", cfg, "--output", out)
-    return out
-
-
 def test_limit_states_counted_by_hand_from_the_hdf5_fields_equal_the_tools(stripes_sweep):
     """Issue 30's check: each limit state evaluated here from the runs' own
     fields and flags (/spectrum/with_joint, /spectrum/without_joint) gives

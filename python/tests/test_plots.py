@@ -11,6 +11,7 @@ import matplotlib
 import numpy as np
 import pytest
 
+import quakejoint as qj
 from conftest import ROOT, run_cli
 
 matplotlib.use("Agg")
@@ -273,3 +274,21 @@ def test_bridge_refuses_a_single_dof_run(run_h5):
     run, _ = run_h5
     with pytest.raises(SystemExit, match="not a run of a bridge given by its modes"):
         script("plot_bridge").figure(run)
+
+
+def test_fragility_draws_a_panel_per_limit_state_with_its_fit(stripes_sweep):
+    s = qj.read_sweep(stripes_sweep)
+    fig = script("plot_fragility").figure(stripes_sweep, hazard=True)
+    titles = [ax.get_title() for ax in fig.axes]
+    for ls in s.fragility.limit_states.values():
+        assert any(ls.name in t for t in titles), (ls.name, titles)
+        ax = next(ax for ax in fig.axes if ls.name in ax.get_title())
+        # the stripes' fractions are points at the levels
+        xs = np.concatenate([np.asarray(line.get_xdata(), float) for line in ax.get_lines()] or [np.array([])])
+        assert set(np.round(s.fragility.levels, 6)) <= set(np.round(xs, 6)), ls.name
+        if np.isfinite(ls.median[0, 0, 0]):
+            # the fitted curve passes 0.5 at the median
+            curve = max(ax.get_lines(), key=lambda line: len(line.get_xdata()))
+            x, y = np.asarray(curve.get_xdata(), float), np.asarray(curve.get_ydata(), float)
+            assert abs(np.interp(ls.median[0, 0, 0], x, y) - 0.5) < 0.02, ls.name
+    assert any("hazard" in ax.get_title().lower() or ax.get_xscale() == "log" for ax in fig.axes)

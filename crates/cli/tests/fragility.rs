@@ -156,6 +156,40 @@ fn stripes_are_deterministic_across_threads_and_shards_and_refit_without_running
     assert_ne!(curves(&refit), curves(&one), "the intervals come from 100 resamples now");
 }
 
+/// Runs stopped by a step limit (`simulation.max_steps`) at the two
+/// highest stripes: left out and reported, or counted as exceeding, as
+/// `failed` says; never silently.
+#[test]
+fn failed_runs_are_left_out_or_counted_as_the_config_says() {
+    let d = dir("fragility_failed");
+    for (policy, outcome_of_failed) in [("exclude", outcome::FAILED), ("exceed", outcome::EXCEEDED)] {
+        let sweep = stripes("pga", PGA, &format!("bootstrap = 0\nfailed = \"{policy}\"\n"))
+            + "[[sweep.cases]]\nname = \"limited\"\nsimulation.max_steps = 400\n";
+        let cfg = config(&d, &format!("{policy}.toml"), &sweep, 4.0);
+        let out = d.join(format!("{policy}.h5"));
+        let o = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap(), "--json"]);
+        assert!(!o.status.success(), "jobs failed: the sweep says so with its exit code");
+        let f = read_sweep(&out).unwrap();
+        let fr = f.fragility.as_ref().unwrap();
+        let r = &f.results;
+        let failed: Vec<usize> = (0..r.status.len()).filter(|&j| r.status[j] != status::OK).collect();
+        assert!(!failed.is_empty(), "the step limit stops some runs");
+        let evaluated = quakejoint_sweep::fragility::evaluate(&fr.spec, &fr.stripes, r);
+        for j in &failed {
+            assert_eq!(evaluated[0].outcome[*j], outcome_of_failed, "{policy}: job {j}");
+        }
+        let curve = &evaluated[0].curves[0];
+        let counted_failed: u32 = curve.counts.iter().map(|k| k.failed).sum();
+        assert_eq!(counted_failed as usize, failed.len(), "{policy}");
+        assert!(curve.note.contains(&format!("{} failed runs", failed.len())), "{policy}: {}", curve.note);
+        let runs: u32 = curve.counts.iter().map(|k| k.runs).sum();
+        let expected = if policy == "exclude" { 24 - failed.len() } else { 24 };
+        assert_eq!(runs as usize, expected, "{policy}");
+        let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+        assert!(v["fragility"]["curves"][0]["note"].as_str().unwrap().contains("failed runs"), "{v}");
+    }
+}
+
 #[test]
 fn what_stripes_cannot_be_is_refused_naming_the_field() {
     let d = dir("fragility_refused");

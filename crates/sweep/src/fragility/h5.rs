@@ -149,8 +149,9 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
     let [nc, nr, nz, nt] = results.dims;
     let ns = s.levels.len();
     let curve_axes = [scales.axes[0], scales.axes[2], scales.axes[3]];
-    for (ls, r) in spec.limit_states.iter().zip(evaluate(spec, s, results)) {
+    for (k, (ls, r)) in spec.limit_states.iter().zip(evaluate(spec, s, results)).enumerate() {
         let lg = g.create_group(&ls.key)?;
+        lg.new_attr::<u32>().create("index")?.write_scalar(&(k as u32))?;
         attr_str(&lg, "name", &ls.name)?;
         attr_str(&lg, "kind", &ls.kind)?;
         attr_str(&lg, "definition", &ls.definition)?;

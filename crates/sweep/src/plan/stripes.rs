@@ -28,6 +28,12 @@ pub const STRIPES_KEYS: [&str; 2] = ["measure", "levels"];
 /// Factors beyond `[1 / FAR_FACTOR, FAR_FACTOR]` are warned about.
 pub const FAR_FACTOR: f64 = 4.0;
 
+/// `x` to four decimals, without trailing zeros (`0.7368`, `2.5`).
+fn short(x: f64) -> String {
+    let s = format!("{x:.4}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// The intensity measure the records are scaled to.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Measure {
@@ -46,7 +52,7 @@ impl Measure {
     /// The measure in words: `Sa(1 s, 5 %)` or `PGA`.
     pub fn label(&self) -> String {
         match self {
-            Measure::Sa { period, damping } => format!("Sa({} s, {} %)", number(*period), number(100.0 * damping)),
+            Measure::Sa { period, damping } => format!("Sa({} s, {} %)", short(*period), short(100.0 * damping)),
             Measure::Pga => "PGA".to_string(),
         }
     }
