@@ -257,7 +257,15 @@ pub fn plan_summary(
         path.display(),
         count(plan.job_count(), "job", "jobs"),
         count(nc, "case", "cases"),
-        count(nr, "record", "records"),
+        match &plan.stripes {
+            // the records are the given ones at every stripe
+            Some(s) => format!(
+                "{} at {}",
+                count(s.ground.len(), "record", "records"),
+                count(s.levels.len(), "stripe", "stripes")
+            ),
+            None => count(nr, "record", "records"),
+        },
         count(nz, "damping ratio", "damping ratios"),
         count(nt, one, many),
         quakejoint_sweep::progress::format_duration(total)
