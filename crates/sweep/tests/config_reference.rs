@@ -163,6 +163,8 @@ fn every_key_is_documented_with_its_default() {
     let joints_keys: Vec<String> = placed.keys().map(|k| format!("joints[k].{k}")).collect();
     let mut sweep_keys: Vec<String> = quakejoint_sweep::plan::SWEEP_KEYS.iter().map(|k| format!("sweep.{k}")).collect();
     sweep_keys.extend(quakejoint_sweep::plan::SUITE_KEYS.iter().map(|k| format!("sweep.suite.{k}")));
+    sweep_keys.extend(quakejoint_sweep::plan::STRIPES_KEYS.iter().map(|k| format!("sweep.stripes.{k}")));
+    sweep_keys.extend(quakejoint_sweep::fragility::FRAGILITY_KEYS.iter().map(|k| format!("sweep.fragility.{k}")));
     for key in support_keys.iter().chain(&sweep_keys).chain(&joints_keys) {
         if !rows.contains_key(key) {
             problems.push(format!("{key}: not documented"));
