@@ -66,6 +66,9 @@ pub struct MergeSummary {
     /// The shards `(k, n)` whose failed jobs the merged file holds (to run
     /// them again with `--retry-failed`).
     pub failed_shards: Vec<(usize, usize)>,
+    /// A multiple-stripe sweep: its stripes and the fitted curves of the
+    /// merged results.
+    pub fragility: Option<(crate::fragility::StoredFragility, Vec<crate::fragility::CurveRow>)>,
 }
 
 /// `(k, n)` of a shard name `"k/n"`.
@@ -234,7 +237,18 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         .filter_map(|j| files.iter().find(|(_, f)| f.results.status[j] == results.status[j]))
         .filter_map(|(_, f)| shard_of(&f.shard))
         .collect();
+    let fragility = merged.fragility.as_ref().map(|f| {
+        let label = |c: usize, z: usize, t: usize| {
+            let axis = match &merged.modal {
+                Some(m) => format!("period scale {}", m.period_scales[t]),
+                None => format!("T {:.4} s", merged.periods[t]),
+            };
+            format!("{} / {axis} / damping {}", merged.cases[c], merged.damping[z])
+        };
+        (f.clone(), crate::fragility::rows(f, &merged.results, &label))
+    });
     Ok(MergeSummary {
+        fragility,
         failed_shards: failed_shards.into_iter().collect(),
         failed_jobs,
         flagged_jobs,

@@ -48,18 +48,7 @@ pub fn sweep_summary(
             "retry_command": retry.map(|n| &n.command),
             "wall_time_s": s.wall_time_s,
             "peak_memory_mb": s.peak_memory_mb,
-            "fragility": s.fragility.as_ref().map(|(f, rows)| json!({
-                "measure": f.stripes.measure.label(),
-                "units": "g",
-                "levels": f.stripes.levels,
-                "curves": rows.iter().map(|r| json!({
-                    "limit_state": r.name, "key": r.key,
-                    "median": finite(r.median), "beta": finite(r.beta),
-                    "median_interval": r.median_interval.map(finite), "beta_interval": r.beta_interval.map(finite),
-                    "annual_frequency": finite(r.annual_frequency),
-                    "exceeded": r.exceeded, "runs": r.runs, "note": r.note,
-                })).collect::<Vec<_>>(),
-            })),
+            "fragility": s.fragility.as_ref().map(|(f, rows)| fragility_json(f, rows)),
         });
         out!("{v}");
         return;
@@ -131,6 +120,25 @@ pub fn sweep_summary(
     }
 }
 
+/// The fitted curves of a multiple-stripe sweep for `--json`.
+fn fragility_json(
+    f: &quakejoint_sweep::fragility::StoredFragility,
+    rows: &[quakejoint_sweep::fragility::CurveRow],
+) -> serde_json::Value {
+    json!({
+        "measure": f.stripes.measure.label(),
+        "units": "g",
+        "levels": f.stripes.levels,
+        "curves": rows.iter().map(|r| json!({
+            "limit_state": r.name, "key": r.key,
+            "median": finite(r.median), "beta": finite(r.beta),
+            "median_interval": r.median_interval.map(finite), "beta_interval": r.beta_interval.map(finite),
+            "annual_frequency": finite(r.annual_frequency),
+            "exceeded": r.exceeded, "runs": r.runs, "note": r.note,
+        })).collect::<Vec<_>>(),
+    })
+}
+
 /// A number for JSON: null when not finite.
 fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
@@ -163,6 +171,7 @@ pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, retry: Option<&str>, js
             "notices": s.notices,
             "failed_jobs": s.failed_jobs,
             "flagged_jobs": s.flagged_jobs,
+            "fragility": s.fragility.as_ref().map(|(f, rows)| fragility_json(f, rows)),
         });
         out!("{v}");
         return;
@@ -205,6 +214,9 @@ pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, retry: Option<&str>, js
         s.flagged,
         s.output.display()
     );
+    if let Some((f, rows)) = &s.fragility {
+        out!("{}", quakejoint_sweep::fragility::summary(f, rows).trim_end());
+    }
 }
 
 /// `quakejoint plan`.
