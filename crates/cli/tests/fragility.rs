@@ -139,7 +139,10 @@ fn stripes_are_deterministic_across_threads_and_shards_and_refit_without_running
         sweep(s, &["--shard", &format!("{}/2", k + 1), "--threads", "1"]);
     }
     let merged = path("merged.h5");
-    ok(&run(&["merge", &shards[0], &shards[1], "--output", &merged, "--json"]));
+    let o = run(&["merge", &shards[0], &shards[1], "--output", &merged, "--json"]);
+    ok(&o);
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(v["fragility"]["curves"].as_array().map(Vec::len), Some(5), "the merge's curves: {v}");
     let merged = read_sweep(Path::new(&merged)).unwrap();
     assert_identical(&merged, &one, "2 shards merged vs 1 thread");
     assert_eq!(curves(&merged), curves(&one));
