@@ -1,7 +1,7 @@
 //! The limit states evaluated on a sweep's results, counted stripe by
 //! stripe and fitted: one curve per case, damping ratio and period.
 
-use quakejoint_model::fragility::{bootstrap, fit, mean_annual_frequency, Fragility, Intervals, Stripe};
+use quakejoint_model::fragility::{bootstrap, fit, mean_annual_frequency, phi_cdf, Fragility, Intervals, Stripe};
 use quakejoint_model::validity::Flags;
 
 use super::spec::{Failed, FragilitySpec, Kind, LimitState};
@@ -238,6 +238,7 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
                 }),
                 None => f64::NAN,
             };
+            notes.extend(extrapolation(&f, &data, spec.hazard.as_ref().map(|h| (&h.0[..], annual))));
             (Some(f), intervals, annual)
         }
         Err(e) => {
@@ -246,4 +247,114 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
         }
     };
     Curve { counts, fit, intervals, annual_frequency, note: notes.join("; ") }
+}
+
+/// What a fit rests on beyond the data: a median outside the stripes,
+/// and, with a hazard curve (its points and the annual frequency
+/// `lambda`), a share of `lambda` above 1 % from below the curve's lowest
+/// intensity or from above its highest, where the curve is continued by
+/// its end segments' power laws.
+fn extrapolation(f: &Fragility, stripes: &[Stripe], hazard: Option<(&[(f64, f64)], f64)>) -> Vec<String> {
+    let mut notes = Vec::new();
+    let counted = stripes.iter().filter(|s| s.runs > 0).map(|s| s.intensity);
+    let (lo, hi) = counted.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    if f.median < lo || f.median > hi {
+        notes.push(format!(
+            "the median ({:.4} g) lies outside the stripes ({lo} to {hi} g): it is extrapolated",
+            f.median
+        ));
+    }
+    let Some((points, lambda)) = hazard else { return notes };
+    if points.len() < 2 || !(lambda.is_finite() && lambda > 0.0) {
+        return notes;
+    }
+    let n = points.len();
+    let slope = |a: (f64, f64), b: (f64, f64)| -(b.1 / a.1).ln() / (b.0 / a.0).ln();
+    let below = beyond(f, points[0], slope(points[0], points[1]), true) / lambda;
+    if below > 0.01 {
+        notes.push(format!(
+            "{:.0} % of the annual frequency comes from below the hazard curve's lowest intensity ({} g), where \
+             the curve is continued by its first segment's power law",
+            100.0 * below.min(1.0),
+            points[0].0
+        ));
+    }
+    let above = beyond(f, points[n - 1], slope(points[n - 2], points[n - 1]), false) / lambda;
+    if above > 0.01 {
+        notes.push(format!(
+            "{:.0} % of the annual frequency comes from above the hazard curve's highest intensity ({} g), where \
+             the curve is continued by its last segment's power law",
+            100.0 * above.min(1.0),
+            points[n - 1].0
+        ));
+    }
+    notes
+}
+
+/// The part of `integral P |d lambda_IM|` beyond the hazard curve's end
+/// point `(im, rate)` continued by the power law of slope `k`: below it
+/// (`below`) or above it, by Simpson's rule in `x = ln im` over the
+/// integrand's support (a Gaussian in x times an exponential).
+fn beyond(f: &Fragility, (im, rate): (f64, f64), k: f64, below: bool) -> f64 {
+    let (mu, beta, x1) = (f.median.ln(), f.beta, im.ln());
+    if !(k.is_finite() && k > 0.0 && beta > 0.0) {
+        return 0.0;
+    }
+    // P(x) k rate e^{-k (x - x1)}: below, its peak is at mu - k beta^2
+    let (a, b) = if below {
+        ((mu - k * beta * beta - 12.0 * beta).min(x1), x1)
+    } else {
+        (x1, x1.max(mu + 12.0 * beta) + 40.0 / k)
+    };
+    let g = |x: f64| phi_cdf((x - mu) / beta) * k * rate * (-k * (x - x1)).exp();
+    let m = 4000;
+    let h = (b - a) / m as f64;
+    let sum: f64 = (0..=m)
+        .map(|i| {
+            let w = if i == 0 || i == m {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            w * g(a + i as f64 * h)
+        })
+        .sum();
+    sum * h / 3.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Below a power-law hazard `k0 im^-k`'s point `x1 = ln im1`, the part of
+    /// the risk integral has a closed form (by parts, completing the square):
+    /// `lambda Phi((x1 - mu + k beta^2) / beta) - lambda1 Phi((x1 - mu) / beta)`,
+    /// with `lambda = k0 theta^-k exp(k^2 beta^2 / 2)` the whole integral;
+    /// above `x2` the rest.
+    #[test]
+    fn the_parts_beyond_a_power_law_hazard_are_its_closed_form() {
+        let (k0, k) = (1e-4, 2.5);
+        for (median, beta) in [(0.3, 0.4), (0.05, 0.8), (1.2, 0.2)] {
+            let f = Fragility { median, beta, log_likelihood: 0.0, se_ln_median: 0.0, se_beta: 0.0 };
+            let lambda = k0 * median.powf(-k) * (k * k * beta * beta / 2.0).exp();
+            let (mu, rate) = (median.ln(), |im: f64| k0 * im.powf(-k));
+            for (im1, im2) in [(0.1, 1.0), (0.02, 2.0)] {
+                let (x1, x2) = (f64::ln(im1), f64::ln(im2));
+                let below =
+                    lambda * phi_cdf((x1 - mu + k * beta * beta) / beta) - rate(im1) * phi_cdf((x1 - mu) / beta);
+                let got = beyond(&f, (im1, rate(im1)), k, true);
+                assert!((got - below).abs() < 1e-9 * lambda, "below {im1}: {got} against {below}");
+                let within =
+                    lambda * phi_cdf((x2 - mu + k * beta * beta) / beta) - rate(im2) * phi_cdf((x2 - mu) / beta);
+                let got = beyond(&f, (im2, rate(im2)), k, false);
+                assert!(
+                    (got - (lambda - within)).abs() < 1e-9 * lambda,
+                    "above {im2}: {got} against {}",
+                    lambda - within
+                );
+            }
+        }
+    }
 }

@@ -116,6 +116,11 @@ fn number(v: Option<&toml::Value>, field: &str) -> Result<Option<f64>, SweepErro
     }
 }
 
+/// A value as the config writes it (`"capacty"`, `3`), or `missing`.
+pub(crate) fn shown(v: Option<&toml::Value>) -> String {
+    v.map_or("missing".to_string(), |v| v.to_string())
+}
+
 fn positive(v: Option<&toml::Value>, field: &str, units: &str) -> Result<Option<f64>, SweepError> {
     match number(v, field)? {
         Some(x) if !(x.is_finite() && x > 0.0) => Err(err(field, format!("{x}: a value in {units} above 0"))),
@@ -143,7 +148,9 @@ fn defaults() -> Vec<toml::Table> {
 fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError> {
     let kind = match t.get("kind").map(|k| k.as_str()) {
         Some(Some(k)) if KINDS.contains(&k) => k.to_string(),
-        Some(other) => return Err(err(&format!("{at}.kind"), format!("{other:?}: one of {}", KINDS.join(", ")))),
+        Some(_) => {
+            return Err(err(&format!("{at}.kind"), format!("{}: one of {}", shown(t.get("kind")), KINDS.join(", "))))
+        }
         None => return Err(err(&format!("{at}.kind"), format!("missing: one of {}", KINDS.join(", ")))),
     };
     let allowed: &[&str] = match kind.as_str() {
@@ -211,7 +218,9 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
             let deck = match t.get("at").map(|a| a.as_str()) {
                 None | Some(Some("beams")) => false,
                 Some(Some("deck")) => true,
-                Some(other) => return Err(err(&format!("{at}.at"), format!("{other:?}: \"beams\" or \"deck\""))),
+                Some(_) => {
+                    return Err(err(&format!("{at}.at"), format!("{}: \"beams\" or \"deck\"", shown(t.get("at")))))
+                }
             };
             let (f, words) = if deck {
                 ("peak_deck_contact_force", "the closed joint's force on the deck's edge beam")
@@ -271,10 +280,10 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
         _ => {
             let m = match t.get("measure").map(|m| m.as_str()) {
                 Some(Some(m)) if DECK_MEASURES.contains(&m) => m.to_string(),
-                other => {
+                _ => {
                     return Err(err(
                         &format!("{at}.measure"),
-                        format!("{other:?}: one of {}", DECK_MEASURES.join(", ")),
+                        format!("{}: one of {}", shown(t.get("measure")), DECK_MEASURES.join(", ")),
                     ))
                 }
             };
@@ -370,11 +379,12 @@ impl FragilitySpec {
         let failed = match t.get("failed").map(|f| f.as_str()) {
             None | Some(Some("exclude")) => Failed::Exclude,
             Some(Some("exceed")) => Failed::Exceed,
-            Some(other) => {
+            Some(_) => {
                 return Err(err(
                     "sweep.fragility.failed",
                     format!(
-                        "{other:?}: \"exclude\" (a failed run does not count) or \"exceed\" (it counts as exceeding)"
+                        "{}: \"exclude\" (a failed run does not count) or \"exceed\" (it counts as exceeding)",
+                        shown(t.get("failed"))
                     ),
                 ))
             }

@@ -28,6 +28,11 @@ pub const STRIPES_KEYS: [&str; 2] = ["measure", "levels"];
 /// Factors beyond `[1 / FAR_FACTOR, FAR_FACTOR]` are warned about.
 pub const FAR_FACTOR: f64 = 4.0;
 
+/// `n thing(s)`.
+fn plural(n: usize, thing: &str) -> String {
+    format!("{n} {thing}{}", if n == 1 { "" } else { "s" })
+}
+
 /// `x` to four decimals, without trailing zeros (`0.7368`, `2.5`).
 fn short(x: f64) -> String {
     let s = format!("{x:.4}");
@@ -141,17 +146,20 @@ pub(super) fn stripes_of(
                     "sweep.stripes.measure",
                     format!(
                         "\"sa\" is Sa(T1) at the bridge's period and damping: sweep one period and one damping \
-                         ratio (this sweep has {} periods and {} damping ratios), or scale to \"pga\"",
-                        periods.len(),
-                        damping.len()
+                         ratio (this sweep has {} and {}), or scale to \"pga\"",
+                        plural(periods.len(), "period"),
+                        plural(damping.len(), "damping ratio")
                     ),
                 ))
             }
         },
         Some(Some("pga")) => Measure::Pga,
         None => return Err(sweep_err("sweep.stripes.measure", "missing: \"sa\" (Sa(T1)) or \"pga\"")),
-        Some(other) => {
-            return Err(sweep_err("sweep.stripes.measure", format!("{other:?}: expected \"sa\" or \"pga\"")))
+        Some(_) => {
+            return Err(sweep_err(
+                "sweep.stripes.measure",
+                format!("{}: expected \"sa\" or \"pga\"", crate::fragility::spec::shown(t.get("measure"))),
+            ))
         }
     };
     let levels = levels_of(t.get("levels").ok_or_else(|| sweep_err("sweep.stripes.levels", "missing"))?)?;
@@ -244,18 +252,19 @@ fn levels_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
             let log = match t.get("spacing").map(|s| s.as_str()) {
                 None | Some(Some("log")) => true,
                 Some(Some("linear")) => false,
-                Some(other) => {
+                Some(_) => {
                     return Err(sweep_err(
                         &format!("{field}.spacing"),
-                        format!("{other:?}: expected \"log\" or \"linear\""),
+                        format!("{}: expected \"log\" or \"linear\"", crate::fragility::spec::shown(t.get("spacing"))),
                     ))
                 }
             };
             period_range(from, to, count, log)
                 .map_err(|e| sweep_err(field, e.to_string().replace(" s", " g").replace("periods", "levels")))?
                 .into_iter()
-                // 0.3, not 0.30000000000000004, in the records' names
-                .map(|x| format!("{x:.10e}").parse().unwrap_or(x))
+                // four significant digits: 0.3, not 0.30000000000000004, and
+                // 0.07579, not 0.075785828326, in the records' names
+                .map(|x| format!("{x:.3e}").parse().unwrap_or(x))
                 .collect()
         }
         other => list_of_f64(other, field)?,
