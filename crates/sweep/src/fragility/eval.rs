@@ -1,7 +1,7 @@
 //! The limit states evaluated on a sweep's results, counted stripe by
 //! stripe and fitted: one curve per case, damping ratio and period.
 
-use quakejoint_model::fragility::{bootstrap, fit, mean_annual_frequency, phi_cdf, Fragility, Intervals, Stripe};
+use quakejoint_model::fragility::{bootstrap, fit, mean_annual_frequency, Fragility, Intervals, Stripe};
 use quakejoint_model::validity::Flags;
 
 use super::spec::{Failed, FragilitySpec, Kind, LimitState};
@@ -249,8 +249,8 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
     Curve { counts, fit, intervals, annual_frequency, note: notes.join("; ") }
 }
 
-/// What a fit rests on beyond the data: a median outside the stripes,
-/// and, with a hazard curve (its points and the annual frequency
+/// What a fit rests on beyond the data: a median outside the stripes, a
+/// dispersion so large that the intensity hardly matters, and, with a hazard curve (its points and the annual frequency
 /// `lambda`), a share of `lambda` above 1 % from below the curve's lowest
 /// intensity or from above its highest, where the curve is continued by
 /// its end segments' power laws.
@@ -262,6 +262,13 @@ fn extrapolation(f: &Fragility, stripes: &[Stripe], hazard: Option<(&[(f64, f64)
         notes.push(format!(
             "the median ({:.4} g) lies outside the stripes ({lo} to {hi} g): it is extrapolated",
             f.median
+        ));
+    }
+    if f.beta > 1.5 {
+        notes.push(format!(
+            "beta {:.2}: the limit state hardly depends on the measure over the stripes (a run's outcome is the \
+             record's, not the level's)",
+            f.beta
         ));
     }
     let Some((points, lambda)) = hazard else { return notes };
@@ -291,22 +298,25 @@ fn extrapolation(f: &Fragility, stripes: &[Stripe], hazard: Option<(&[(f64, f64)
     notes
 }
 
-/// The part of `integral P |d lambda_IM|` beyond the hazard curve's end
-/// point `(im, rate)` continued by the power law of slope `k`: below it
-/// (`below`) or above it, by Simpson's rule in `x = ln im` over the
-/// integrand's support (a Gaussian in x times an exponential).
+/// The part of `lambda_LS = integral lambda_IM dP` beyond the hazard
+/// curve's end point `(im, rate)`, where `lambda_IM` is the power law of
+/// slope `k` through it: below it (`below`) or above it. This is the part
+/// that rests on the curve's continuation. By Simpson's rule in `x = ln im`
+/// over the integrand's support (the fragility's density, a Gaussian in x,
+/// times an exponential).
 fn beyond(f: &Fragility, (im, rate): (f64, f64), k: f64, below: bool) -> f64 {
     let (mu, beta, x1) = (f.median.ln(), f.beta, im.ln());
     if !(k.is_finite() && k > 0.0 && beta > 0.0) {
         return 0.0;
     }
-    // P(x) k rate e^{-k (x - x1)}: below, its peak is at mu - k beta^2
-    let (a, b) = if below {
-        ((mu - k * beta * beta - 12.0 * beta).min(x1), x1)
-    } else {
-        (x1, x1.max(mu + 12.0 * beta) + 40.0 / k)
+    // the integrand peaks at mu - k beta^2
+    let centre = mu - k * beta * beta;
+    let (a, b) = if below { ((centre - 12.0 * beta).min(x1), x1) } else { (x1, (centre + 12.0 * beta).max(x1)) };
+    let density = |x: f64| {
+        let u = (x - mu) / beta;
+        (-0.5 * u * u).exp() / (beta * (2.0 * std::f64::consts::PI).sqrt())
     };
-    let g = |x: f64| phi_cdf((x - mu) / beta) * k * rate * (-k * (x - x1)).exp();
+    let g = |x: f64| rate * (-k * (x - x1)).exp() * density(x);
     let m = 4000;
     let h = (b - a) / m as f64;
     let sum: f64 = (0..=m)
@@ -327,12 +337,13 @@ fn beyond(f: &Fragility, (im, rate): (f64, f64), k: f64, below: bool) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use quakejoint_model::fragility::phi_cdf;
 
-    /// Below a power-law hazard `k0 im^-k`'s point `x1 = ln im1`, the part of
-    /// the risk integral has a closed form (by parts, completing the square):
-    /// `lambda Phi((x1 - mu + k beta^2) / beta) - lambda1 Phi((x1 - mu) / beta)`,
-    /// with `lambda = k0 theta^-k exp(k^2 beta^2 / 2)` the whole integral;
-    /// above `x2` the rest.
+    /// Below a power-law hazard `k0 im^-k`'s point `x1 = ln im1`, the part
+    /// of `lambda = integral lambda_IM dP` has a closed form (completing
+    /// the square): `lambda Phi((x1 - mu + k beta^2) / beta)`, with `lambda
+    /// = k0 theta^-k exp(k^2 beta^2 / 2)` the whole integral; above `x2`
+    /// the rest, `lambda (1 - Phi((x2 - mu + k beta^2) / beta))`.
     #[test]
     fn the_parts_beyond_a_power_law_hazard_are_its_closed_form() {
         let (k0, k) = (1e-4, 2.5);
@@ -342,18 +353,12 @@ mod tests {
             let (mu, rate) = (median.ln(), |im: f64| k0 * im.powf(-k));
             for (im1, im2) in [(0.1, 1.0), (0.02, 2.0)] {
                 let (x1, x2) = (f64::ln(im1), f64::ln(im2));
-                let below =
-                    lambda * phi_cdf((x1 - mu + k * beta * beta) / beta) - rate(im1) * phi_cdf((x1 - mu) / beta);
+                let below = lambda * phi_cdf((x1 - mu + k * beta * beta) / beta);
                 let got = beyond(&f, (im1, rate(im1)), k, true);
                 assert!((got - below).abs() < 1e-9 * lambda, "below {im1}: {got} against {below}");
-                let within =
-                    lambda * phi_cdf((x2 - mu + k * beta * beta) / beta) - rate(im2) * phi_cdf((x2 - mu) / beta);
+                let above = lambda * (1.0 - phi_cdf((x2 - mu + k * beta * beta) / beta));
                 let got = beyond(&f, (im2, rate(im2)), k, false);
-                assert!(
-                    (got - (lambda - within)).abs() < 1e-9 * lambda,
-                    "above {im2}: {got} against {}",
-                    lambda - within
-                );
+                assert!((got - above).abs() < 1e-9 * lambda, "above {im2}: {got} against {above}");
             }
         }
     }

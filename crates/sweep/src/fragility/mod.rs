@@ -24,6 +24,15 @@ fn g3(x: f64) -> String {
     }
 }
 
+/// A dispersion for a table: two decimals, or in exponent form when huge.
+fn b2(x: f64) -> String {
+    if x < 100.0 {
+        format!("{x:.2}")
+    } else {
+        format!("{x:.1e}")
+    }
+}
+
 /// One fitted curve as the summaries list it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CurveRow {
@@ -106,9 +115,9 @@ pub fn summary(f: &StoredFragility, rows: &[CurveRow]) -> String {
             g3(row.median)
         };
         let beta = if row.beta_interval[0].is_finite() {
-            format!("{:.2} ({:.2}-{:.2})", row.beta, row.beta_interval[0], row.beta_interval[1])
+            format!("{} ({}-{})", b2(row.beta), b2(row.beta_interval[0]), b2(row.beta_interval[1]))
         } else if row.beta.is_finite() {
-            format!("{:.2}", row.beta)
+            b2(row.beta)
         } else {
             "-".to_string()
         };
