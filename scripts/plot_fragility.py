@@ -18,8 +18,9 @@ its return period. Where there is no fit the points are still drawn; the
 file's note (why no fit, failed and flagged counts) is written in the
 panel. Several (case, damping, period) curves get their own colours and
 markers. `--hazard` adds a panel with the hazard curve (log-log) and the
-fitted medians on it. Intensities are in the file's units (g); `--g` is
-accepted like in the other sweep scripts and changes nothing. Writes
+fitted medians on it (where each limit state's median meets the hazard
+curve; the limit state's own annual frequency is in the list). Intensities
+are in the file's units (g). Writes
 sweep_fragility.png beside the input unless an output name is given.
 Headless (Agg).
 """
@@ -320,7 +321,8 @@ def hazard_panel(ax, d):
     marks.sort()
     lines = []
     for k, (m, h, name, lam) in enumerate(marks, start=1):
-        ax.plot(m, h, "v", color="tab:red", ms=7, label=None if k > 1 else "fitted median of a limit state")
+        label = "a limit state's median on the hazard curve (its own λ in the list)"
+        ax.plot(m, h, "v", color="tab:red", ms=7, label=None if k > 1 else label)
         # numbers alternate above-left and below-right, so that close medians stay apart
         ax.annotate(str(k), (m, h), textcoords="offset points", xytext=(-9, 5) if k % 2 else (6, -12), fontsize=7.5,
                     color="tab:red", fontweight="bold")
@@ -385,7 +387,7 @@ def main(src, dst=None, hazard=False):
 
 
 if __name__ == "__main__":
-    parser = sweep_parser(__doc__)
+    parser = sweep_parser(__doc__, in_g=False)
     parser.add_argument("--hazard", action="store_true", help="add a panel with the hazard curve")
     args = parser.parse_args()
     main(args.input, args.output, args.hazard)

@@ -80,12 +80,14 @@ def refuse_modal(f, src):
         )
 
 
-def sweep_parser(doc):
-    """The command line of a sweep plot: input, optional output, --g."""
+def sweep_parser(doc, in_g=True):
+    """The command line of a sweep plot: input, optional output, and --g
+    where the plot has accelerations in m/s^2 to give in g."""
     parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("input", help="sweep HDF5 file")
     parser.add_argument("output", nargs="?", help="PNG to write (default: beside the input)")
-    parser.add_argument("--g", action="store_true", help="Sa in g instead of m/s^2")
+    if in_g:
+        parser.add_argument("--g", action="store_true", help="Sa in g instead of m/s^2")
     return parser
 
 

@@ -363,6 +363,9 @@ class LimitStateFragility:
         except KeyError:
             raise AttributeError(name) from None
 
+    def __dir__(self):
+        return sorted(set(super().__dir__()) | set(self.arrays))
+
     def __repr__(self) -> str:
         return f"LimitStateFragility({self.name!r}, median={self.arrays['median'].ravel()}, beta={self.arrays['beta'].ravel()})"
 
@@ -371,8 +374,14 @@ class LimitStateFragility:
         where there is no fit)."""
         m, b = self.arrays["median"][case, damping, period], self.arrays["beta"][case, damping, period]
         im = np.asarray(im, dtype=float)
-        erf = np.vectorize(math.erf)
-        return 0.5 * (1.0 + erf(np.log(im / m) / (b * math.sqrt(2.0))))
+        if np.any(~(im >= 0)):
+            raise InputError(f"probability: intensities must be >= 0 [g], got {im[~(im >= 0)][:3].tolist()}")
+        out = np.full(im.shape, np.nan)
+        if np.isfinite(m) and np.isfinite(b):
+            with np.errstate(divide="ignore"):
+                z = np.log(im / m) / (b * math.sqrt(2.0))
+            out = 0.5 * (1.0 + np.array([math.erf(x) for x in z.ravel()]).reshape(im.shape))
+        return out
 
 
 @dataclass(repr=False)
@@ -403,7 +412,7 @@ class Fragility:
 
     def __repr__(self) -> str:
         return (
-            f"Fragility({self.measure_label}, levels={list(self.levels)} g, "
+            f"Fragility({self.measure_label}, levels={[float(x) for x in self.levels]} g, "
             f"limit_states={list(self.limit_states)})"
         )
 

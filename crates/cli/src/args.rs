@@ -152,7 +152,8 @@ pub struct MergeArgs {
     #[arg(long)]
     pub allow_partial: bool,
     /// The config the shards must have been computed from (refuses shards
-    /// of an earlier version of it).
+    /// of an earlier version of it); a multiple-stripe sweep is fitted
+    /// with its [sweep.fragility], which may have changed since.
     #[arg(long)]
     pub config: Option<PathBuf>,
     #[command(flatten)]

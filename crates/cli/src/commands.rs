@@ -188,11 +188,15 @@ fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
 }
 
 fn merge_cmd(a: MergeArgs) -> Result<ExitCode> {
-    let expected = match &a.config {
-        Some(path) => Some(read_plan(path)?.config_sha256),
-        None => None,
+    let (expected, fragility) = match &a.config {
+        Some(path) => {
+            let plan = read_plan(path)?;
+            (Some(plan.config_sha256), plan.fragility)
+        }
+        None => (None, None),
     };
-    let options = quakejoint_sweep::MergeOptions { allow_partial: a.allow_partial, command: command_line(), expected };
+    let options =
+        quakejoint_sweep::MergeOptions { allow_partial: a.allow_partial, command: command_line(), expected, fragility };
     let summary = quakejoint_sweep::merge(&a.files, &a.output, options)
         .map_err(|e| continuation::merge_error(e, &a.files, &command_line()))?;
     for n in &summary.notices {

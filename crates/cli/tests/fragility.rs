@@ -154,9 +154,16 @@ fn stripes_are_deterministic_across_threads_and_shards_and_refit_without_running
     ok(&o);
     let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
     assert_eq!(v["ran"], 0, "no job runs again: {v}");
+    assert!(v["notices"][0].as_str().unwrap().contains("refitted"), "{v}");
     let refit = read_sweep(Path::new(&path("t1.h5"))).unwrap();
     assert_eq!(refit.fragility.as_ref().unwrap().spec.bootstrap, 100);
     assert_ne!(curves(&refit), curves(&one), "the intervals come from 100 resamples now");
+    // the shards, fitted with 200 resamples, merged with the config's 100
+    let remerged = path("remerged.h5");
+    let o = run(&["merge", &shards[0], &shards[1], "--output", &remerged, "--config", cfg.to_str().unwrap()]);
+    ok(&o);
+    assert!(stderr(&o).contains("fitted with the config's"), "{}", stderr(&o));
+    assert_eq!(curves(&read_sweep(Path::new(&remerged)).unwrap()), curves(&refit));
 }
 
 /// Runs stopped by a step limit (`simulation.max_steps`) at the two
@@ -197,7 +204,7 @@ fn failed_runs_are_left_out_or_counted_as_the_config_says() {
 fn what_stripes_cannot_be_is_refused_naming_the_field() {
     let d = dir("fragility_refused");
     let r = records();
-    let cases: [(&str, String, &str); 8] = [
+    let cases: [(&str, String, &str); 9] = [
         (
             "two periods",
             format!("[sweep]\nperiods = [1.0, 2.0]\n{r}[sweep.stripes]\nmeasure = \"sa\"\nlevels = [0.1, 0.2]\n"),
@@ -230,6 +237,14 @@ fn what_stripes_cannot_be_is_refused_naming_the_field() {
             "a record beyond 5 g",
             format!("[sweep]\nperiods = [1.0]\n{r}[sweep.stripes]\nmeasure = \"pga\"\nlevels = [1.0, 6.0]\n"),
             "sweep.stripes.levels[1]",
+        ),
+        (
+            "a hazard curve in other units",
+            format!(
+                "[sweep]\nperiods = [1.0]\n{r}[sweep.stripes]\nmeasure = \"pga\"\nlevels = [0.1, 0.2]\n\
+                 [sweep.fragility]\nhazard = {{ intensity = [5.0, 10.0, 20.0], frequency = [1e-2, 1e-3, 1e-4] }}\n"
+            ),
+            "do not reach the stripes",
         ),
         (
             "an unknown kind",

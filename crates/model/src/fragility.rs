@@ -121,6 +121,11 @@ fn likelihood(stripes: &[Stripe], a: f64, b: f64) -> (f64, [f64; 2], [f64; 3]) {
     (l, g, h)
 }
 
+/// Largest dispersion a fit is given with: beyond it the fraction exceeded
+/// does not change over any range of intensities that matters (beta 10 is
+/// a factor of e^10 = 22000 in intensity per standard deviation).
+pub const MAX_BETA: f64 = 10.0;
+
 /// The maximum-likelihood lognormal fragility of the stripes' counts.
 pub fn fit(stripes: &[Stripe]) -> Result<Fragility, FragilityError> {
     for (index, s) in stripes.iter().enumerate() {
@@ -149,6 +154,22 @@ pub fn fit(stripes: &[Stripe]) -> Result<Fragility, FragilityError> {
             z,
             if z == 0 { "the highest of" } else { "or lower" }
         )));
+    }
+    // the fraction exceeded must grow with the intensity: the runs-weighted
+    // slope of the fractions against ln im
+    let (w, sx, sy) = counted.iter().fold((0.0, 0.0, 0.0), |(w, sx, sy), s| {
+        let n = f64::from(s.runs);
+        (w + n, sx + n * s.intensity.ln(), sy + f64::from(s.exceeded))
+    });
+    let (mx, my) = (sx / w, sy / w);
+    let slope: f64 =
+        counted.iter().map(|s| (s.intensity.ln() - mx) * (f64::from(s.exceeded) - f64::from(s.runs) * my)).sum();
+    if slope <= 0.0 {
+        return Err(FragilityError::Undetermined(
+            "the fraction exceeded does not grow with the intensity (is the limit state the wrong way round, \
+             `above` for `below`?)"
+                .into(),
+        ));
     }
     match separation(&counted) {
         Some(Separation::Quasi { level, exceeded, runs }) => Err(FragilityError::Undetermined(format!(
@@ -239,6 +260,13 @@ fn newton(stripes: &[Stripe], counted: &[&Stripe]) -> Result<Fragility, Fragilit
     }
     if b <= 0.0 {
         return Err(FragilityError::Undetermined("the fraction exceeded does not grow with the intensity".into()));
+    }
+    if 1.0 / b > MAX_BETA {
+        return Err(FragilityError::Undetermined(format!(
+            "the fraction exceeded hardly changes with the intensity (beta {:.3e} beyond {MAX_BETA}): the limit state \
+             does not depend on the measure over the stripes",
+            1.0 / b
+        )));
     }
     let [h0, h1, h2] = h;
     let det = h0 * h2 - h1 * h1;
@@ -385,6 +413,7 @@ pub fn mean_annual_frequency(f: &Fragility, hazard: &[(f64, f64)]) -> Result<f64
     for (index, w) in hazard.windows(2).enumerate() {
         let ok = |p: (f64, f64)| p.0.is_finite() && p.0 > 0.0 && p.1.is_finite() && p.1 > 0.0;
         if !ok(w[0]) || !ok(w[1]) {
+            let index = if ok(w[0]) { index + 1 } else { index };
             return Err(FragilityError::Hazard { index, reason: "intensity and frequency must be positive".into() });
         }
         if w[1].0 <= w[0].0 || w[1].1 > w[0].1 {

@@ -208,3 +208,21 @@ fn counts_that_determine_nothing_are_refused() {
     let bad = fit(&[s(0.5, 10, 11), s(1.0, 10, 3)]).unwrap_err().to_string();
     assert!(bad.starts_with("stripe 0"), "{bad}");
 }
+
+/// A limit state that falls with the intensity (a threshold the wrong way
+/// round) or does not change with it has no lognormal fragility: refused,
+/// not fitted with an infinite median or a dispersion of 1e14.
+#[test]
+fn counts_that_fall_or_stay_flat_are_refused() {
+    let s = |intensity, runs, exceeded| Stripe { intensity, runs, exceeded };
+    let falling = fit(&[s(0.1, 5, 5), s(0.2, 5, 2), s(0.3, 5, 0)]).unwrap_err().to_string();
+    assert!(falling.contains("does not grow"), "{falling}");
+    let falling = fit(&[s(0.1, 5, 5), s(0.2, 5, 5), s(0.3, 5, 2), s(0.5, 5, 1), s(0.8, 5, 1)]).unwrap_err().to_string();
+    assert!(falling.contains("does not grow"), "{falling}");
+    let flat = fit(&[s(0.1, 4, 2), s(0.2, 4, 2), s(0.3, 4, 2), s(0.4, 4, 2)]).unwrap_err().to_string();
+    assert!(flat.contains("does not grow"), "{flat}");
+    // barely rising: a fit, with the dispersion the counts give (the sweep
+    // notes a beta above 1.5)
+    let wide = fit(&[s(0.1, 4, 3), s(0.2, 4, 3), s(0.3, 4, 3), s(0.4, 4, 3), s(0.5, 4, 4)]).unwrap();
+    assert!(wide.beta > 1.5 && wide.beta < quakejoint_model::fragility::MAX_BETA, "{wide:?}");
+}

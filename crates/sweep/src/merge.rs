@@ -39,6 +39,10 @@ pub struct MergeOptions {
     /// The config hash the shards must carry (the current config's), if
     /// known: shards of an earlier version of the config are refused.
     pub expected: Option<String>,
+    /// The config's limit states and fitting (`[sweep.fragility]`, which
+    /// the hash leaves out), if known: a multiple-stripe sweep is fitted
+    /// with them, whatever its shards were fitted with.
+    pub fragility: Option<crate::fragility::FragilitySpec>,
 }
 
 /// What a merge produced.
@@ -176,15 +180,39 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
     let (first_path, first) = &files[0];
     let results = first.results.empty_like();
     let mut merged = SweepFile { results, scope: Vec::new(), ..first.clone() };
+    // the config's limit states and fitting, when it is given: the shards'
+    // own (fitted at their last write) do not matter then
+    let refit = |f: &SweepFile| -> SweepFile {
+        let mut f = f.clone();
+        if let (Some(spec), Some(fr)) = (&options.fragility, &mut f.fragility) {
+            fr.spec = spec.clone();
+        }
+        f
+    };
+    if let (Some(spec), Some(fr)) = (&options.fragility, &merged.fragility) {
+        if &fr.spec != spec {
+            notices.push(
+                "the shards were fitted with other limit states or fitting than the config's ([sweep.fragility]): \
+                 the merged file is fitted with the config's"
+                    .to_string(),
+            );
+        }
+    }
+    merged = refit(&merged);
     let mut claimed: Vec<(String, &Path)> = Vec::new();
     let mut overlaps = 0;
     for (path, other) in &files {
         // the same config, grids, records, provenance, suite and spectra
         // without the joint, bit for bit, as `compare` checks them
-        let diffs = crate::compare::sweep_differences(&merged, other);
+        let diffs = crate::compare::sweep_differences(&merged, &refit(other));
         if !diffs.is_empty() {
+            let hint = if diffs.iter().any(|d| d.contains("/fragility attribute config")) {
+                " (give the config with --config: the merged file is then fitted with its [sweep.fragility])"
+            } else {
+                ""
+            };
             return Err(SweepError::Merge(format!(
-                "{} and {} are not shards of one sweep: {}",
+                "{} and {} are not shards of one sweep: {}{hint}",
                 first_path.display(),
                 path.display(),
                 diffs.join("; ")

@@ -87,8 +87,13 @@ pub fn sweep_summary(
     if let Some(mb) = s.peak_memory_mb {
         out!("peak memory: {mb:.0} MB");
     }
-    if let Some((f, rows)) = &s.fragility {
-        out!("{}", quakejoint_sweep::fragility::summary(f, rows).trim_end());
+    match &s.fragility {
+        // a shard holds part of every stripe: its curves are not the sweep's
+        Some(_) if s.shard.is_some() => {
+            out!("fragility: fitted on every stripe's runs once the shards are merged (`quakejoint merge`)")
+        }
+        Some((f, rows)) => out!("{}", quakejoint_sweep::fragility::summary(f, rows).trim_end()),
+        None => {}
     }
     if !s.failed.is_empty() {
         out!("{} jobs failed:", s.failed.len());
@@ -131,6 +136,7 @@ fn fragility_json(
         "levels": f.stripes.levels,
         "curves": rows.iter().map(|r| json!({
             "limit_state": r.name, "key": r.key,
+            "case": r.at[0], "damping": r.at[1], "period": r.at[2],
             "median": finite(r.median), "beta": finite(r.beta),
             "median_interval": r.median_interval.map(finite), "beta_interval": r.beta_interval.map(finite),
             "annual_frequency": finite(r.annual_frequency),

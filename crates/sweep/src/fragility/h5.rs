@@ -14,11 +14,13 @@ use super::spec::FragilitySpec;
 use crate::plan::{Measure, StripeRun, Stripes};
 use crate::results::Results;
 
-/// The fitting method's version (`/fragility` attribute `method`): 2,
-/// separated bootstrap resamples entering the intervals at beta = 0. A
+/// The fitting method's version (`/fragility` attribute `method`): 3
+/// (2: separated bootstrap resamples entering the intervals at beta = 0;
+/// 3: counts that fall with the intensity, or a beta beyond 10, refused,
+/// and the notes on what a fit rests on beyond the data). A
 /// file of another method has its counts checked on reading, not its fits,
 /// which this program would compute otherwise (it writes its own).
-pub const METHOD: u32 = 2;
+pub const METHOD: u32 = 3;
 
 /// A sweep's stripes and what is fitted on them.
 #[derive(Debug, Clone, PartialEq)]

@@ -41,6 +41,8 @@ pub struct CurveRow {
     pub name: String,
     /// Its key (`/fragility/<key>`).
     pub key: String,
+    /// The curve's case, damping ratio and period (indices).
+    pub at: [usize; 3],
     /// Median \[g\] and dispersion [-] (NaN without a fit).
     pub median: f64,
     /// Dispersion [-].
@@ -72,6 +74,7 @@ pub fn rows(f: &StoredFragility, results: &Results, label: &dyn Fn(usize, usize,
             out.push(CurveRow {
                 name: if several { format!("{} [{}]", ls.name, label(c, z, t)) } else { ls.name.clone() },
                 key: ls.key.clone(),
+                at: [c, z, t],
                 median: curve.fit.map_or(f64::NAN, |f| f.median),
                 beta: curve.fit.map_or(f64::NAN, |f| f.beta),
                 median_interval: curve.intervals.as_ref().map_or(nan, |i| i.median),
@@ -102,7 +105,7 @@ pub fn summary(f: &StoredFragility, rows: &[CurveRow]) -> String {
     let hazard = f.spec.hazard.is_some();
     let pct = (100.0 * f.spec.confidence).round();
     out += &format!(
-        "  {:<38} {:>26} {:>18}{}  exceeded / runs per stripe\n",
+        "  {:<44} {:>26} {:>18}{}  exceeded / runs per stripe\n",
         "limit state",
         format!("median [g] ({pct} % interval)"),
         "beta (interval)",
@@ -122,14 +125,16 @@ pub fn summary(f: &StoredFragility, rows: &[CurveRow]) -> String {
             "-".to_string()
         };
         let risk = if hazard && row.annual_frequency.is_finite() {
-            format!(" {:>10.2e} {:>10.0}", row.annual_frequency, 1.0 / row.annual_frequency)
+            let years = 1.0 / row.annual_frequency;
+            let years = if years >= 10.0 { format!("{years:.0}") } else { format!("{years:.2}") };
+            format!(" {:>10.2e} {years:>10}", row.annual_frequency)
         } else if hazard {
             format!(" {:>10} {:>10}", "-", "-")
         } else {
             String::new()
         };
         let counts: Vec<String> = row.exceeded.iter().zip(&row.runs).map(|(e, n)| format!("{e}/{n}")).collect();
-        out += &format!("  {:<38} {median:>26} {beta:>18}{risk}  {}\n", row.name, counts.join(" "));
+        out += &format!("  {:<44} {median:>26} {beta:>18}{risk}  {}\n", row.name, counts.join(" "));
         if !row.note.is_empty() {
             out += &format!("      {}\n", row.note);
         }

@@ -129,10 +129,32 @@ fn positive(v: Option<&toml::Value>, field: &str, units: &str) -> Result<Option<
 }
 
 fn field_index(name: &str, at: &str) -> Result<usize, SweepError> {
-    FIELDS
-        .iter()
-        .position(|&f| f == name)
-        .ok_or_else(|| err(at, format!("{name:?} is not a per-job field (one of {})", FIELDS.join(", "))))
+    FIELDS.iter().position(|&f| f == name).ok_or_else(|| {
+        let nearest = FIELDS.iter().min_by_key(|f| distance(f, name)).copied().unwrap_or("sd");
+        err(
+            at,
+            format!(
+                "{name:?} is not a per-job field; did you mean {nearest:?}? (the fields of /spectrum/with_joint, \
+                 docs/hdf5-layout.md)"
+            ),
+        )
+    })
+}
+
+/// The edit distance of two names (Levenshtein).
+fn distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let next = (prev + usize::from(ca != *cb)).min(row[j] + 1).min(row[j + 1] + 1);
+            prev = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
 }
 
 /// The joint's limit states when `[sweep.fragility]` names none.
@@ -166,7 +188,10 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
         if !["kind", "name"].contains(&key.as_str()) && !allowed.contains(&key.as_str()) {
             return Err(err(
                 &format!("{at}.{key}"),
-                format!("not a key of a {kind:?} limit state (its keys: name, {})", allowed.join(", ")),
+                format!(
+                    "not a key of a {kind:?} limit state (its keys: {})",
+                    ["kind", "name"].iter().chain(allowed).copied().collect::<Vec<_>>().join(", ")
+                ),
             ));
         }
     }
@@ -228,7 +253,11 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
                 ("peak_contact_force", "the force of one contact (one beam end)")
             };
             one(
-                format!("contact force above {} MN", quakejoint_motion::number(force / 1e6)),
+                format!(
+                    "contact force{} above {} MN",
+                    if deck { " on the deck" } else { "" },
+                    quakejoint_motion::number(force / 1e6)
+                ),
                 field(f, force, true),
                 format!("{words} above {} N ({f})", quakejoint_motion::number(force)),
             )
@@ -450,7 +479,8 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<(Vec<(f64, f64)>, Strin
             let path = base_dir.join(f);
             let text = std::fs::read_to_string(&path)
                 .map_err(|e| err(&format!("{field}.file"), format!("{}: {e}", path.display())))?;
-            let mut points = Vec::new();
+            let (mut points, mut lines) = (Vec::new(), Vec::new());
+            let mut header = false;
             for (n, line) in text.lines().enumerate() {
                 let line = line.split('#').next().unwrap_or("").trim();
                 if line.is_empty() {
@@ -460,8 +490,12 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<(Vec<(f64, f64)>, Strin
                     line.split(|c: char| c == ',' || c.is_whitespace()).filter(|c| !c.is_empty()).collect();
                 let parsed: Vec<Option<f64>> = cols.iter().map(|c| c.parse::<f64>().ok()).collect();
                 match parsed[..] {
-                    [Some(a), Some(b)] => points.push((a, b)),
-                    _ if points.is_empty() && parsed.iter().all(Option::is_none) => continue, // a header
+                    [Some(a), Some(b)] => {
+                        points.push((a, b));
+                        lines.push(n + 1);
+                    }
+                    // one header line of words, before the numbers
+                    _ if points.is_empty() && !header && parsed.iter().all(Option::is_none) => header = true,
                     _ => {
                         return Err(err(
                             &format!("{field}.file"),
@@ -474,7 +508,9 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<(Vec<(f64, f64)>, Strin
                     }
                 }
             }
-            (points, path.display().to_string())
+            let source = path.display().to_string();
+            check_hazard(&points, &|i| format!("{source} line {}", lines[i]), field)?;
+            (points, source)
         }
         (None, Some(i), Some(f)) if t.len() == 2 => {
             let list = |v: &toml::Value, k: &str| -> Result<Vec<f64>, SweepError> {
@@ -490,11 +526,21 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<(Vec<(f64, f64)>, Strin
             if i.len() != f.len() {
                 return Err(err(field, format!("{} intensities but {} frequencies", i.len(), f.len())));
             }
-            (i.into_iter().zip(f).collect(), "the config's table".to_string())
+            let points: Vec<(f64, f64)> = i.into_iter().zip(f).collect();
+            check_hazard(&points, &|i| format!("{field}.intensity[{i}] and frequency[{i}]"), field)?;
+            (points, "the config's table".to_string())
         }
         _ => return Err(err(field, "either `file` or both `intensity` [g] and `frequency` [1/year]")),
     };
-    // the integral's own checks, with a fragility that cannot fail them
+    Ok((points, source))
+}
+
+/// The risk integral's own checks of a hazard curve (with a fragility that
+/// cannot fail them), the point named by `at`.
+fn check_hazard(points: &[(f64, f64)], at: &dyn Fn(usize) -> String, field: &str) -> Result<(), SweepError> {
+    if points.len() < 2 {
+        return Err(err(field, format!("{} points: a hazard curve needs two at least", points.len())));
+    }
     let probe = quakejoint_model::fragility::Fragility {
         median: 1.0,
         beta: 0.5,
@@ -502,7 +548,11 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<(Vec<(f64, f64)>, Strin
         se_ln_median: 0.0,
         se_beta: 0.0,
     };
-    quakejoint_model::fragility::mean_annual_frequency(&probe, &points)
-        .map_err(|e| err(field, format!("{source}: {e}")))?;
-    Ok((points, source))
+    match quakejoint_model::fragility::mean_annual_frequency(&probe, points) {
+        Ok(_) => Ok(()),
+        Err(quakejoint_model::fragility::FragilityError::Hazard { index, reason }) => {
+            Err(err(field, format!("{}: {reason}", at(index.min(points.len() - 1)))))
+        }
+        Err(e) => Err(err(field, e.to_string())),
+    }
 }

@@ -191,17 +191,29 @@ fn without_run_settings(table: &toml::Table) -> toml::Table {
     t
 }
 
-/// Refuses what stripes cannot go with: a suite's scaling, a record's own
-/// scaling (each would be undone) and a transverse record (it would stay
-/// unscaled).
-fn stripes_allowed(sweep: &toml::Table, config: &Config, records: &[SweepRecord]) -> Result<(), SweepError> {
-    if sweep.contains_key("suite") {
+/// Refuses a hazard curve that does not reach the stripes' range: it is
+/// for another measure, or in other units than g.
+fn hazard_overlaps(s: &Stripes, f: &crate::fragility::FragilitySpec) -> Result<(), SweepError> {
+    let Some((points, source)) = &f.hazard else { return Ok(()) };
+    let (h0, h1) = (points[0].0, points[points.len() - 1].0);
+    let (l0, l1) = (s.levels[0], s.levels[s.levels.len() - 1]);
+    if h1 < l0 || h0 > l1 {
         return Err(sweep_err(
-            "sweep.stripes",
-            "the stripes scale every record to every level; a suite's scaling to a target ([sweep.suite]) would be \
-             undone: remove [sweep.suite] and list its records in sweep.records",
+            "sweep.fragility.hazard",
+            format!(
+                "{source}: its intensities ({h0} to {h1} g) do not reach the stripes' ({l0} to {l1} g): a hazard curve \
+                 of {} in g is needed",
+                s.measure.label()
+            ),
         ));
     }
+    Ok(())
+}
+
+/// Refuses what stripes cannot go with besides a suite: a record's own
+/// scaling (it would be undone) and a transverse record (it would stay
+/// unscaled).
+fn stripes_allowed(config: &Config, records: &[SweepRecord]) -> Result<(), SweepError> {
     if let Some(y) = &config.record_y {
         return Err(sweep_err(
             "sweep.stripes",
@@ -246,6 +258,13 @@ impl Plan {
                     format!("unknown key (expected {})", SWEEP_KEYS.join(", ")),
                 ));
             }
+        }
+        if sweep.contains_key("stripes") && sweep.contains_key("suite") {
+            return Err(sweep_err(
+                "sweep.stripes",
+                "the stripes scale every record to every level; a suite's scaling to a target ([sweep.suite]) would \
+                 be undone: remove [sweep.suite] and list its records in sweep.records",
+            ));
         }
         let (periods, damping, modal) = match &base_config.bridge.modal {
             Some(m) => {
@@ -394,7 +413,7 @@ impl Plan {
         let given = sweep.contains_key("stripes").then(|| records.clone());
         let (stripes, stripe_warnings) = match sweep.get("stripes") {
             Some(v) => {
-                stripes_allowed(&sweep, &base_config, &records)?;
+                stripes_allowed(&base_config, &records)?;
                 let (s, w) = stripes_of(v, &periods, &damping, &mut records, &base_config)?;
                 (Some(s), w)
             }
@@ -410,6 +429,9 @@ impl Plan {
             }
             (None, None) => None,
         };
+        if let (Some(s), Some(f)) = (&stripes, &fragility) {
+            hazard_overlaps(s, f)?;
+        }
         let record_y = base_config.record_y.clone().map(|s| SweepRecord::load(s, base_dir)).transpose()?;
         for (i, r) in records.iter().enumerate() {
             if records[..i].iter().any(|o| o.record.name == r.record.name) {

@@ -188,6 +188,10 @@ pub(super) fn stripes_of(
         for (g, r) in records.iter().enumerate() {
             let factor = level * G / intensity[g];
             let mut copy = r.clone();
+            if s > 0 {
+                // the record's own warnings (its reading) once, with the first stripe
+                copy.warnings.clear();
+            }
             let rec = &mut copy.record;
             rec.acceleration.iter_mut().for_each(|a| *a *= factor);
             rec.scale *= factor;
@@ -260,7 +264,11 @@ fn levels_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
                 }
             };
             period_range(from, to, count, log)
-                .map_err(|e| sweep_err(field, e.to_string().replace(" s", " g").replace("periods", "levels")))?
+                .map_err(|e| {
+                    let m =
+                        e.to_string().replace(" s", " g").replace("periods", "levels").replace("period range", "range");
+                    sweep_err(field, m)
+                })?
                 .into_iter()
                 // four significant digits: 0.3, not 0.30000000000000004, and
                 // 0.07579, not 0.075785828326, in the records' names

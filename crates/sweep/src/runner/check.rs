@@ -75,9 +75,13 @@ fn agrees(existing: &SweepFile, expected: &SweepFile) -> Result<(), String> {
 /// the journal's results): `Ok(behind)` if it agrees (`behind`: it lacks
 /// some of the journal's jobs or the current run limits), else what is
 /// wrong with it, in words.
-pub(super) fn output_state(output: &Path, expected: &SweepFile) -> Result<bool, String> {
+pub(super) fn output_state(output: &Path, expected: &SweepFile) -> Result<OutputState, String> {
     if !output.exists() {
-        return if expected.results.finished() > 0 { Err("it is missing".into()) } else { Ok(false) };
+        return if expected.results.finished() > 0 {
+            Err("it is missing".into())
+        } else {
+            Ok(OutputState { behind: false, refit: false })
+        };
     }
     let existing = read_sweep(output).map_err(|e| format!("it cannot be read ({})", e.message))?;
     // the limit states or their fitting changed (outside the config's
@@ -93,9 +97,21 @@ pub(super) fn output_state(output: &Path, expected: &SweepFile) -> Result<bool, 
     agrees(&same_jobs, expected)?;
     // run limits raised since (they are outside the config's hash) are
     // written into the cases' configs
-    Ok(refit
-        || existing.results.finished() < expected.results.finished()
-        || existing.case_configs != expected.case_configs)
+    Ok(OutputState {
+        behind: existing.results.finished() < expected.results.finished()
+            || existing.case_configs != expected.case_configs,
+        refit,
+    })
+}
+
+/// How an output that agrees with its journal stands.
+pub(super) struct OutputState {
+    /// It lacks jobs the journal holds, or run limits raised since: it is
+    /// rewritten.
+    pub behind: bool,
+    /// Its limit states or their fitting (`[sweep.fragility]`, outside the
+    /// config's hash) are not the config's: it is refitted and rewritten.
+    pub refit: bool,
 }
 
 /// An existing file at the output name without a journal is not a sweep's
@@ -203,9 +219,20 @@ pub fn check_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Check, SweepError
                 status_of.insert(r.job as usize, (r.status, flagged));
                 file.results.insert(r);
             }
-            output_problem = output_state(&opts.output, &file).err().map(|problem| {
-                format!("{}: {problem}; a run rebuilds it from the journal {}", opts.output.display(), jpath.display())
-            });
+            output_problem = match output_state(&opts.output, &file) {
+                Err(problem) => Some(format!(
+                    "{}: {problem}; a run rebuilds it from the journal {}",
+                    opts.output.display(),
+                    jpath.display()
+                )),
+                Ok(OutputState { refit: true, .. }) => Some(format!(
+                    "{}: its limit states or their fitting are not the config's ([sweep.fragility]); a run refits it \
+                     from the journal {} without running a job",
+                    opts.output.display(),
+                    jpath.display()
+                )),
+                Ok(_) => None,
+            };
         }
     } else if opts.resume {
         return Err(SweepError::Journal {

@@ -115,6 +115,8 @@ pub struct Summary {
     /// Peak resident memory of the process \[MB\] (Linux; for cluster job
     /// requests).
     pub peak_memory_mb: Option<f64>,
+    /// The shard this run was, if any.
+    pub shard: Option<(usize, usize)>,
     /// A multiple-stripe sweep: its stripes and the fitted curves of the
     /// jobs in the output.
     pub fragility: Option<(crate::fragility::StoredFragility, Vec<crate::fragility::CurveRow>)>,
@@ -253,7 +255,16 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     }
     // the output on disk must agree with its journal, or it is rebuilt
     let mut dirty = match output_state(output, &file) {
-        Ok(behind) => behind,
+        Ok(check::OutputState { behind, refit }) => {
+            if refit {
+                notices.push(format!(
+                    "{}: the limit states or their fitting ([sweep.fragility]) changed: refitted from the journal, no \
+                     job runs again",
+                    output.display()
+                ));
+            }
+            behind || refit
+        }
         Err(problem) => {
             notices.push(format!(
                 "{}: {problem}; it is rebuilt from the journal {}",
@@ -425,6 +436,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         output: output.clone(),
         journal: jpath,
         peak_memory_mb: quakejoint_model::resources::peak_memory_mb(),
+        shard: opts.shard,
         fragility: file.fragility.as_ref().map(|f| {
             let label = |c: usize, z: usize, t: usize| {
                 format!("{} / {}", plan.cases[c].name, plan.axis_label(t))
