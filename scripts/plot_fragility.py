@@ -44,7 +44,18 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from plotlib import incomplete, log_ticks, save, sweep_parser, text  # noqa: E402
 
-FIT = ("median", "beta", "median_lo", "median_hi", "beta_lo", "beta_hi", "annual_frequency", "return_period")
+FIT = (
+    "median",
+    "beta",
+    "median_lo",
+    "median_hi",
+    "beta_lo",
+    "beta_hi",
+    "annual_frequency",
+    "return_period",
+    "annual_frequency_lo",
+    "annual_frequency_hi",
+)
 COUNTS = ("runs", "exceeded", "failed", "flagged", "not_run", "undetermined")
 MARKERS = "osD^vP*X"
 #: where a text box may go in a panel: (x, y, ha, va) in axes fractions, in order of preference
@@ -169,7 +180,10 @@ def fit_lines(st, idx, units, prefix=""):
     lam, rp = st["annual_frequency"][idx], st["return_period"][idx]
     if np.isfinite(lam):
         rp = rp if np.isfinite(rp) else 1.0 / lam
-        lines.append(f"{prefix}λ = {lam:.2g} /yr (return period {fmt(rp, 3)} y)")
+        llo, lhi = st["annual_frequency_lo"][idx], st["annual_frequency_hi"][idx]
+        linterval = f" ({llo:.2g}–{lhi:.2g})" if np.isfinite(llo) and np.isfinite(lhi) else ""
+        lines.append(f"{prefix}λ = {lam:.2g} /yr{linterval}")
+        lines.append(f"{prefix}return period {fmt(rp, 3)} y")
     return lines
 
 

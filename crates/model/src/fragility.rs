@@ -325,6 +325,9 @@ pub struct Intervals {
     pub median: [f64; 2],
     /// The dispersion's interval.
     pub beta: [f64; 2],
+    /// The mean annual frequency's interval \[1/year\], with a hazard
+    /// curve ([`bootstrap_risk`]).
+    pub annual_frequency: Option<[f64; 2]>,
     /// Resamples whose counts determined no fragility, every run having
     /// survived or every one exceeded (left out).
     pub undetermined: usize,
@@ -350,7 +353,22 @@ pub fn bootstrap(
     seed: u64,
     level: f64,
 ) -> Result<Intervals, FragilityError> {
+    bootstrap_risk(outcomes, intensities, samples, seed, level, None)
+}
+
+/// [`bootstrap`], and with a hazard curve (as [`mean_annual_frequency`]
+/// takes it) the interval of the mean annual frequency over the same
+/// resamples ([`Intervals::annual_frequency`]).
+pub fn bootstrap_risk(
+    outcomes: &[Vec<Option<bool>>],
+    intensities: &[f64],
+    samples: usize,
+    seed: u64,
+    level: f64,
+    hazard: Option<&[(f64, f64)]>,
+) -> Result<Intervals, FragilityError> {
     let mut rng = SplitMix64::new(seed);
+    let mut rates = Vec::new();
     let (mut medians, mut betas) = (Vec::with_capacity(samples), Vec::with_capacity(samples));
     let (mut undetermined, mut separated) = (0, 0);
     let n = outcomes.len();
@@ -369,20 +387,26 @@ pub fn bootstrap(
                 }
             }
         }
-        match fit(&stripes) {
-            Ok(f) => {
-                medians.push(f.median);
-                betas.push(f.beta);
-            }
+        let resample = match fit(&stripes) {
+            Ok(f) => Some(f),
             // separated counts: the likelihood's supremum, beta -> 0
             Err(_) => match separated_limit(&stripes) {
                 Some(median) => {
-                    medians.push(median);
-                    betas.push(0.0);
                     separated += 1;
+                    Some(Fragility { median, beta: 0.0, log_likelihood: f64::NAN, se_ln_median: 0.0, se_beta: 0.0 })
                 }
-                None => undetermined += 1,
+                None => {
+                    undetermined += 1;
+                    None
+                }
             },
+        };
+        if let Some(f) = resample {
+            medians.push(f.median);
+            betas.push(f.beta);
+            if let Some(h) = hazard {
+                rates.push(mean_annual_frequency(&f, h)?);
+            }
         }
     }
     if medians.is_empty() {
@@ -398,6 +422,7 @@ pub fn bootstrap(
         level,
         median: [percentile(&mut medians, tail), percentile(&mut medians, 1.0 - tail)],
         beta: [percentile(&mut betas, tail), percentile(&mut betas, 1.0 - tail)],
+        annual_frequency: hazard.map(|_| [percentile(&mut rates, tail), percentile(&mut rates, 1.0 - tail)]),
         undetermined,
         separated,
     })

@@ -153,6 +153,21 @@ fn bootstrap_is_deterministic_and_brackets_the_estimate() {
     let a = bootstrap(&outcomes, &LEVELS, 500, 42, 0.9).unwrap();
     let b = bootstrap(&outcomes, &LEVELS, 500, 42, 0.9).unwrap();
     assert_eq!(a, b);
+    // the interval of the annual frequency brackets the estimate's
+    let hazard: Vec<(f64, f64)> = [0.1, 0.5, 1.0, 3.0].iter().map(|&x: &f64| (x, 1e-4 * x.powf(-2.5))).collect();
+    let r = quakejoint_model::fragility::bootstrap_risk(&outcomes, &LEVELS, 500, 42, 0.9, Some(&hazard)).unwrap();
+    let stripes_for_risk: Vec<Stripe> = LEVELS
+        .iter()
+        .enumerate()
+        .map(|(s, &intensity)| Stripe {
+            intensity,
+            runs: 30,
+            exceeded: outcomes.iter().filter(|r| r[s] == Some(true)).count() as u32,
+        })
+        .collect();
+    let lambda = mean_annual_frequency(&fit(&stripes_for_risk).unwrap(), &hazard).unwrap();
+    let [lo, hi] = r.annual_frequency.unwrap();
+    assert!(lo < lambda && lambda < hi, "{lambda} in {lo}..{hi}");
     let stripes: Vec<Stripe> = LEVELS
         .iter()
         .enumerate()
@@ -183,6 +198,16 @@ fn separated_resamples_enter_the_intervals_at_beta_zero() {
     assert_eq!(i.beta, [0.0, 0.0]);
     let gap = (0.6f64 * 0.7).sqrt();
     assert_eq!(i.median, [gap, gap]);
+    // with a power-law hazard, each resample's annual frequency is the
+    // hazard at its median (beta 0): k0 gap^-k
+    let (k0, k) = (1e-4, 2.5);
+    let hazard: Vec<(f64, f64)> = [0.1, 0.5, 1.0].iter().map(|&x: &f64| (x, k0 * x.powf(-k))).collect();
+    let r = quakejoint_model::fragility::bootstrap_risk(&alike, &levels, 200, 3, 0.9, Some(&hazard)).unwrap();
+    let expected = k0 * gap.powf(-k);
+    for a in r.annual_frequency.unwrap() {
+        assert!((a / expected - 1.0).abs() < 1e-9, "{a} against {expected}");
+    }
+    assert_eq!((r.median, r.beta), (i.median, i.beta), "the same resamples");
     let mut one_later = alike.clone();
     one_later[0] = levels.iter().map(|&x| Some(x >= 0.8)).collect();
     one_later[1] = levels.iter().map(|&x| Some(x >= 0.6)).collect();

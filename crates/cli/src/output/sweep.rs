@@ -140,6 +140,7 @@ fn fragility_json(
             "median": finite(r.median), "beta": finite(r.beta),
             "median_interval": r.median_interval.map(finite), "beta_interval": r.beta_interval.map(finite),
             "annual_frequency": finite(r.annual_frequency),
+            "annual_frequency_interval": r.annual_frequency_interval.map(finite),
             "exceeded": r.exceeded, "runs": r.runs, "note": r.note,
         })).collect::<Vec<_>>(),
     })

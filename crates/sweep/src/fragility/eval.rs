@@ -1,7 +1,7 @@
 //! The limit states evaluated on a sweep's results, counted stripe by
 //! stripe and fitted: one curve per case, damping ratio and period.
 
-use quakejoint_model::fragility::{bootstrap, fit, mean_annual_frequency, Fragility, Intervals, Stripe};
+use quakejoint_model::fragility::{bootstrap_risk, fit, mean_annual_frequency, Fragility, Intervals, Stripe};
 use quakejoint_model::validity::Flags;
 
 use super::spec::{Failed, FragilitySpec, Kind, LimitState};
@@ -203,9 +203,10 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
     let fitted = fit(&data);
     let (fit, intervals, annual_frequency) = match fitted {
         Ok(f) => {
+            let hazard = spec.hazard.as_ref().map(|h| &h.0[..]);
             let intervals = if spec.bootstrap > 0 {
                 let levels = &stripes.levels;
-                match bootstrap(&by_record, levels, spec.bootstrap, spec.seed, spec.confidence) {
+                match bootstrap_risk(&by_record, levels, spec.bootstrap, spec.seed, spec.confidence, hazard) {
                     Ok(i) => {
                         if i.separated > 0 {
                             notes.push(format!(

@@ -14,13 +14,14 @@ use super::spec::FragilitySpec;
 use crate::plan::{Measure, StripeRun, Stripes};
 use crate::results::Results;
 
-/// The fitting method's version (`/fragility` attribute `method`): 3
+/// The fitting method's version (`/fragility` attribute `method`): 4
 /// (2: separated bootstrap resamples entering the intervals at beta = 0;
 /// 3: counts that fall with the intensity, or a beta beyond 10, refused,
-/// and the notes on what a fit rests on beyond the data). A
+/// and the notes on what a fit rests on beyond the data; 4: the interval
+/// of the annual frequency). A
 /// file of another method has its counts checked on reading, not its fits,
 /// which this program would compute otherwise (it writes its own).
-pub const METHOD: u32 = 3;
+pub const METHOD: u32 = 4;
 
 /// A sweep's stripes and what is fitted on them.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,7 +37,7 @@ fn shape_err(e: ndarray::ShapeError) -> hdf5::Error {
 }
 
 /// The datasets of a curve, per case, damping ratio and period.
-const CURVE_FIELDS: [(&str, &str, &str); 11] = [
+const CURVE_FIELDS: [(&str, &str, &str); 13] = [
     ("median", "g", "the fragility's median: the level at which half the runs exceed the limit state"),
     ("beta", "1", "the fragility's dispersion (lognormal standard deviation)"),
     ("se_ln_median", "1", "standard error of ln(median) from the likelihood's curvature"),
@@ -48,6 +49,8 @@ const CURVE_FIELDS: [(&str, &str, &str); 11] = [
     ("beta_hi", "1", "upper end of the bootstrap interval of beta"),
     ("annual_frequency", "1/year", "mean annual frequency of exceeding the limit state at the site"),
     ("return_period", "year", "1 / annual_frequency"),
+    ("annual_frequency_lo", "1/year", "lower end of the bootstrap interval of annual_frequency"),
+    ("annual_frequency_hi", "1/year", "upper end of the bootstrap interval of annual_frequency"),
 ];
 
 /// The counts of a curve, per case, damping ratio, period and stripe.
@@ -60,9 +63,9 @@ const COUNT_FIELDS: [(&str, &str); 6] = [
     ("flagged", "runs counted that the model flags for another reason than the limit state"),
 ];
 
-fn curve_values(r: &LimitStateResult) -> [Vec<f64>; 11] {
+fn curve_values(r: &LimitStateResult) -> [Vec<f64>; 13] {
     let nan = f64::NAN;
-    let mut out: [Vec<f64>; 11] = Default::default();
+    let mut out: [Vec<f64>; 13] = Default::default();
     for c in &r.curves {
         let f = c.fit;
         let i = c.intervals.as_ref();
@@ -78,6 +81,8 @@ fn curve_values(r: &LimitStateResult) -> [Vec<f64>; 11] {
             i.map_or(nan, |i| i.beta[1]),
             c.annual_frequency,
             1.0 / c.annual_frequency,
+            i.and_then(|i| i.annual_frequency).map_or(nan, |a| a[0]),
+            i.and_then(|i| i.annual_frequency).map_or(nan, |a| a[1]),
         ];
         for (o, x) in out.iter_mut().zip(v) {
             o.push(x);
@@ -246,6 +251,10 @@ pub fn read_fragility(file: &hdf5::File, results: &Results) -> hdf5::Result<Opti
             }
         }
         for ((name, _, _), data) in CURVE_FIELDS.iter().zip(curve_values(&r)) {
+            if !same_method && !lg.link_exists(name) {
+                // a dataset of a later method
+                continue;
+            }
             let stored = values::<f64>(&lg, name)?;
             if same_method && !crate::sweep_read::same_bits(&stored, &data) {
                 return Err(disagrees(path(name)));

@@ -53,6 +53,8 @@ pub struct CurveRow {
     pub beta_interval: [f64; 2],
     /// Mean annual frequency \[1/year\] (NaN without a hazard curve).
     pub annual_frequency: f64,
+    /// Its bootstrap interval (NaN without).
+    pub annual_frequency_interval: [f64; 2],
     /// Runs that exceeded, and runs that count, per stripe.
     pub exceeded: Vec<u32>,
     /// Runs that count per stripe.
@@ -80,6 +82,7 @@ pub fn rows(f: &StoredFragility, results: &Results, label: &dyn Fn(usize, usize,
                 median_interval: curve.intervals.as_ref().map_or(nan, |i| i.median),
                 beta_interval: curve.intervals.as_ref().map_or(nan, |i| i.beta),
                 annual_frequency: curve.annual_frequency,
+                annual_frequency_interval: curve.intervals.as_ref().and_then(|i| i.annual_frequency).unwrap_or(nan),
                 exceeded: curve.counts.iter().map(|k| k.exceeded).collect(),
                 runs: curve.counts.iter().map(|k| k.runs).collect(),
                 note: curve.note.clone(),
@@ -109,7 +112,7 @@ pub fn summary(f: &StoredFragility, rows: &[CurveRow]) -> String {
         "limit state",
         format!("median [g] ({pct} % interval)"),
         "beta (interval)",
-        if hazard { format!(" {:>10} {:>10}", "per year", "return [y]") } else { String::new() }
+        if hazard { format!(" {:>26} {:>10}", "per year (interval)", "return [y]") } else { String::new() }
     );
     for row in rows {
         let median = if row.median_interval[0].is_finite() {
@@ -127,9 +130,15 @@ pub fn summary(f: &StoredFragility, rows: &[CurveRow]) -> String {
         let risk = if hazard && row.annual_frequency.is_finite() {
             let years = 1.0 / row.annual_frequency;
             let years = if years >= 10.0 { format!("{years:.0}") } else { format!("{years:.2}") };
-            format!(" {:>10.2e} {years:>10}", row.annual_frequency)
+            let [lo, hi] = row.annual_frequency_interval;
+            let rate = if lo.is_finite() {
+                format!("{:.2e} ({lo:.1e}-{hi:.1e})", row.annual_frequency)
+            } else {
+                format!("{:.2e}", row.annual_frequency)
+            };
+            format!(" {rate:>26} {years:>10}")
         } else if hazard {
-            format!(" {:>10} {:>10}", "-", "-")
+            format!(" {:>26} {:>10}", "-", "-")
         } else {
             String::new()
         };
