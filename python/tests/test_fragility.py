@@ -116,3 +116,25 @@ def test_limit_states_counted_by_hand_from_the_hdf5_fields_equal_the_tools(strip
             g = f["records"][name]
             window = g["acceleration"][: int(4.0 / g["dt"][()] * (1 + 1e-12)) + 1]
             assert abs(np.max(np.abs(window)) / qj.G / fr.levels[k] - 1) < 1e-12, name
+
+
+def test_the_sweeps_intervals_are_the_python_bootstraps(stripes_sweep):
+    """The stored intervals (median, beta and the annual frequency) equal
+    `bootstrap_fragility` on the runs' outcomes, the config's seed and
+    resamples, bit for bit: the outcomes by record and stripe built here
+    from /fragility/<key>/outcome."""
+    s = qj.read_sweep(stripes_sweep)
+    fr = s.fragility
+    him, hrate = fr.hazard
+    for key, ls in fr.limit_states.items():
+        if not np.isfinite(ls.median_lo[0, 0, 0]):
+            continue
+        outcomes = [[-1] * len(fr.levels) for _ in fr.ground_records]
+        for r, (g, k) in enumerate(zip(fr.record_ground, fr.record_stripe)):
+            o = int(ls.outcome[0, r, 0, 0])
+            outcomes[g][k] = o if o in (0, 1) else -1
+        b = qj.bootstrap_fragility(outcomes, fr.levels, samples=100, seed=1, level=0.9,
+                                   hazard_intensity=him, hazard_frequency=hrate)
+        assert b["median"] == [ls.median_lo[0, 0, 0], ls.median_hi[0, 0, 0]], key
+        assert b["beta"] == [ls.beta_lo[0, 0, 0], ls.beta_hi[0, 0, 0]], key
+        assert b["annual_frequency"] == [ls.annual_frequency_lo[0, 0, 0], ls.annual_frequency_hi[0, 0, 0]], key

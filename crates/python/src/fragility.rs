@@ -4,7 +4,7 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use quakejoint_model::fragility::{bootstrap, fit, mean_annual_frequency, Fragility, Stripe};
+use quakejoint_model::fragility::{bootstrap_risk, fit, mean_annual_frequency, Fragility, Stripe};
 
 use crate::convert::{real, Numbers};
 use crate::InputError;
@@ -69,9 +69,13 @@ fn fit_fragility<'py>(
 /// `seed` (the same seed, the same intervals), at `level`. Returns a dict:
 /// median and beta (each [low, high]), undetermined (resamples left out:
 /// every run survived or every one exceeded), separated (resamples whose
-/// counts are separated, entered with beta = 0 and the median in the gap).
+/// counts are separated, entered with beta = 0 and the median in the gap)
+/// and, with a hazard curve (`hazard_intensity`, `hazard_frequency`, as
+/// `limit_state_frequency` takes it), annual_frequency ([low, high] over
+/// the same resamples).
 #[pyfunction]
-#[pyo3(signature = (outcomes, intensities, samples=1000, seed=0, level=0.9))]
+#[pyo3(signature = (outcomes, intensities, samples=1000, seed=0, level=0.9, hazard_intensity=None, hazard_frequency=None))]
+#[allow(clippy::too_many_arguments)]
 fn bootstrap_fragility<'py>(
     py: Python<'py>,
     outcomes: Vec<Vec<i64>>,
@@ -79,7 +83,28 @@ fn bootstrap_fragility<'py>(
     samples: usize,
     seed: u64,
     level: f64,
+    hazard_intensity: Option<&Bound<'py, PyAny>>,
+    hazard_frequency: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let func = "bootstrap_fragility";
+    let hazard: Option<Vec<(f64, f64)>> = match (hazard_intensity, hazard_frequency) {
+        (Some(x), Some(y)) => {
+            let x = Numbers::at_most_1d(x, func, "hazard_intensity")?.values;
+            let y = Numbers::at_most_1d(y, func, "hazard_frequency")?.values;
+            if x.len() != y.len() {
+                return Err(InputError::new_err(format!(
+                    "{func}: hazard_intensity and hazard_frequency differ in length"
+                )));
+            }
+            Some(x.into_iter().zip(y).collect())
+        }
+        (None, None) => None,
+        _ => {
+            return Err(InputError::new_err(format!(
+                "{func}: give both hazard_intensity and hazard_frequency, or neither"
+            )))
+        }
+    };
     let im = Numbers::at_most_1d(intensities, "bootstrap_fragility", "intensities")?.values;
     let outcomes: Vec<Vec<Option<bool>>> = outcomes
         .iter()
@@ -100,13 +125,18 @@ fn bootstrap_fragility<'py>(
     if !(level > 0.0 && level < 1.0) {
         return Err(InputError::new_err(format!("bootstrap_fragility: level = {level}: must be between 0 and 1")));
     }
-    let i = py.detach(|| bootstrap(&outcomes, &im, samples, seed, level)).map_err(fragility_error)?;
+    let i = py
+        .detach(|| bootstrap_risk(&outcomes, &im, samples, seed, level, hazard.as_deref()))
+        .map_err(fragility_error)?;
     let d = PyDict::new(py);
     d.set_item("median", i.median.to_vec())?;
     d.set_item("beta", i.beta.to_vec())?;
     d.set_item("level", i.level)?;
     d.set_item("undetermined", i.undetermined)?;
     d.set_item("separated", i.separated)?;
+    if let Some(a) = i.annual_frequency {
+        d.set_item("annual_frequency", a.to_vec())?;
+    }
     Ok(d)
 }
 
