@@ -363,14 +363,7 @@ impl FragilitySpec {
             Some(toml::Value::Table(t)) => t,
             Some(_) => return Err(err("sweep.fragility", "must be a table ([sweep.fragility])")),
         };
-        for key in t.keys() {
-            if !FRAGILITY_KEYS.contains(&key.as_str()) {
-                return Err(err(
-                    &format!("sweep.fragility.{key}"),
-                    format!("unknown key (expected {})", FRAGILITY_KEYS.join(", ")),
-                ));
-            }
-        }
+        crate::plan::known_keys(t, "sweep.fragility", &FRAGILITY_KEYS)?;
         let tables = match t.get("limit_states") {
             None => defaults(),
             Some(toml::Value::Array(items)) if !items.is_empty() => items

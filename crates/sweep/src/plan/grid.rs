@@ -12,42 +12,7 @@ use crate::error::SweepError;
 /// it overrides, each once.
 pub(super) fn grid_of(v: &toml::Value, field: &str, key: &str, unit: &str) -> Result<Vec<f64>, SweepError> {
     let values = match v {
-        toml::Value::Table(t) => {
-            for key in t.keys() {
-                if !["from", "to", "count", "spacing"].contains(&key.as_str()) {
-                    return Err(sweep_err(
-                        &format!("{field}.{key}"),
-                        "unknown key (expected from, to, count, spacing)",
-                    ));
-                }
-            }
-            let get = |k: &str| t.get(k).ok_or_else(|| sweep_err(&format!("{field}.{k}"), "missing"));
-            let from = f64_of(get("from")?, &format!("{field}.from"))?;
-            let to = f64_of(get("to")?, &format!("{field}.to"))?;
-            let count = match get("count")? {
-                toml::Value::Integer(n) if *n >= 1 => *n as usize,
-                other => {
-                    return Err(sweep_err(&format!("{field}.count"), format!("{other}: must be a whole number >= 1")))
-                }
-            };
-            let log = match t.get("spacing").map(|s| s.as_str()) {
-                None | Some(Some("log")) => true,
-                Some(Some("linear")) => false,
-                Some(other) => {
-                    return Err(sweep_err(
-                        &format!("{field}.spacing"),
-                        format!("{other:?}: expected \"log\" or \"linear\""),
-                    ))
-                }
-            };
-            period_range(from, to, count, log).map_err(|e| match e {
-                // (the range's words are about periods in s)
-                quakejoint_motion::SpectrumError::Range(m) if unit != "s" => {
-                    sweep_err(field, format!("range: {}", m.replace(" s", "").replace("periods", "values")))
-                }
-                other => sweep_err(field, other.to_string()),
-            })?
-        }
+        toml::Value::Table(t) => range_of(t, field, unit)?,
         other => list_of_f64(other, field)?,
     };
     if values.is_empty() {
@@ -55,6 +20,35 @@ pub(super) fn grid_of(v: &toml::Value, field: &str, key: &str, unit: &str) -> Re
     }
     check_swept(&values, field, key)?;
     Ok(values)
+}
+
+/// `{ from, to, count, spacing = "log" or "linear" }` (`field`, in `unit`):
+/// the values it spans.
+pub(super) fn range_of(t: &toml::Table, field: &str, unit: &str) -> Result<Vec<f64>, SweepError> {
+    super::known_keys(t, field, &["from", "to", "count", "spacing"])?;
+    let get = |k: &str| t.get(k).ok_or_else(|| sweep_err(&format!("{field}.{k}"), "missing"));
+    let from = f64_of(get("from")?, &format!("{field}.from"))?;
+    let to = f64_of(get("to")?, &format!("{field}.to"))?;
+    let count = match get("count")? {
+        toml::Value::Integer(n) if *n >= 1 => *n as usize,
+        other => return Err(sweep_err(&format!("{field}.count"), format!("{other}: must be a whole number >= 1"))),
+    };
+    let log = match t.get("spacing").map(|s| s.as_str()) {
+        None | Some(Some("log")) => true,
+        Some(Some("linear")) => false,
+        Some(_) => {
+            let shown = t.get("spacing").map_or(String::new(), |v| v.to_string());
+            return Err(sweep_err(&format!("{field}.spacing"), format!("{shown}: expected \"log\" or \"linear\"")));
+        }
+    };
+    period_range(from, to, count, log).map_err(|e| match e {
+        // (the range's words are about periods in s)
+        quakejoint_motion::SpectrumError::Range(m) if unit != "s" => {
+            let unit = if unit.is_empty() { String::new() } else { format!(" {unit}") };
+            sweep_err(field, format!("range: {}", m.replace(" s", &unit).replace("periods", "values")))
+        }
+        other => sweep_err(field, other.to_string()),
+    })
 }
 
 /// Checks swept values (`field`, a list) against the range of the config

@@ -143,6 +143,14 @@ fn sweep_err(field: &str, message: impl Into<String>) -> SweepError {
     SweepError::Config { field: field.to_string(), message: message.into() }
 }
 
+/// Refuses a key of the table `t` (at `field`) that is not one of `keys`.
+pub(crate) fn known_keys(t: &toml::Table, field: &str, keys: &[&str]) -> Result<(), SweepError> {
+    match t.keys().find(|k| !keys.contains(&k.as_str())) {
+        Some(key) => Err(sweep_err(&format!("{field}.{key}"), format!("unknown key (expected {})", keys.join(", ")))),
+        None => Ok(()),
+    }
+}
+
 fn f64_of(v: &toml::Value, field: &str) -> Result<f64, SweepError> {
     match v {
         toml::Value::Float(x) => Ok(*x),
@@ -251,14 +259,7 @@ impl Plan {
             Some(_) => return Err(sweep_err("sweep", "must be a table")),
             None => return Err(sweep_err("sweep", format!("{source} has no [sweep] table"))),
         };
-        for key in sweep.keys() {
-            if !SWEEP_KEYS.contains(&key.as_str()) {
-                return Err(sweep_err(
-                    &format!("sweep.{key}"),
-                    format!("unknown key (expected {})", SWEEP_KEYS.join(", ")),
-                ));
-            }
-        }
+        known_keys(&sweep, "sweep", &SWEEP_KEYS)?;
         if sweep.contains_key("stripes") && sweep.contains_key("suite") {
             return Err(sweep_err(
                 "sweep.stripes",

@@ -16,10 +16,11 @@
 
 use quakejoint_model::runspec::Reference;
 use quakejoint_model::Config;
-use quakejoint_motion::{number, period_range, G, MAX_ACCELERATION_G};
+use quakejoint_motion::{number, G, MAX_ACCELERATION_G};
 
+use super::grid::range_of;
 use super::records::SweepRecord;
-use super::{f64_of, list_of_f64, sweep_err};
+use super::{list_of_f64, sweep_err};
 use crate::error::SweepError;
 
 /// The keys of the `[sweep.stripes]` table.
@@ -130,14 +131,7 @@ pub(super) fn stripes_of(
     let toml::Value::Table(t) = v else {
         return Err(sweep_err("sweep.stripes", "must be a table ([sweep.stripes])"));
     };
-    for key in t.keys() {
-        if !STRIPES_KEYS.contains(&key.as_str()) {
-            return Err(sweep_err(
-                &format!("sweep.stripes.{key}"),
-                format!("unknown key (expected {})", STRIPES_KEYS.join(", ")),
-            ));
-        }
-    }
+    super::known_keys(t, "sweep.stripes", &STRIPES_KEYS)?;
     let measure = match t.get("measure").map(|m| m.as_str()) {
         Some(Some("sa")) => match (periods, damping) {
             ([period], [damping]) => Measure::Sa { period: *period, damping: *damping },
@@ -237,44 +231,12 @@ pub(super) fn stripes_of(
 fn levels_of(v: &toml::Value) -> Result<Vec<f64>, SweepError> {
     let field = "sweep.stripes.levels";
     let levels = match v {
-        toml::Value::Table(t) => {
-            for key in t.keys() {
-                if !["from", "to", "count", "spacing"].contains(&key.as_str()) {
-                    return Err(sweep_err(
-                        &format!("{field}.{key}"),
-                        "unknown key (expected from, to, count, spacing)",
-                    ));
-                }
-            }
-            let get = |k: &str| t.get(k).ok_or_else(|| sweep_err(&format!("{field}.{k}"), "missing"));
-            let from = f64_of(get("from")?, &format!("{field}.from"))?;
-            let to = f64_of(get("to")?, &format!("{field}.to"))?;
-            let count = match get("count")? {
-                toml::Value::Integer(n) if *n >= 2 => *n as usize,
-                other => return Err(sweep_err(&format!("{field}.count"), format!("{other}: at least 2 stripes"))),
-            };
-            let log = match t.get("spacing").map(|s| s.as_str()) {
-                None | Some(Some("log")) => true,
-                Some(Some("linear")) => false,
-                Some(_) => {
-                    return Err(sweep_err(
-                        &format!("{field}.spacing"),
-                        format!("{}: expected \"log\" or \"linear\"", crate::fragility::spec::shown(t.get("spacing"))),
-                    ))
-                }
-            };
-            period_range(from, to, count, log)
-                .map_err(|e| {
-                    let m =
-                        e.to_string().replace(" s", " g").replace("periods", "levels").replace("period range", "range");
-                    sweep_err(field, m)
-                })?
-                .into_iter()
-                // four significant digits: 0.3, not 0.30000000000000004, and
-                // 0.07579, not 0.075785828326, in the records' names
-                .map(|x| format!("{x:.3e}").parse().unwrap_or(x))
-                .collect()
-        }
+        toml::Value::Table(t) => range_of(t, field, "g")?
+            .into_iter()
+            // four significant digits: 0.3, not 0.30000000000000004, and
+            // 0.07579, not 0.075785828326, in the records' names
+            .map(|x| format!("{x:.3e}").parse().unwrap_or(x))
+            .collect(),
         other => list_of_f64(other, field)?,
     };
     if levels.len() < 2 {

@@ -40,14 +40,7 @@ pub(super) fn suite_of(
     let toml::Value::Table(t) = v else {
         return Err(sweep_err("sweep.suite", "must be a table ([sweep.suite])"));
     };
-    for key in t.keys() {
-        if !SUITE_KEYS.contains(&key.as_str()) {
-            return Err(sweep_err(
-                &format!("sweep.suite.{key}"),
-                format!("unknown key (expected {})", SUITE_KEYS.join(", ")),
-            ));
-        }
-    }
+    super::known_keys(t, "sweep.suite", &SUITE_KEYS)?;
     let target: TargetSpectrum = t
         .get("target")
         .ok_or_else(|| {
