@@ -78,6 +78,10 @@ pub(crate) fn histories_equal(a: Option<&Histories>, b: Option<&Histories>) -> b
     }
 }
 
+/// What [`sweep_differences`] says of two multiple-stripe sweeps fitted
+/// with other limit states or fitting.
+pub const SPECS_DIFFER: &str = "the limit states or their fitting (/fragility attribute config) differ";
+
 /// The differences between two sweep files in everything but the jobs'
 /// results: the config (its parameters, by their hash: each case's config
 /// as text also holds the run limits, which may change), the grids, the
@@ -121,7 +125,7 @@ pub fn sweep_differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
                 out.push("the stripes (/fragility: levels, records, factors) differ".to_string());
             }
             if x.spec != y.spec {
-                out.push("the limit states or their fitting (/fragility attribute config) differ".to_string());
+                out.push(SPECS_DIFFER.to_string());
             }
         }
         (None, None) => {}

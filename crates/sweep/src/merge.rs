@@ -182,31 +182,28 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
     let mut merged = SweepFile { results, scope: Vec::new(), ..first.clone() };
     // the config's limit states and fitting, when it is given: the shards'
     // own (fitted at their last write) do not matter then
-    let refit = |f: &SweepFile| -> SweepFile {
-        let mut f = f.clone();
-        if let (Some(spec), Some(fr)) = (&options.fragility, &mut f.fragility) {
-            fr.spec = spec.clone();
-        }
-        f
-    };
-    if let (Some(spec), Some(fr)) = (&options.fragility, &merged.fragility) {
+    if let (Some(spec), Some(fr)) = (&options.fragility, &mut merged.fragility) {
         if &fr.spec != spec {
             notices.push(
                 "the shards were fitted with other limit states or fitting than the config's ([sweep.fragility]): \
                  the merged file is fitted with the config's"
                     .to_string(),
             );
+            fr.spec = spec.clone();
         }
     }
-    merged = refit(&merged);
     let mut claimed: Vec<(String, &Path)> = Vec::new();
     let mut overlaps = 0;
     for (path, other) in &files {
         // the same config, grids, records, provenance, suite and spectra
         // without the joint, bit for bit, as `compare` checks them
-        let diffs = crate::compare::sweep_differences(&merged, &refit(other));
+        let mut diffs = crate::compare::sweep_differences(&merged, other);
+        if options.fragility.is_some() {
+            // the shards' own fits do not matter: the config's are written
+            diffs.retain(|d| d != crate::compare::SPECS_DIFFER);
+        }
         if !diffs.is_empty() {
-            let hint = if diffs.iter().any(|d| d.contains("/fragility attribute config")) {
+            let hint = if diffs.iter().any(|d| d == crate::compare::SPECS_DIFFER) {
                 " (give the config with --config: the merged file is then fitted with its [sweep.fragility])"
             } else {
                 ""

@@ -122,7 +122,7 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
         scalar(&g, "measure_damping", damping, "1")?;
     }
     attr_str(&g, "config", &toml::to_string(&spec.to_toml()).unwrap_or_default())?;
-    attr_str(&g, "failed", if spec.failed == super::Failed::Exclude { "exclude" } else { "exceed" })?;
+    attr_str(&g, "failed", spec.failed.key())?;
     let levels = array(&g, "levels", &s.levels[..])?;
     attr_str(&levels, "units", "g")?;
     quakejoint_io::h5::set_scale(&levels, "stripe")?;

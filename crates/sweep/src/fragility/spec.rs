@@ -83,6 +83,16 @@ pub enum Failed {
     Exceed,
 }
 
+impl Failed {
+    /// Its value in a config: `exclude` or `exceed`.
+    pub fn key(self) -> &'static str {
+        match self {
+            Failed::Exclude => "exclude",
+            Failed::Exceed => "exceed",
+        }
+    }
+}
+
 /// `[sweep.fragility]` as resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FragilitySpec {
@@ -439,10 +449,7 @@ impl FragilitySpec {
             "limit_states".into(),
             toml::Value::Array(self.tables.iter().cloned().map(toml::Value::Table).collect()),
         );
-        t.insert(
-            "failed".into(),
-            toml::Value::String(if self.failed == Failed::Exclude { "exclude" } else { "exceed" }.into()),
-        );
+        t.insert("failed".into(), toml::Value::String(self.failed.key().into()));
         t.insert("bootstrap".into(), toml::Value::Integer(self.bootstrap as i64));
         t.insert("seed".into(), toml::Value::Integer(self.seed as i64));
         t.insert("confidence".into(), toml::Value::Float(self.confidence));

@@ -109,14 +109,6 @@ pub struct Stripes {
     pub runs: Vec<StripeRun>,
 }
 
-impl Stripes {
-    /// The records of the sweep at stripe `s` (indices into the sweep's
-    /// records).
-    pub fn at(&self, s: usize) -> impl Iterator<Item = usize> + '_ {
-        self.runs.iter().enumerate().filter(move |(_, r)| r.stripe == s).map(|(i, _)| i)
-    }
-}
-
 /// Reads `[sweep.stripes]` and replaces `records` by their copies scaled
 /// to every level. `periods` and `damping` are the sweep's (Sa is taken
 /// at the one swept period and damping), `modal`: the bridge is given by
