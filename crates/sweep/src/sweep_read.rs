@@ -32,7 +32,7 @@ pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
 }
 
 /// The refusal of a dataset that disagrees with what it is derived from.
-fn disagrees(what: &str, from: &str) -> hdf5::Error {
+pub(crate) fn disagrees(what: &str, from: &str) -> hdf5::Error {
     hdf5::Error::from(format!(
         "{what} does not match {from} it is derived from: the file is damaged or was changed after it was written"
     ))

@@ -232,12 +232,7 @@ pub fn read_fragility(file: &hdf5::File, results: &Results) -> hdf5::Result<Opti
             h.1 = attr(&g, "hazard_source")?;
         }
     }
-    let disagrees = |what: String| {
-        hdf5::Error::from(format!(
-            "{what} does not match the results it is derived from: the file is damaged or was changed after it was \
-             written"
-        ))
-    };
+    let disagrees = |what: String| crate::sweep_read::disagrees(&what, "the results");
     let same_method = g.attr("method").and_then(|a| a.read_scalar::<u32>()).ok() == Some(METHOD);
     for (ls, r) in spec.limit_states.iter().zip(evaluate(&spec, &stripes, results)) {
         let lg = group(&g, &ls.key)?;
