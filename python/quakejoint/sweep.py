@@ -19,17 +19,14 @@ from typing import Optional
 
 import math
 
-import h5py
 import numpy as np
 
-from ._quakejoint import InputError
+from ._quakejoint import InputError, read_sweep_file
 
 #: dimensions of the results with the joint
 DIMS = ("case", "record", "damping", "period")
 #: the `not_checked` bit of the validity flags
 NOT_CHECKED = 1 << 15
-#: status codes of /spectrum/with_joint/status
-STATUS = {0: "ok", 1: "simulation failed", 2: "invalid parameters", 3: "time or step limit", -1: "not run"}
 
 
 @dataclass(repr=False)
@@ -74,8 +71,7 @@ class Sweep:
     #: "of_mean"}, "count", "flagged"}. For a sweep of one record the
     #: record's own values: count 1 where its job finished (0 and NaN
     #: elsewhere), mean = median = the value, dispersion and std NaN
-    #: (undefined for one value). None for a file of an earlier version
-    #: of one record, which stored none.
+    #: (undefined for one value).
     statistics: Optional[dict] = None
     #: the suite's target and scaling: target (in words), rule, range [s],
     #: factor (per record), rule_factor, min_ratio, min_ratio_period [s],
@@ -269,73 +265,45 @@ def _extra(module: str, extra: str, what: str):
         ) from e
 
 
-def _text(values) -> np.ndarray:
-    return np.array([v.decode() if isinstance(v, bytes) else str(v) for v in np.ravel(values)], dtype=object).reshape(
-        np.shape(values)
-    )
-
-
-def _flag_names(meaning: str) -> list[tuple[int, str]]:
-    pairs = []
-    for part in meaning.split(";")[-1].split(","):
-        bit, _, name = part.strip().partition(" ")
-        if bit.isdigit():
-            pairs.append((int(bit), name))
-    return pairs
+def _text(flat_and_shape) -> np.ndarray:
+    """Text given as (flat list, shape) as an object array of str."""
+    flat, shape = flat_and_shape
+    out = np.empty(len(flat), dtype=object)
+    out[:] = flat
+    return out.reshape(shape)
 
 
 def read_sweep(path) -> Sweep:
-    """Reads a sweep or merge file (`quakejoint sweep --output path`)."""
+    """Reads a sweep or merge file (`quakejoint sweep --output path`): by the
+    command line's own reader, which reads every dataset and attribute and
+    checks what is derived against what it is derived from, so that a
+    damaged file is refused (an InputError naming the dataset or
+    attribute), never read as a good one."""
     path = str(path)
-    if not Path(path).exists():
-        raise InputError(f"{path}: no such file")
-    try:
-        f = h5py.File(path, "r")
-    except OSError as e:
-        raise InputError(f"{path}: not an HDF5 file ({e})") from None
-    with f:
-        if f.attrs.get("kind") != "sweep" or "spectrum" not in f:
-            kind = f.attrs.get("kind", "unknown")
-            raise InputError(f"{path}: not a sweep file (kind `{kind}`; `quakejoint sweep` writes one)")
-        _verify(f, path)
-        s = f["spectrum"]
-        wj, woj = s["with_joint"], s["without_joint"]
-        special = {"status", "message", "validity", "findings"}
-        with_joint = {k: wj[k][()] for k in wj if k not in special}
-        without_joint = {k: woj[k][()] for k in woj}
-        units = {k: str(wj[k].attrs.get("units", "")) for k in wj if k not in special}
-        units.update({k: str(woj[k].attrs.get("units", "")) for k in woj})
-        modal = "period_scale" in s
-        joints = {}
-        if "joints" in f:
-            for k in range(1, len(f["joints"]) + 1):
-                g = f["joints"][str(k)]
-                name = str(g.attrs["name"])
-                joints[name] = {n: g[n][()] for n in g}
-                units.update({f"{name}:{n}": str(g[n].attrs.get("units", "")) for n in g if n != "validity"})
-        sweep = Sweep(
-            path=path,
-            cases=list(_text(s["case"][()])),
-            records=list(_text(s["record"][()])),
-            damping=s["damping"][()],
-            periods=s["longest_period" if modal else "period"][()],
-            period_scales=s["period_scale"][()] if modal else None,
-            joints=joints,
-            with_joint=with_joint,
-            without_joint=without_joint,
-            units=units,
-            status=wj["status"][()],
-            message=_text(wj["message"][()]),
-            validity=wj["validity"][()],
-            findings=_text(wj["findings"][()]),
-            reduction=s["reduction"][()],
-            flag_names=_flag_names(str(wj["validity"].attrs.get("meaning", ""))),
-            attrs={k: (v.item() if hasattr(v, "item") else v) for k, v in f.attrs.items()},
-            suite=_suite(f),
-            fragility=_fragility(f),
-        )
-        sweep.statistics = _statistics(s) if "statistics" in s else None
-        return sweep
+    d = read_sweep_file(path)
+    sweep = Sweep(
+        path=path,
+        cases=list(d["cases"]),
+        records=list(d["records"]),
+        damping=d["damping"],
+        periods=d["periods"],
+        period_scales=d["period_scales"],
+        joints=d["joints"],
+        with_joint=d["with_joint"],
+        without_joint=d["without_joint"],
+        units=d["units"],
+        status=d["status"],
+        message=_text(d["message"]),
+        validity=d["validity"],
+        findings=_text(d["findings"]),
+        reduction=d["reduction"],
+        flag_names=[tuple(p) for p in d["flag_names"]],
+        attrs=d["attrs"],
+        suite=d["suite"],
+        fragility=_fragility(d["fragility"]),
+        statistics=d["statistics"],
+    )
+    return sweep
 
 
 @dataclass(repr=False)
@@ -420,100 +388,29 @@ class Fragility:
         return self.limit_states[key]
 
 
-def _fragility(f) -> Optional[Fragility]:
-    if "fragility" not in f:
+def _fragility(d) -> Optional[Fragility]:
+    if d is None:
         return None
-    g = f["fragility"]
     states = {}
-    # in the config's order (the attribute index)
-    keys = sorted((k for k in g if isinstance(g[k], h5py.Group)), key=lambda k: int(g[k].attrs.get("index", 0)))
-    for key in keys:
-        h = g[key]
-        arrays = {n: h[n][()] for n in h}
+    # in the config's order
+    for ls in d["limit_states"]:
+        arrays = dict(ls["arrays"])
         arrays["note"] = _text(arrays["note"])
-        states[key] = LimitStateFragility(
-            key=key,
-            name=str(h.attrs["name"]),
-            kind=str(h.attrs["kind"]),
-            definition=str(h.attrs["definition"]),
-            arrays=arrays,
+        states[ls["key"]] = LimitStateFragility(
+            key=ls["key"], name=ls["name"], kind=ls["kind"], definition=ls["definition"], arrays=arrays
         )
-    sa = g.attrs["measure"] == "sa"
     return Fragility(
-        measure=str(g.attrs["measure"]),
-        measure_label=str(g.attrs["measure_label"]),
-        measure_period=float(g["measure_period"][()]) if sa else None,
-        measure_damping=float(g["measure_damping"][()]) if sa else None,
-        levels=g["levels"][()],
-        ground_records=list(_text(g["ground_record"][()])),
-        ground_intensity=g["ground_intensity"][()],
-        record_ground=g["record_ground"][()],
-        record_stripe=g["record_stripe"][()],
-        record_factor=g["record_factor"][()],
-        failed=str(g.attrs["failed"]),
-        hazard=(g["hazard_intensity"][()], g["hazard_frequency"][()]) if "hazard_intensity" in g else None,
+        measure=d["measure"],
+        measure_label=d["measure_label"],
+        measure_period=d["measure_period"],
+        measure_damping=d["measure_damping"],
+        levels=d["levels"],
+        ground_records=list(d["ground_records"]),
+        ground_intensity=d["ground_intensity"],
+        record_ground=d["record_ground"],
+        record_stripe=d["record_stripe"],
+        record_factor=d["record_factor"],
+        failed=d["failed"],
+        hazard=d["hazard"],
         limit_states=states,
     )
-
-
-def _verify(f, path: str) -> None:
-    """Reads every dataset of the file, so that HDF5 checks each one's
-    checksum (docs/hdf5-layout.md, "Checksums"), and checks the reduction
-    against the spectra it is computed from: a damaged file is refused,
-    naming the dataset, never read as a good one."""
-    again = (
-        " (a sweep's output: run the sweep again, which rebuilds it from its journal; a merged file: merge its "
-        "shards again)"
-    )
-
-    def walk(group, prefix):
-        # by the links' names, which live in the group: a damaged object
-        # header is then named when it is opened
-        for key in group.keys():
-            name = f"{prefix}/{key}"
-            try:
-                obj = group[key]
-                if isinstance(obj, h5py.Dataset):
-                    obj[()]
-            except (OSError, KeyError, ValueError, RuntimeError) as e:
-                raise InputError(f"{path}: {name} is damaged: it cannot be read ({e}){again}") from None
-            if isinstance(obj, h5py.Group):
-                walk(obj, name)
-
-    try:
-        walk(f, "")
-    except (OSError, RuntimeError) as e:
-        raise InputError(f"{path}: the file is damaged ({e}){again}") from None
-    s = f["spectrum"]
-    sa, without = s["with_joint/sa"][()], s["without_joint/sa"][()]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # (a bridge given by its modes: each case's bridge alone)
-        expected = 1.0 - sa / (without if without.ndim == sa.ndim else without[np.newaxis])
-    if not np.array_equal(s["reduction"][()], expected, equal_nan=True):
-        raise InputError(
-            f"{path}: /spectrum/reduction does not match the spectra with and without the joint it is derived "
-            f"from: the file is damaged or was changed after it was written{again}"
-        )
-
-
-def _statistics(s) -> dict:
-    g = s["statistics"]
-    out = {k: {n: g[k][n][()] for n in g[k]} for k in ("with_joint", "without_joint", "reduction")}
-    out["count"] = g["count"][()]
-    out["flagged"] = g["flagged"][()]
-    return out
-
-
-def _suite(f) -> Optional[dict]:
-    if "suite" not in f:
-        return None
-    g = f["suite"]
-    out = {k: str(g.attrs[k]) for k in ("target", "target_config", "rule")}
-    out["ec8_satisfied"] = bool(g.attrs["ec8_satisfied"])
-    for k in ("factor", "range", "target_sa"):
-        out[k] = g[k][()]
-    for k in ("rule_factor", "min_ratio", "min_ratio_period", "pga_ratio"):
-        out[k] = float(g[k][()])
-    for k in ("period", "target", "mean"):
-        out[f"fit_{k}"] = g["fit"][k][()]
-    return out

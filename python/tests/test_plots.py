@@ -139,7 +139,7 @@ def test_the_sub_gap_panel_shows_the_governing_opening_and_the_capacity(opening_
     with h5py.File(opening_beyond_capacity) as f:
         narrow, wide = f["history/subgaps"][()], f["history/subgaps_wide"][()]
         largest, smallest = f["result/max_subgap"][()], f["result/min_subgap"][()]
-        assert "capacity_exceeded" in f.attrs["validity_label"]
+        assert "capacity_exceeded" in f.attrs["validity_label"].decode()
     # the run's reported extremes are in the stored histories: the wider end
     # holds the opening the run is flagged for, the narrower the closing
     assert wide.max() == largest and narrow.min() == smallest and (wide >= narrow).all()

@@ -163,7 +163,7 @@ def test_two_joints_on_a_modal_bridge_in_the_cli_python_and_the_run_file(cli, tw
     assert r.joints[0]["impacts"] == out["joints"][0]["impacts"]
     assert [p["sd"] for p in r.points] == [p["sd"] for p in out["points"]]
     with h5py.File(path) as f:
-        assert f["joints/1"].attrs["name"] == "right abutment"
+        assert f["joints/1"].attrs["name"].decode() == "right abutment"
         assert f["joints/1/peak_joint_force"][()] == out["joints"][0]["peak_joint_force"]
         assert f["points/sa_without_joint"][()].tolist() == [p["sa_without_joint"] for p in out["points"]]
         assert f["result/sa"][()] == out["sa"]

@@ -117,7 +117,7 @@ def test_to_dataframe_has_one_row_per_job(one_record_sweep):
         for name, (ds, with_joint) in columns.items():
             values = ds[()] if with_joint else np.broadcast_to(ds[()][None], shape)
             np.testing.assert_array_equal(df[name].to_numpy(), values.ravel(), err_msg=name)
-            assert df.attrs["units"][name] == ds.attrs["units"], name
+            assert df.attrs["units"][name] == ds.attrs["units"].decode(), name
         wj = f["spectrum/with_joint"]
         np.testing.assert_array_equal(df["reduction"].to_numpy(), sp["reduction"][()].ravel())
         np.testing.assert_array_equal(df["status"].to_numpy(), wj["status"][()].ravel())

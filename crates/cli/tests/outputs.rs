@@ -21,10 +21,9 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use common::{config, dir, ok, root, run};
-use hdf5::types::VarLenUnicode;
 
 fn attr_string(loc: &hdf5::Location, name: &str) -> String {
-    loc.attr(name).unwrap_or_else(|_| panic!("attribute {name}")).read_scalar::<VarLenUnicode>().unwrap().to_string()
+    quakejoint_io::h5::read_attr_str(loc, name).unwrap_or_else(|e| panic!("attribute {name}: {e}"))
 }
 
 /// Every object path of a file (groups and datasets), and checks on the

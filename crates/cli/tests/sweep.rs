@@ -77,7 +77,7 @@ fn sweep_layout_and_a_spot_value_against_simulate() {
     assert_eq!(rec.dataset("acceleration").unwrap().shape(), vec![7999]);
     for (name, units) in [("dt", "s"), ("scale", "m/s^2 per file unit"), ("pga", "m/s^2")] {
         let ds = rec.dataset(name).unwrap();
-        assert_eq!(ds.attr("units").unwrap().read_scalar::<hdf5::types::VarLenUnicode>().unwrap().as_str(), units);
+        assert_eq!(quakejoint_io::h5::read_attr_str(&ds, "units").unwrap(), units);
     }
     for attr in ["source", "sha256", "file_units"] {
         assert!(rec.attr(attr).is_ok(), "record attribute {attr}");
@@ -437,7 +437,7 @@ fn stored_histories_say_whether_their_job_was_valid() {
     let file = hdf5::File::open(&out).unwrap();
     let g = file.group("histories/job_1").unwrap();
     assert_eq!(g.attr("validity").unwrap().read_scalar::<u32>().unwrap(), 0);
-    let label: hdf5::types::VarLenUnicode = g.attr("validity_label").unwrap().read_scalar().unwrap();
+    let label = quakejoint_io::h5::read_attr_str(&g, "validity_label").unwrap();
     assert_eq!(label.as_str(), "ok");
     let gaps = g.dataset("subgaps").unwrap();
     assert_eq!(gaps.shape()[0], 4, "Nc + 1 sub-gaps");

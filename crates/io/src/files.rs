@@ -23,7 +23,8 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
 
 /// What an existing file is, in words (for refusing to overwrite it).
 pub fn describe(path: &Path) -> String {
-    let head = std::fs::File::open(path)
+    let head = quakejoint_motion::regular_file(path)
+        .and_then(|_| std::fs::File::open(path))
         .and_then(|mut f| {
             let mut b = [0u8; 8];
             std::io::Read::read(&mut f, &mut b).map(|n| b[..n].to_vec())
@@ -43,9 +44,8 @@ pub fn describe(path: &Path) -> String {
 
 /// The `kind` attribute of a quakejoint HDF5 file, if `path` is one.
 pub fn kind_of(path: &Path) -> Option<String> {
-    let file = hdf5::File::open(path).ok()?;
-    let kind = file.attr("kind").ok()?.read_scalar::<hdf5::types::VarLenUnicode>().ok()?;
-    Some(kind.as_str().to_string())
+    let file = crate::read::open(path).ok()?;
+    crate::h5::read_attr_str(&file, "kind").ok()
 }
 
 /// Refuses an output name the HDF5 library cannot take (it needs UTF-8),

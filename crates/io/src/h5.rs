@@ -12,10 +12,13 @@
 //!   global heap, which has no checksum);
 //! - scalar datasets (which cannot be chunked) are stored compact, inside
 //!   their object header, and files are written in the HDF5 1.10 format,
-//!   whose object headers and indexes carry checksums too.
+//!   whose object headers and indexes carry checksums too;
+//! - attribute text is fixed-length ([`attr_str`]), so it is stored in the
+//!   attribute's message, under the object header's checksum (or the dense
+//!   attribute storage's), not in the global heap, which has none.
 //!
-//! The readers here ([`read_strings`]) read these and the variable-length
-//! strings of files written before.
+//! The readers here ([`read_strings`], [`read_attr_str`]) read these and
+//! the variable-length strings of files written before.
 
 use std::path::{Path, PathBuf};
 
@@ -68,17 +71,56 @@ pub fn temporary_name(path: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
-/// Reads a string attribute (refusing text that is not UTF-8, as a
-/// damaged attribute may be).
+/// Reads a string attribute: fixed-length text as [`attr_str`] writes it,
+/// or the variable-length text of files written before; text that is not
+/// UTF-8 (a damaged attribute) is an error naming it.
 pub fn read_attr_str(loc: &hdf5::Location, name: &str) -> hdf5::Result<String> {
-    let value = loc.attr(name)?.read_scalar::<VarLenUnicode>()?;
-    utf8(value.as_bytes(), &format!("attribute {name}"))
+    use hdf5::types::TypeDescriptor as TD;
+    use hdf5_sys::h5a::H5Aread;
+    let attr = loc.attr(name)?;
+    let what = format!("attribute {name}");
+    let dtype = attr.dtype()?;
+    match dtype.to_descriptor()? {
+        TD::VarLenUnicode => utf8(attr.read_scalar::<VarLenUnicode>()?.as_bytes(), &what),
+        TD::VarLenAscii => utf8(attr.read_scalar::<hdf5::types::VarLenAscii>()?.as_bytes(), &what),
+        TD::FixedUnicode(width) | TD::FixedAscii(width) => {
+            if attr.space()?.size() != 1 || width > MAX_READ_BYTES {
+                return Err(hdf5::Error::from(format!("{what}: not one text of at most 2 GiB")));
+            }
+            let mut bytes = vec![0u8; width];
+            let (attr_id, type_id) = (attr.id(), dtype.id());
+            // SAFETY: `bytes` holds one element of the attribute's own
+            // type (width bytes), and the attribute holds one element.
+            hdf5::sync::sync(|| hdf5::h5check(unsafe { H5Aread(attr_id, type_id, bytes.as_mut_ptr().cast()) }))?;
+            utf8(trim_nul(&bytes), &what)
+        }
+        other => Err(hdf5::Error::from(format!("{what}: {other:?} where text was expected"))),
+    }
 }
 
-/// Writes a string attribute.
+/// Writes a string attribute as fixed-length UTF-8 text (as long as the
+/// text, at least one byte, padded with a NUL): the text is then stored in
+/// the attribute's message, inside the object header (or the dense
+/// attribute storage), both under HDF5's metadata checksums, where
+/// variable-length text would live in the global heap, which has none.
+/// h5py reads it as bytes (`.decode()` gives `str`).
 pub fn attr_str(loc: &hdf5::Location, name: &str, value: &str) -> hdf5::Result<()> {
-    let v: VarLenUnicode = value.parse().map_err(|e| hdf5::Error::from(format!("{e}")))?;
-    loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&v)
+    use hdf5_sys::h5a::H5Awrite;
+    let width = value.len().max(1);
+    let dtype = hdf5::Datatype::from_descriptor(&hdf5::types::TypeDescriptor::FixedUnicode(width))?;
+    let attr = loc.new_attr_builder().empty_as(&dtype).create(name)?;
+    let mut bytes = value.as_bytes().to_vec();
+    bytes.resize(width, 0);
+    let (attr_id, type_id) = (attr.id(), dtype.id());
+    // SAFETY: both identifiers are open; `bytes` holds exactly one element
+    // of `dtype` (width bytes), the attribute's one element.
+    hdf5::sync::sync(|| hdf5::h5check(unsafe { H5Awrite(attr_id, type_id, bytes.as_ptr().cast()) }))?;
+    Ok(())
+}
+
+/// `bytes` without the NULs that pad fixed-length text.
+fn trim_nul(bytes: &[u8]) -> &[u8] {
+    &bytes[..bytes.iter().rposition(|&c| c != 0).map_or(0, |i| i + 1)]
 }
 
 /// Largest chunk [bytes]: the arrays of a sweep are mostly one chunk.
@@ -204,10 +246,7 @@ pub fn read_strings(ds: &hdf5::Dataset) -> hdf5::Result<Vec<String>> {
                     H5Dread(ds_id, type_id, H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.as_mut_ptr().cast())
                 })
             })?;
-            bytes
-                .chunks_exact(width)
-                .map(|b| utf8(&b[..b.iter().rposition(|&c| c != 0).map_or(0, |i| i + 1)], &name))
-                .collect()
+            bytes.chunks_exact(width).map(|b| utf8(trim_nul(b), &name)).collect()
         }
         other => Err(hdf5::Error::from(format!("{name}: {other:?} where text was expected"))),
     }
@@ -238,6 +277,75 @@ extern "C" {
     fn H5DSset_scale(dsid: i64, dimname: *const std::ffi::c_char) -> i32;
     fn H5DSattach_scale(did: i64, dsid: i64, idx: std::ffi::c_uint) -> i32;
     fn H5DSset_label(did: i64, idx: std::ffi::c_uint, label: *const std::ffi::c_char) -> i32;
+    fn H5DSget_label(did: i64, idx: std::ffi::c_uint, label: *mut std::ffi::c_char, size: usize) -> isize;
+    fn H5DSget_num_scales(did: i64, idx: std::ffi::c_uint) -> i32;
+    fn H5DSget_scale_name(dsid: i64, name: *mut std::ffi::c_char, size: usize) -> isize;
+    fn H5DSiterate_scales(
+        did: i64,
+        dim: std::ffi::c_uint,
+        idx: *mut std::ffi::c_int,
+        visitor: extern "C" fn(i64, std::ffi::c_uint, i64, *mut std::ffi::c_void) -> i32,
+        data: *mut std::ffi::c_void,
+    ) -> i32;
+}
+
+/// The attributes HDF5's dimension scales keep (`H5DS`): the scale's
+/// `CLASS` and `NAME`, and on a dataset `DIMENSION_LIST` (references) and
+/// `DIMENSION_LABELS`, which live in the global heap and are checked by
+/// [`check_scales`] instead of being read as attributes.
+pub const SCALE_ATTRIBUTES: [&str; 5] = ["CLASS", "NAME", "REFERENCE_LIST", "DIMENSION_LIST", "DIMENSION_LABELS"];
+
+/// Text of at most 256 bytes that an `H5DS` getter writes into a buffer.
+fn ds_text(get: impl Fn(*mut std::ffi::c_char, usize) -> isize) -> Option<String> {
+    let mut buf = vec![0u8; 257];
+    let n = hdf5::sync::sync(|| get(buf.as_mut_ptr().cast(), buf.len()));
+    if n < 0 {
+        return None;
+    }
+    Some(String::from_utf8_lossy(trim_nul(&buf[..(n as usize).min(256)])).into_owned())
+}
+
+extern "C" fn scale_name(_did: i64, _dim: std::ffi::c_uint, dsid: i64, data: *mut std::ffi::c_void) -> i32 {
+    // SAFETY: `data` is the `Option<String>` that `check_scales` passes
+    // for the call, and `dsid` an open scale the library hands over.
+    let out = unsafe { &mut *(data as *mut Option<String>) };
+    *out = ds_text(|b, n| unsafe { H5DSget_scale_name(dsid, b, n) });
+    1
+}
+
+/// Checks the dimension scales attached to `ds`: each axis's label and the
+/// name of the scale attached to it must agree (they are written equal).
+/// Both live where no checksum covers them (the labels' text and the list
+/// of references in the global heap), so a damaged one is named here.
+pub fn check_scales(ds: &hdf5::Dataset) -> hdf5::Result<()> {
+    if !ds.attr_names()?.iter().any(|n| n == "DIMENSION_LIST") {
+        return Ok(());
+    }
+    let damaged =
+        |axis: usize| hdf5::Error::from(format!("{}: the dimension scale of axis {axis} is damaged", ds.name()));
+    let did = ds.id();
+    for axis in 0..ds.ndim() {
+        let i = axis as std::ffi::c_uint;
+        // SAFETY: `did` is an open dataset and `i` one of its axes.
+        let n = hdf5::sync::sync(|| unsafe { H5DSget_num_scales(did, i) });
+        if n < 0 {
+            return Err(damaged(axis));
+        }
+        if n == 0 {
+            continue;
+        }
+        let label = ds_text(|b, size| unsafe { H5DSget_label(did, i, b, size) }).ok_or_else(|| damaged(axis))?;
+        let mut name: Option<String> = None;
+        let mut idx: std::ffi::c_int = 0;
+        // SAFETY: the visitor writes into `name`, which outlives the call.
+        let rc = hdf5::sync::sync(|| unsafe {
+            H5DSiterate_scales(did, i, &mut idx, scale_name, (&mut name as *mut Option<String>).cast())
+        });
+        if rc < 0 || name.as_deref() != Some(label.as_str()) {
+            return Err(damaged(axis));
+        }
+    }
+    Ok(())
 }
 
 /// Makes `scale` a dimension scale named `name` (readers such as h5py and

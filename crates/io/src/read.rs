@@ -3,9 +3,20 @@
 //! is damaged: its checksum fails`), and an array larger than any output
 //! holds is refused before it is allocated.
 
+use std::path::Path;
+
 use hdf5::{Dataset, Group, H5Type};
 
 use crate::h5::{read_attr_str, read_strings};
+
+/// Opens an HDF5 file to read: only a regular file is opened (a FIFO
+/// would block the library until something writes to it, a device never
+/// ends), through [`quakejoint_motion::regular_file`], the check of every
+/// input the tool opens.
+pub fn open(path: &Path) -> hdf5::Result<hdf5::File> {
+    quakejoint_motion::regular_file(path).map_err(|e| hdf5::Error::from(e.to_string()))?;
+    hdf5::File::open(path)
+}
 
 /// An error about one object of the file, in words: a failed checksum
 /// says the file is damaged.
@@ -70,4 +81,61 @@ pub fn rows(g: &Group, name: &str) -> hdf5::Result<Vec<Vec<f64>>> {
     let a: ndarray::Array2<f64> =
         crate::h5::check_extent(&ds).and_then(|_| ds.read_2d()).map_err(|e| about(&path_of(g, name), e))?;
     Ok(a.rows().into_iter().map(|r| r.to_vec()).collect())
+}
+
+/// The value of an attribute: text, or a number.
+#[derive(Debug, Clone, PartialEq)]
+pub enum AttrValue {
+    /// Text.
+    Text(String),
+    /// A signed whole number.
+    Int(i64),
+    /// An unsigned whole number.
+    UInt(u64),
+    /// A real number.
+    Float(f64),
+}
+
+/// Every attribute of `loc`, read (text checked as UTF-8), in name order,
+/// but the dimension scales' references and labels
+/// ([`crate::h5::check_scales`] checks those); a damaged one named.
+pub fn attributes(loc: &hdf5::Location) -> hdf5::Result<Vec<(String, AttrValue)>> {
+    use hdf5::types::TypeDescriptor as TD;
+    let mut names = loc.attr_names().map_err(|e| about(&format!("{} attributes", loc.name()), e))?;
+    names.retain(|n| !crate::h5::SCALE_ATTRIBUTES[2..].contains(&n.as_str()));
+    names.sort();
+    names
+        .into_iter()
+        .map(|name| {
+            let what = format!("{} attribute {name}", loc.name());
+            let a = loc.attr(&name).map_err(|e| about(&what, e))?;
+            let value = match a.dtype().and_then(|t| t.to_descriptor()).map_err(|e| about(&what, e))? {
+                TD::Integer(_) => AttrValue::Int(a.read_scalar().map_err(|e| about(&what, e))?),
+                TD::Unsigned(_) | TD::Boolean => AttrValue::UInt(a.read_scalar().map_err(|e| about(&what, e))?),
+                TD::Float(_) => AttrValue::Float(a.read_scalar().map_err(|e| about(&what, e))?),
+                _ => AttrValue::Text(attr(loc, &name)?),
+            };
+            Ok((name, value))
+        })
+        .collect()
+}
+
+/// Reads every attribute of every object in `group` and below (the
+/// attributes a reader does not use itself too): attribute text is under
+/// HDF5's metadata checksums (`crate::h5::attr_str`), which a read checks,
+/// so a damaged attribute anywhere is named.
+pub fn check_attributes(group: &Group) -> hdf5::Result<()> {
+    attributes(group)?;
+    for name in group.member_names().map_err(|e| about(&group.name(), e))? {
+        let path = path_of(group, &name);
+        match group.group(&name) {
+            Ok(g) => check_attributes(&g)?,
+            Err(_) => {
+                let ds = group.dataset(&name).map_err(|e| about(&path, e))?;
+                attributes(&ds)?;
+                crate::h5::check_scales(&ds).map_err(|e| about(&path, e))?;
+            }
+        }
+    }
+    Ok(())
 }

@@ -14,6 +14,10 @@ pub const MAX_RECORD_BYTES: u64 = 1 << 30;
 /// Largest config file read \[bytes\]: configs are a few kilobytes.
 pub const MAX_CONFIG_BYTES: u64 = 16 << 20;
 
+/// Largest modes file or hazard curve read \[bytes\]: a modes file of a
+/// thousand modes at a hundred points is a few megabytes.
+pub const MAX_TABLE_BYTES: u64 = 256 << 20;
+
 /// What a path that is not a regular file is, in words.
 fn kind(meta: &std::fs::Metadata) -> &'static str {
     use std::os::unix::fs::FileTypeExt;
@@ -31,14 +35,23 @@ fn kind(meta: &std::fs::Metadata) -> &'static str {
     }
 }
 
-/// The bytes of the regular file `path`, at most `max_bytes` of them: a
-/// FIFO, a device, a socket or a folder is refused without being opened,
-/// and so is a larger file (the error says which limit).
-pub fn read_input(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
+/// The metadata of `path` if it is a regular file: a FIFO, a device, a
+/// socket or a folder is refused without being opened (the error says
+/// what it is). Every file the tool opens goes through this check, the
+/// ones it reads whole ([`read_input`]) and the HDF5 files it opens.
+pub fn regular_file(path: &Path) -> std::io::Result<std::fs::Metadata> {
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {
         return Err(Error::new(ErrorKind::InvalidInput, format!("it is {}, not a file that can be read", kind(&meta))));
     }
+    Ok(meta)
+}
+
+/// The bytes of the regular file `path`, at most `max_bytes` of them: a
+/// FIFO, a device, a socket or a folder is refused without being opened
+/// ([`regular_file`]), and so is a larger file (the error says which limit).
+pub fn read_input(path: &Path, max_bytes: u64) -> std::io::Result<Vec<u8>> {
+    let meta = regular_file(path)?;
     let too_big = || {
         Error::new(ErrorKind::InvalidInput, format!("it is larger than {} MB, the most that is read", max_bytes >> 20))
     };

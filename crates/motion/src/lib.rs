@@ -66,7 +66,7 @@ pub use formats::channel::{Channel, ChannelChoice, Orientation};
 pub use formats::{
     cosmos::parse_cosmos, csmip::parse_csmip, detect_format, esm::parse_esm, knet::parse_knet, sniff_format,
 };
-pub use input::{read_input, read_input_text, MAX_CONFIG_BYTES, MAX_RECORD_BYTES};
+pub use input::{read_input, read_input_text, regular_file, MAX_CONFIG_BYTES, MAX_RECORD_BYTES, MAX_TABLE_BYTES};
 pub use oscillator::Oscillator;
 pub use record::{
     load_record, load_record_from_samples, load_record_from_str, sha256_hex, LoadedRecord, RawRecord, Record,

@@ -9,7 +9,8 @@
 //!   released and Ctrl-C honoured;
 //! - `calibrate`: the joint's link element and its exports;
 //! - `fragility`: lognormal fragility fits, their bootstrap, and the mean
-//!   annual frequency of a limit state.
+//!   annual frequency of a limit state;
+//! - `sweep`: sweep files read and checked by the command line's reader.
 //!
 //! Errors are Python exceptions with the command line's messages:
 //! `InputError` where the command line exits with 2 (bad input),
@@ -27,6 +28,7 @@ mod convert;
 mod fragility;
 mod record;
 mod run;
+mod sweep;
 
 create_exception!(_quakejoint, Error, PyException, "Base class of the errors of quakejoint.");
 create_exception!(
@@ -102,5 +104,6 @@ fn _quakejoint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     run::register(m)?;
     calibrate::register(m)?;
     fragility::register(m)?;
+    sweep::register(m)?;
     Ok(())
 }

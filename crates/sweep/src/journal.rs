@@ -311,7 +311,7 @@ impl Journal {
     /// off a torn last frame and rewrites a journal with damage in the
     /// middle. A journal cut while it was being created is started afresh.
     pub fn continue_or_restart(path: &Path, expected: &Header) -> Result<Continued, SweepError> {
-        let bytes = std::fs::read(path).map_err(|e| jerr(path, format!("cannot read the journal: {e}")))?;
+        let bytes = read_bytes(path).map_err(|e| jerr(path, format!("cannot read the journal: {e}")))?;
         let Some(contents) = parse(&bytes, path)? else {
             // killed while the journal was being created: nothing finished yet
             std::fs::remove_file(path).map_err(|e| io_error(path, e.to_string()))?;
@@ -372,6 +372,12 @@ impl Journal {
     }
 }
 
+/// A journal's bytes: a regular file only (a FIFO or a device in its place
+/// is refused, not read), of any size.
+fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    quakejoint_motion::read_input(path, u64::MAX - 1)
+}
+
 /// Reads a journal without opening it for writing (for inspection and
 /// tests): every entry in file order.
 pub fn read(path: &Path) -> Result<(Header, Vec<JobResult>), SweepError> {
@@ -383,13 +389,13 @@ pub fn read(path: &Path) -> Result<(Header, Vec<JobResult>), SweepError> {
 /// `None` for a journal cut while it was being created (which a sweep
 /// starts afresh, [`Journal::continue_or_restart`]).
 pub fn read_started(path: &Path) -> Result<Option<Contents>, SweepError> {
-    let bytes = std::fs::read(path).map_err(|e| jerr(path, e.to_string()))?;
+    let bytes = read_bytes(path).map_err(|e| jerr(path, e.to_string()))?;
     parse(&bytes, path)
 }
 
 /// Reads a journal's contents, damage included, without changing it.
 pub fn read_contents(path: &Path) -> Result<Contents, SweepError> {
-    let bytes = std::fs::read(path).map_err(|e| jerr(path, e.to_string()))?;
+    let bytes = read_bytes(path).map_err(|e| jerr(path, e.to_string()))?;
     parse(&bytes, path)?.ok_or_else(|| jerr(path, "no header: the journal was cut while it was being created"))
 }
 

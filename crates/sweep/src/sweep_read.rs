@@ -278,12 +278,23 @@ fn read_histories(file: &hdf5::File, f: &mut SweepFile) -> hdf5::Result<()> {
     Ok(())
 }
 
+/// Why a sweep file is refused, with what to do about it, in the words
+/// every reader uses (the command line's `compare`, Python's `read_sweep`).
+pub fn refusal(e: &OutputError) -> String {
+    format!(
+        "{}: not a readable sweep file ({}) (a sweep's output: run the sweep again, which rebuilds it from its \
+         journal; a merged file: merge its shards again)",
+        e.path, e.message
+    )
+}
+
 /// Reads a sweep file written by [`crate::sweep_h5::write_sweep`], every
 /// dataset of it, and checks what is derived against what it is derived
 /// from (module doc).
 pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
     let inner = || -> hdf5::Result<SweepFile> {
-        let file = hdf5::File::open(path)?;
+        let file = quakejoint_io::read::open(path)?;
+        quakejoint_io::read::check_attributes(&file)?;
         if attr(&file, "kind")? != "sweep" {
             return Err(hdf5::Error::from("not a sweep file (attribute kind != sweep)"));
         }

@@ -111,7 +111,8 @@ impl ModalBridge {
         let file = path.display().to_string();
         let io = |message: String| ModelError::Io { file: file.clone(), message };
         // the bytes hashed are the bytes parsed
-        let bytes = std::fs::read(path).map_err(|e| io(e.to_string()))?;
+        let bytes =
+            quakejoint_motion::read_input(path, quakejoint_motion::MAX_TABLE_BYTES).map_err(|e| io(e.to_string()))?;
         let text = String::from_utf8(bytes).map_err(|e| io(format!("not UTF-8 text: {e}")))?;
         let mut bridge = Self::parse(&text, &file)?;
         bridge.sha256 = quakejoint_motion::sha256_hex(text.as_bytes());

@@ -28,7 +28,9 @@ pub fn three_span_data(root: &Path) -> PathBuf {
 /// The `[joint]` tables of a shipped config (`configs/<name>`), without
 /// its other tables.
 pub fn joint_tables(root: &Path, name: &str) -> Result<String, String> {
-    let text = std::fs::read_to_string(root.join("configs").join(name)).map_err(|e| format!("{name}: {e}"))?;
+    let text =
+        quakejoint_motion::read_input_text(&root.join("configs").join(name), quakejoint_motion::MAX_CONFIG_BYTES)
+            .map_err(|e| format!("{name}: {e}"))?;
     let mut keep = false;
     Ok(text
         .lines()
@@ -71,7 +73,8 @@ pub fn run(root: &Path, config: &Config) -> Result<RunResult, String> {
 /// first `samples` samples [m].
 fn opensees_peak(root: &Path, csv: &str, point: &str, samples: usize) -> Result<f64, String> {
     let path = three_span_data(root).join(csv);
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let text = quakejoint_motion::read_input_text(&path, quakejoint_motion::MAX_TABLE_BYTES)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().ok_or("empty CSV")?.split(',').collect();
     let col = header.iter().position(|h| h.starts_with(&format!("{point} u"))).ok_or("no such column")?;
