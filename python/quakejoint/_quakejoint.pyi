@@ -233,13 +233,22 @@ def fit_fragility(intensities: Any, runs: Any, exceeded: Any) -> dict[str, float
     ...
 
 def bootstrap_fragility(
-    outcomes: list[list[int]], intensities: Any, samples: int = 1000, seed: int = 0, level: float = 0.9
+    outcomes: Any,
+    intensities: Any,
+    samples: Optional[int] = None,
+    seed: Optional[int] = None,
+    level: Optional[float] = None,
+    hazard_intensity: Any = None,
+    hazard_frequency: Any = None,
 ) -> dict[str, Any]:
-    """Bootstrap intervals of the fragility over records (outcomes 1, 0 or -1 per record and stripe)."""
+    """Bootstrap intervals of the fragility over records (outcomes 1, 0 or -1 per record and stripe; samples 1 to
+    100000, 1000 if None; seed 0 to 2**64 - 1, 0 if None; level 0.9 if None); with a hazard curve (intensity [g],
+    annual frequency [1/year]) the annual frequency's interval too."""
     ...
 
 def limit_state_frequency(median: float, beta: float, hazard_intensity: Any, hazard_frequency: Any) -> float:
-    """Mean annual frequency of the limit state over a hazard curve [1/year]."""
+    """Mean annual frequency of the limit state over a hazard curve (intensity [g], annual frequency [1/year]) [1/year],
+    in closed form; a UserWarning when more than 1 % of it comes from beyond the curve's ends."""
     ...
 
 def service(config: Optional[Config] = None) -> dict[str, Any]:

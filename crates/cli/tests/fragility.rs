@@ -91,7 +91,7 @@ fn stripes_scale_every_record_to_every_level_and_count_the_runs() {
         assert!((run.factor * fr.stripes.ground[run.ground].1 / level - 1.0).abs() < 1e-12);
     }
     assert!(r.status.iter().all(|&s| s == status::OK));
-    let evaluated = quakejoint_sweep::fragility::evaluate(&fr.spec, &fr.stripes, r);
+    let evaluated = fr.evaluate(r);
     let sd = Results::field("sd");
     for j in 0..r.status.len() {
         assert_eq!(evaluated[0].outcome[j], i8::from(Flags(r.validity[j]).contains(Flags::CAPACITY_EXCEEDED)));
@@ -184,7 +184,7 @@ fn failed_runs_are_left_out_or_counted_as_the_config_says() {
         let r = &f.results;
         let failed: Vec<usize> = (0..r.status.len()).filter(|&j| r.status[j] != status::OK).collect();
         assert!(!failed.is_empty(), "the step limit stops some runs");
-        let evaluated = quakejoint_sweep::fragility::evaluate(&fr.spec, &fr.stripes, r);
+        let evaluated = fr.evaluate(r);
         for j in &failed {
             assert_eq!(evaluated[0].outcome[*j], outcome_of_failed, "{policy}: job {j}");
         }

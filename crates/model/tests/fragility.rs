@@ -13,9 +13,7 @@
 //! - the bootstrap gives the same intervals for the same seed, bit for bit;
 //! - counts that determine no fragility are refused, saying why.
 
-use quakejoint_model::fragility::{
-    bootstrap, fit, mean_annual_frequency, phi_cdf, Fragility, FragilityError, SplitMix64, Stripe,
-};
+use quakejoint_model::fragility::{bootstrap, fit, phi_cdf, Fragility, FragilityError, Hazard, SplitMix64, Stripe};
 
 /// Counts of `records` runs at each level, each exceeding with the
 /// fragility's probability.
@@ -133,14 +131,13 @@ fn risk_of_a_power_law_hazard_is_the_closed_form() {
     let hazard: Vec<(f64, f64)> = [0.05f64, 0.1, 0.3, 1.0, 3.0, 10.0].iter().map(|&x| (x, k0 * x.powf(-k))).collect();
     for (median, beta) in [(0.8, 0.3), (1.2, 0.6)] {
         let f = Fragility { median, beta, log_likelihood: 0.0, se_ln_median: 0.0, se_beta: 0.0 };
-        let lambda = mean_annual_frequency(&f, &hazard).unwrap();
+        let lambda = Hazard::new(hazard.clone()).unwrap().mean_annual_frequency(&f).unwrap();
         let exact = k0 * median.powf(-k) * (k * k * beta * beta / 2.0).exp();
         eprintln!("theta {median}, beta {beta}: {lambda:.6e} per year, closed form {exact:.6e}");
         assert!((lambda / exact - 1.0).abs() < 1e-6, "{lambda} {exact}");
     }
-    let bad = [(1.0, 1e-3), (0.5, 1e-4)];
-    let f = Fragility { median: 1.0, beta: 0.5, log_likelihood: 0.0, se_ln_median: 0.0, se_beta: 0.0 };
-    assert!(mean_annual_frequency(&f, &bad).unwrap_err().to_string().contains("must increase"));
+    let bad = vec![(1.0, 1e-3), (0.5, 1e-4)];
+    assert!(Hazard::new(bad).unwrap_err().to_string().contains("must increase"));
 }
 
 #[test]
@@ -163,9 +160,9 @@ fn bootstrap_is_deterministic_and_brackets_the_estimate() {
         })
         .collect();
     // the interval of the annual frequency brackets the estimate's
-    let hazard: Vec<(f64, f64)> = [0.1, 0.5, 1.0, 3.0].iter().map(|&x: &f64| (x, 1e-4 * x.powf(-2.5))).collect();
+    let hazard = Hazard::new([0.1, 0.5, 1.0, 3.0].iter().map(|&x: &f64| (x, 1e-4 * x.powf(-2.5))).collect()).unwrap();
     let r = quakejoint_model::fragility::bootstrap_risk(&outcomes, &LEVELS, 500, 42, 0.9, Some(&hazard)).unwrap();
-    let lambda = mean_annual_frequency(&fit(&stripes).unwrap(), &hazard).unwrap();
+    let lambda = hazard.mean_annual_frequency(&fit(&stripes).unwrap()).unwrap();
     let [lo, hi] = r.annual_frequency.unwrap();
     assert!(lo < lambda && lambda < hi, "{lambda} in {lo}..{hi}");
     let f = fit(&stripes).unwrap();
@@ -192,7 +189,7 @@ fn separated_resamples_enter_the_intervals_at_beta_zero() {
     // with a power-law hazard, each resample's annual frequency is the
     // hazard at its median (beta 0): k0 gap^-k
     let (k0, k) = (1e-4, 2.5);
-    let hazard: Vec<(f64, f64)> = [0.1, 0.5, 1.0].iter().map(|&x: &f64| (x, k0 * x.powf(-k))).collect();
+    let hazard = Hazard::new([0.1, 0.5, 1.0].iter().map(|&x: &f64| (x, k0 * x.powf(-k))).collect()).unwrap();
     let r = quakejoint_model::fragility::bootstrap_risk(&alike, &levels, 200, 3, 0.9, Some(&hazard)).unwrap();
     let expected = k0 * gap.powf(-k);
     for a in r.annual_frequency.unwrap() {

@@ -17,8 +17,10 @@ use quakejoint_io::OutputError;
 
 /// Version of the sweep file layout (10: sweeps over a bridge given by
 /// its modes; 11: `/fragility`, and the per-job fields
-/// `peak_abutment_force` and `max_impact_speed`).
-pub const SCHEMA_VERSION: u32 = 11;
+/// `peak_abutment_force` and `max_impact_speed`; 12: attribute text
+/// fixed-length, under the metadata checksums, and each fragility curve's
+/// bootstrap key and counts).
+pub const SCHEMA_VERSION: u32 = 12;
 
 /// What a sweep over a bridge given by its modes stores beside the grid.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,7 +1,7 @@
 //! The limit states evaluated on a sweep's results, counted stripe by
 //! stripe and fitted: one curve per case, damping ratio and period.
 
-use quakejoint_model::fragility::{bootstrap_risk, fit, mean_annual_frequency, Fragility, Intervals, Stripe};
+use quakejoint_model::fragility::{bootstrap_risk, fit, Fragility, FragilityError, Hazard, Intervals, Stripe};
 use quakejoint_model::validity::Flags;
 
 use super::spec::{Failed, FragilitySpec, Kind, LimitState};
@@ -41,6 +41,67 @@ pub struct StripeCounts {
     pub flagged: u32,
 }
 
+/// The bootstrap intervals already computed, by the key of their inputs
+/// ([`bootstrap_key`]): the resampling, the one costly part of a fit,
+/// runs once per set of inputs. A sweep file stores each curve's key
+/// beside its intervals, so that reading it back takes them from the file
+/// when (and only when) the inputs it recomputes have the same key.
+#[derive(Debug, Default)]
+pub struct Memo(std::sync::Mutex<std::collections::HashMap<String, Intervals>>);
+
+impl Memo {
+    /// The intervals of `key`, computed by `compute` unless known.
+    fn get_or(
+        &self,
+        key: String,
+        compute: impl FnOnce() -> Result<Intervals, FragilityError>,
+    ) -> Result<Intervals, FragilityError> {
+        if let Some(i) = self.lock().get(&key) {
+            return Ok(i.clone());
+        }
+        let i = compute()?;
+        self.lock().insert(key, i.clone());
+        Ok(i)
+    }
+
+    /// Records the intervals of `key` (read from a file).
+    pub fn insert(&self, key: String, intervals: Intervals) {
+        self.lock().insert(key, intervals);
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, std::collections::HashMap<String, Intervals>> {
+        // (a panic while holding it leaves a map of finished entries)
+        self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
+/// The SHA-256 (hex) of everything a curve's bootstrap depends on: the
+/// method, the records' outcomes at the stripes, the levels, the number
+/// of resamples, the seed, the confidence and the hazard curve.
+pub fn bootstrap_key(spec: &FragilitySpec, levels: &[f64], by_record: &[Vec<Option<bool>>]) -> String {
+    let mut bytes =
+        format!("method {} samples {} seed {} level ", super::h5::METHOD, spec.bootstrap, spec.seed).into_bytes();
+    bytes.extend(spec.confidence.to_bits().to_le_bytes());
+    for x in levels {
+        bytes.extend(x.to_bits().to_le_bytes());
+    }
+    for record in by_record {
+        bytes.push(b'|');
+        bytes.extend(record.iter().map(|o| match o {
+            Some(true) => 1u8,
+            Some(false) => 0,
+            None => 2,
+        }));
+    }
+    if let Some(h) = &spec.hazard {
+        for (im, rate) in h.curve.points() {
+            bytes.extend(im.to_bits().to_le_bytes());
+            bytes.extend(rate.to_bits().to_le_bytes());
+        }
+    }
+    quakejoint_motion::sha256_hex(&bytes)
+}
+
 /// A limit state's fragility for one case, damping ratio and period.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Curve {
@@ -50,6 +111,9 @@ pub struct Curve {
     pub fit: Option<Fragility>,
     /// Its bootstrap intervals, if asked for and determined.
     pub intervals: Option<Intervals>,
+    /// The key of the bootstrap's inputs ([`bootstrap_key`]; empty when
+    /// no bootstrap ran).
+    pub bootstrap_key: String,
     /// Its mean annual frequency at the site \[1/year\] (NaN without a
     /// hazard curve or a fit).
     pub annual_frequency: f64,
@@ -91,8 +155,9 @@ fn outcome_of(ls: &LimitState, spec: &FragilitySpec, r: &Results, j: usize) -> i
     }
 }
 
-/// The limit states of `spec` on `results` (a sweep over `stripes`).
-pub fn evaluate(spec: &FragilitySpec, stripes: &Stripes, results: &Results) -> Vec<LimitStateResult> {
+/// The limit states of `spec` on `results` (a sweep over `stripes`), with
+/// the bootstrap intervals `memo` knows taken from it.
+pub fn evaluate(spec: &FragilitySpec, stripes: &Stripes, results: &Results, memo: &Memo) -> Vec<LimitStateResult> {
     let [nc, nr, nz, nt] = results.dims;
     let n = results.status.len();
     spec.limit_states
@@ -105,7 +170,7 @@ pub fn evaluate(spec: &FragilitySpec, stripes: &Stripes, results: &Results) -> V
                     for t in 0..nt {
                         let jobs: Vec<usize> = (0..nr).map(|rec| ((c * nr + rec) * nz + z) * nt + t).collect();
                         let tally = Tally::of(ls, stripes, results, &outcome, &jobs);
-                        curves.push(curve(spec, stripes, tally));
+                        curves.push(curve(spec, stripes, tally, memo));
                     }
                 }
             }
@@ -167,7 +232,7 @@ impl Tally {
 }
 
 /// Fits one curve from its tally.
-fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
+fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally, memo: &Memo) -> Curve {
     let Tally { counts, by_record, flagged } = tally;
     let data: Vec<Stripe> = stripes
         .levels
@@ -201,12 +266,16 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
         ));
     }
     let fitted = fit(&data);
+    let mut bootstrap_key = String::new();
     let (fit, intervals, annual_frequency) = match fitted {
         Ok(f) => {
-            let hazard = spec.hazard.as_ref().map(|h| &h.0[..]);
+            let hazard = spec.hazard.as_ref().map(|h| &h.curve);
             let intervals = if spec.bootstrap > 0 {
                 let levels = &stripes.levels;
-                match bootstrap_risk(&by_record, levels, spec.bootstrap, spec.seed, spec.confidence, hazard) {
+                bootstrap_key = self::bootstrap_key(spec, levels, &by_record);
+                match memo.get_or(bootstrap_key.clone(), || {
+                    bootstrap_risk(&by_record, levels, spec.bootstrap, spec.seed, spec.confidence, hazard)
+                }) {
                     Ok(i) => {
                         if i.separated > 0 {
                             notes.push(format!(
@@ -226,6 +295,7 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
                     }
                     Err(e) => {
                         notes.push(format!("no intervals: {e}"));
+                        bootstrap_key.clear();
                         None
                     }
                 }
@@ -233,13 +303,13 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
                 None
             };
             let annual = match &spec.hazard {
-                Some((points, _)) => mean_annual_frequency(&f, points).unwrap_or_else(|e| {
+                Some(h) => h.curve.mean_annual_frequency(&f).unwrap_or_else(|e| {
                     notes.push(format!("no annual frequency: {e}"));
                     f64::NAN
                 }),
                 None => f64::NAN,
             };
-            notes.extend(extrapolation(&f, &data, spec.hazard.as_ref().map(|h| (&h.0[..], annual))));
+            notes.extend(extrapolation(&f, &data, spec.hazard.as_ref().map(|h| &h.curve)));
             (Some(f), intervals, annual)
         }
         Err(e) => {
@@ -247,15 +317,15 @@ fn curve(spec: &FragilitySpec, stripes: &Stripes, tally: Tally) -> Curve {
             (None, None, f64::NAN)
         }
     };
-    Curve { counts, fit, intervals, annual_frequency, note: notes.join("; ") }
+    Curve { counts, fit, intervals, bootstrap_key, annual_frequency, note: notes.join("; ") }
 }
 
 /// What a fit rests on beyond the data: a median outside the stripes, a
-/// dispersion so large that the intensity hardly matters, and, with a hazard curve (its points and the annual frequency
-/// `lambda`), a share of `lambda` above 1 % from below the curve's lowest
-/// intensity or from above its highest, where the curve is continued by
-/// its end segments' power laws.
-fn extrapolation(f: &Fragility, stripes: &[Stripe], hazard: Option<(&[(f64, f64)], f64)>) -> Vec<String> {
+/// dispersion so large that the intensity hardly matters, and, with a
+/// hazard curve, a share of the annual frequency above 1 % from below the
+/// curve's lowest intensity or from above its highest, where the curve is
+/// continued by its end segments' power laws.
+fn extrapolation(f: &Fragility, stripes: &[Stripe], hazard: Option<&Hazard>) -> Vec<String> {
     let mut notes = Vec::new();
     let counted = stripes.iter().filter(|s| s.runs > 0).map(|s| s.intensity);
     let (lo, hi) = counted.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
@@ -272,95 +342,25 @@ fn extrapolation(f: &Fragility, stripes: &[Stripe], hazard: Option<(&[(f64, f64)
             f.beta
         ));
     }
-    let Some((points, lambda)) = hazard else { return notes };
-    if points.len() < 2 || !(lambda.is_finite() && lambda > 0.0) {
+    let Some(h) = hazard else { return notes };
+    let parts = h.parts(f);
+    let lambda = parts.total();
+    if !(lambda.is_finite() && lambda > 0.0) {
         return notes;
     }
-    let n = points.len();
-    let slope = |a: (f64, f64), b: (f64, f64)| -(b.1 / a.1).ln() / (b.0 / a.0).ln();
-    let below = beyond(f, points[0], slope(points[0], points[1]), true) / lambda;
-    if below > 0.01 {
-        notes.push(format!(
-            "{:.0} % of the annual frequency comes from below the hazard curve's lowest intensity ({} g), where \
-             the curve is continued by its first segment's power law",
-            100.0 * below.min(1.0),
-            points[0].0
-        ));
-    }
-    let above = beyond(f, points[n - 1], slope(points[n - 2], points[n - 1]), false) / lambda;
-    if above > 0.01 {
-        notes.push(format!(
-            "{:.0} % of the annual frequency comes from above the hazard curve's highest intensity ({} g), where \
-             the curve is continued by its last segment's power law",
-            100.0 * above.min(1.0),
-            points[n - 1].0
-        ));
-    }
-    notes
-}
-
-/// The part of `lambda_LS = integral lambda_IM dP` beyond the hazard
-/// curve's end point `(im, rate)`, where `lambda_IM` is the power law of
-/// slope `k` through it: below it (`below`) or above it. This is the part
-/// that rests on the curve's continuation. By Simpson's rule in `x = ln im`
-/// over the integrand's support (the fragility's density, a Gaussian in x,
-/// times an exponential).
-fn beyond(f: &Fragility, (im, rate): (f64, f64), k: f64, below: bool) -> f64 {
-    let (mu, beta, x1) = (f.median.ln(), f.beta, im.ln());
-    if !(k.is_finite() && k > 0.0 && beta > 0.0) {
-        return 0.0;
-    }
-    // the integrand peaks at mu - k beta^2
-    let centre = mu - k * beta * beta;
-    let (a, b) = if below { ((centre - 12.0 * beta).min(x1), x1) } else { (x1, (centre + 12.0 * beta).max(x1)) };
-    let density = |x: f64| {
-        let u = (x - mu) / beta;
-        (-0.5 * u * u).exp() / (beta * (2.0 * std::f64::consts::PI).sqrt())
-    };
-    let g = |x: f64| rate * (-k * (x - x1)).exp() * density(x);
-    let m = 4000;
-    let h = (b - a) / m as f64;
-    let sum: f64 = (0..=m)
-        .map(|i| {
-            let w = if i == 0 || i == m {
-                1.0
-            } else if i % 2 == 1 {
-                4.0
-            } else {
-                2.0
-            };
-            w * g(a + i as f64 * h)
-        })
-        .sum();
-    sum * h / 3.0
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use quakejoint_model::fragility::phi_cdf;
-
-    /// Below a power-law hazard `k0 im^-k`'s point `x1 = ln im1`, the part
-    /// of `lambda = integral lambda_IM dP` has a closed form (completing
-    /// the square): `lambda Phi((x1 - mu + k beta^2) / beta)`, with `lambda
-    /// = k0 theta^-k exp(k^2 beta^2 / 2)` the whole integral; above `x2`
-    /// the rest, `lambda (1 - Phi((x2 - mu + k beta^2) / beta))`.
-    #[test]
-    fn the_parts_beyond_a_power_law_hazard_are_its_closed_form() {
-        let (k0, k) = (1e-4, 2.5);
-        for (median, beta) in [(0.3, 0.4), (0.05, 0.8), (1.2, 0.2)] {
-            let f = Fragility { median, beta, log_likelihood: 0.0, se_ln_median: 0.0, se_beta: 0.0 };
-            let lambda = k0 * median.powf(-k) * (k * k * beta * beta / 2.0).exp();
-            let (mu, rate) = (median.ln(), |im: f64| k0 * im.powf(-k));
-            for (im1, im2) in [(0.1, 1.0), (0.02, 2.0)] {
-                let (x1, x2) = (f64::ln(im1), f64::ln(im2));
-                let below = lambda * phi_cdf((x1 - mu + k * beta * beta) / beta);
-                let got = beyond(&f, (im1, rate(im1)), k, true);
-                assert!((got - below).abs() < 1e-9 * lambda, "below {im1}: {got} against {below}");
-                let above = lambda * (1.0 - phi_cdf((x2 - mu + k * beta * beta) / beta));
-                let got = beyond(&f, (im2, rate(im2)), k, false);
-                assert!((got - above).abs() < 1e-9 * lambda, "above {im2}: {got} against {above}");
-            }
+    let points = h.points();
+    for (share, side, end, which) in [
+        (parts.below / lambda, "below", points[0].0, "first"),
+        (parts.above / lambda, "above", points[points.len() - 1].0, "last"),
+    ] {
+        if share > 0.01 {
+            let extreme = if side == "below" { "lowest" } else { "highest" };
+            notes.push(format!(
+                "{:.0} % of the annual frequency comes from {side} the hazard curve's {extreme} intensity ({end} g), \
+                 where the curve is continued by its {which} segment's power law",
+                100.0 * share.min(1.0)
+            ));
         }
     }
+    notes
 }

@@ -9,28 +9,60 @@ use ndarray::{ArrayView3, ArrayView4};
 use quakejoint_io::h5::{array, attach_scales, attr_str, scalar, strings, strings_1d};
 use quakejoint_io::read::{attr, group, number, text, values};
 
-use super::eval::{evaluate, LimitStateResult};
+use std::sync::Arc;
+
+use super::eval::{evaluate, LimitStateResult, Memo};
 use super::spec::FragilitySpec;
 use crate::plan::{Measure, StripeRun, Stripes};
 use crate::results::Results;
 
-/// The fitting method's version (`/fragility` attribute `method`): 4
+/// The fitting method's version (`/fragility` attribute `method`): 5
 /// (2: separated bootstrap resamples entering the intervals at beta = 0;
 /// 3: counts that fall with the intensity, or a beta beyond 10, refused,
 /// and the notes on what a fit rests on beyond the data; 4: the interval
-/// of the annual frequency). A
+/// of the annual frequency; 5: the annual frequency in closed form, and
+/// each bootstrap's key and counts stored, so that a read takes the
+/// intervals from the file instead of resampling again). A
 /// file of another method has its counts checked on reading, not its fits,
 /// which this program would compute otherwise (it writes its own).
-pub const METHOD: u32 = 4;
+pub const METHOD: u32 = 5;
 
 /// A sweep's stripes and what is fitted on them.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct StoredFragility {
     /// The stripes.
     pub stripes: Stripes,
     /// The limit states, hazard and fitting.
     pub spec: FragilitySpec,
+    /// The bootstrap intervals computed or read so far.
+    pub memo: Arc<Memo>,
 }
+
+/// Two sweeps' fragilities are the same when their stripes and specs are.
+impl PartialEq for StoredFragility {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.stripes, &self.spec) == (&other.stripes, &other.spec)
+    }
+}
+
+impl StoredFragility {
+    /// The stripes and spec, with no intervals known yet.
+    pub fn new(stripes: Stripes, spec: FragilitySpec) -> Self {
+        Self { stripes, spec, memo: Arc::default() }
+    }
+
+    /// Every limit state on `results` (the intervals known taken as known).
+    pub fn evaluate(&self, results: &Results) -> Vec<LimitStateResult> {
+        evaluate(&self.spec, &self.stripes, results, &self.memo)
+    }
+}
+
+/// What each curve's bootstrap stored beside its intervals: the key of
+/// its inputs and its counts of separated and undetermined resamples.
+const BOOTSTRAP_FIELDS: [(&str, &str); 2] = [
+    ("bootstrap_separated", "bootstrap resamples with separated counts (entered at beta = 0)"),
+    ("bootstrap_undetermined", "bootstrap resamples that determined no fragility (left out)"),
+];
 
 fn shape_err(e: ndarray::ShapeError) -> hdf5::Error {
     hdf5::Error::from(e.to_string())
@@ -62,6 +94,24 @@ const COUNT_FIELDS: [(&str, &str); 6] = [
     ("undetermined", "finished runs that do not report what the limit state tests (left out)"),
     ("flagged", "runs counted that the model flags for another reason than the limit state"),
 ];
+
+/// An array of `/fragility/<key>` by its name.
+pub type Named<T> = (&'static str, Vec<T>);
+
+/// The per-curve arrays of a limit state as `/fragility/<key>` stores
+/// them: name, units and values (case, damping, period).
+pub fn curve_arrays(r: &LimitStateResult) -> Vec<(&'static str, &'static str, Vec<f64>)> {
+    CURVE_FIELDS.iter().zip(curve_values(r)).map(|(&(name, units, _), v)| (name, units, v)).collect()
+}
+
+/// The per-stripe counts of a limit state (case, damping, period, stripe)
+/// and its bootstrap's counts (case, damping, period), by name, as
+/// `/fragility/<key>` stores them.
+pub fn count_arrays(r: &LimitStateResult) -> (Vec<Named<u32>>, Vec<Named<u32>>) {
+    let counts = COUNT_FIELDS.iter().zip(count_values(r)).map(|(&(name, _), v)| (name, v)).collect();
+    let boot = BOOTSTRAP_FIELDS.iter().zip(bootstrap_counts(r)).map(|(&(name, _), v)| (name, v)).collect();
+    (counts, boot)
+}
 
 fn curve_values(r: &LimitStateResult) -> [Vec<f64>; 13] {
     let nan = f64::NAN;
@@ -145,18 +195,18 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
         attr_str(&ds, "units", "1")?;
         attach_scales(&ds, &record)?;
     }
-    if let Some((points, source)) = &spec.hazard {
-        let (i, q): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
+    if let Some(h) = &spec.hazard {
+        let (i, q): (Vec<f64>, Vec<f64>) = h.curve.points().iter().copied().unzip();
         let ds = array(&g, "hazard_intensity", &i[..])?;
         attr_str(&ds, "units", "g")?;
         let ds = array(&g, "hazard_frequency", &q[..])?;
         attr_str(&ds, "units", "1/year")?;
-        attr_str(&g, "hazard_source", source)?;
+        attr_str(&g, "hazard_source", &h.source)?;
     }
     let [nc, nr, nz, nt] = results.dims;
     let ns = s.levels.len();
     let curve_axes = [scales.axes[0], scales.axes[2], scales.axes[3]];
-    for (k, (ls, r)) in spec.limit_states.iter().zip(evaluate(spec, s, results)).enumerate() {
+    for (k, (ls, r)) in spec.limit_states.iter().zip(f.evaluate(results)).enumerate() {
         let lg = g.create_group(&ls.key)?;
         lg.new_attr::<u32>().create("index")?.write_scalar(&(k as u32))?;
         attr_str(&lg, "name", &ls.name)?;
@@ -184,6 +234,52 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
         let notes: Vec<String> = r.curves.iter().map(|c| c.note.clone()).collect();
         let ds = strings(&lg, "note", &notes, &[nc, nz, nt])?;
         attach_scales(&ds, &curve_axes)?;
+        let keys: Vec<String> = r.curves.iter().map(|c| c.bootstrap_key.clone()).collect();
+        let ds = strings(&lg, "bootstrap_key", &keys, &[nc, nz, nt])?;
+        attr_str(&ds, "meaning", "SHA-256 of the bootstrap's inputs (empty: no bootstrap)")?;
+        attach_scales(&ds, &curve_axes)?;
+        for ((name, meaning), data) in BOOTSTRAP_FIELDS.iter().zip(bootstrap_counts(&r)) {
+            let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape_err)?;
+            let ds = array(&lg, name, view)?;
+            attach_scales(&ds, &curve_axes)?;
+            attr_str(&ds, "units", "1")?;
+            attr_str(&ds, "meaning", meaning)?;
+        }
+    }
+    Ok(())
+}
+
+fn bootstrap_counts(r: &LimitStateResult) -> [Vec<u32>; 2] {
+    let of = |f: fn(&quakejoint_model::fragility::Intervals) -> usize| {
+        r.curves.iter().map(|c| c.intervals.as_ref().map_or(0, |i| f(i) as u32)).collect()
+    };
+    [of(|i| i.separated), of(|i| i.undetermined)]
+}
+
+/// Gives `memo` the intervals each curve of the limit state group `lg`
+/// stored under its bootstrap's key.
+fn remember(lg: &hdf5::Group, spec: &FragilitySpec, memo: &Memo) -> hdf5::Result<()> {
+    let keys = text(lg, "bootstrap_key")?;
+    let f = |name: &str| values::<f64>(lg, name);
+    let (m0, m1, b0, b1) = (f("median_lo")?, f("median_hi")?, f("beta_lo")?, f("beta_hi")?);
+    let (a0, a1) = (f("annual_frequency_lo")?, f("annual_frequency_hi")?);
+    let (sep, und) = (values::<u32>(lg, BOOTSTRAP_FIELDS[0].0)?, values::<u32>(lg, BOOTSTRAP_FIELDS[1].0)?);
+    let n = keys.len();
+    if [m0.len(), m1.len(), b0.len(), b1.len(), a0.len(), a1.len(), sep.len(), und.len()].iter().any(|&l| l != n) {
+        return Err(hdf5::Error::from(format!("{}: the bootstrap's arrays do not match its keys", lg.name())));
+    }
+    for (i, key) in keys.into_iter().enumerate().filter(|(_, k)| !k.is_empty()) {
+        memo.insert(
+            key,
+            quakejoint_model::fragility::Intervals {
+                level: spec.confidence,
+                median: [m0[i], m1[i]],
+                beta: [b0[i], b1[i]],
+                annual_frequency: spec.hazard.as_ref().map(|_| [a0[i], a1[i]]),
+                undetermined: und[i] as usize,
+                separated: sep[i] as usize,
+            },
+        );
     }
     Ok(())
 }
@@ -227,14 +323,32 @@ pub fn read_fragility(file: &hdf5::File, results: &Results) -> hdf5::Result<Opti
         .map_err(|e| hdf5::Error::from(format!("/fragility attribute config: {e}")))?;
     let mut spec = FragilitySpec::from_toml(Some(&toml::Value::Table(config)), std::path::Path::new("."))
         .map_err(|e| hdf5::Error::from(format!("/fragility attribute config: {e}")))?;
-    if g.attr("hazard_source").is_ok() {
-        if let Some(h) = &mut spec.hazard {
-            h.1 = attr(&g, "hazard_source")?;
+    if let Some(h) = &mut spec.hazard {
+        // the curve's points stored as arrays are the ones the config holds
+        let stored: Vec<(f64, f64)> =
+            values::<f64>(&g, "hazard_intensity")?.into_iter().zip(values::<f64>(&g, "hazard_frequency")?).collect();
+        if !crate::sweep_read::same_bits(
+            &stored.iter().flat_map(|p| [p.0, p.1]).collect::<Vec<_>>(),
+            &h.curve.points().iter().flat_map(|p| [p.0, p.1]).collect::<Vec<_>>(),
+        ) {
+            return Err(crate::sweep_read::disagrees(
+                "/fragility/hazard_intensity and hazard_frequency",
+                "the hazard curve of the attribute config",
+            ));
         }
+        h.source = attr(&g, "hazard_source")?;
+    } else if g.link_exists("hazard_intensity") || g.link_exists("hazard_frequency") {
+        return Err(hdf5::Error::from("/fragility holds a hazard curve its attribute config does not"));
     }
     let disagrees = |what: String| crate::sweep_read::disagrees(&what, "the results");
     let same_method = g.attr("method").and_then(|a| a.read_scalar::<u32>()).ok() == Some(METHOD);
-    for (ls, r) in spec.limit_states.iter().zip(evaluate(&spec, &stripes, results)) {
+    let stored = StoredFragility::new(stripes, spec);
+    if same_method {
+        for ls in &stored.spec.limit_states {
+            remember(&group(&g, &ls.key)?, &stored.spec, &stored.memo)?;
+        }
+    }
+    for (ls, r) in stored.spec.limit_states.iter().zip(stored.evaluate(results)) {
         let lg = group(&g, &ls.key)?;
         let path = |name: &str| format!("/fragility/{}/{name}", ls.key);
         if values::<i8>(&lg, "outcome")? != r.outcome {
@@ -255,10 +369,22 @@ pub fn read_fragility(file: &hdf5::File, results: &Results) -> hdf5::Result<Opti
                 return Err(disagrees(path(name)));
             }
         }
+        if !same_method {
+            continue;
+        }
         let notes: Vec<String> = r.curves.iter().map(|c| c.note.clone()).collect();
-        if text(&lg, "note")? != notes && same_method {
+        if text(&lg, "note")? != notes {
             return Err(disagrees(path("note")));
         }
+        let keys: Vec<String> = r.curves.iter().map(|c| c.bootstrap_key.clone()).collect();
+        if text(&lg, "bootstrap_key")? != keys {
+            return Err(disagrees(path("bootstrap_key")));
+        }
+        for ((name, _), data) in BOOTSTRAP_FIELDS.iter().zip(bootstrap_counts(&r)) {
+            if values::<u32>(&lg, name)? != data {
+                return Err(disagrees(path(name)));
+            }
+        }
     }
-    Ok(Some(StoredFragility { stripes, spec }))
+    Ok(Some(stored))
 }

@@ -9,8 +9,8 @@ pub mod eval;
 pub mod h5;
 pub mod spec;
 
-pub use eval::{evaluate, outcome, Curve, LimitStateResult, StripeCounts};
-pub use h5::{read_fragility, write_fragility, StoredFragility};
+pub use eval::{bootstrap_key, evaluate, outcome, Curve, LimitStateResult, Memo, StripeCounts};
+pub use h5::{count_arrays, curve_arrays, read_fragility, write_fragility, StoredFragility};
 pub use spec::{Failed, FragilitySpec, Kind, LimitState, DECK_MEASURES, FRAGILITY_KEYS, KINDS};
 
 use crate::results::Results;
@@ -70,7 +70,7 @@ pub fn rows(f: &StoredFragility, results: &Results, label: &dyn Fn(usize, usize,
     let several = nc * nz * nt > 1;
     let nan = [f64::NAN; 2];
     let mut out = Vec::new();
-    for (ls, r) in f.spec.limit_states.iter().zip(evaluate(&f.spec, &f.stripes, results)) {
+    for (ls, r) in f.spec.limit_states.iter().zip(f.evaluate(results)) {
         for (i, curve) in r.curves.iter().enumerate() {
             let (c, z, t) = (i / (nz * nt), i / nt % nz, i % nt);
             out.push(CurveRow {

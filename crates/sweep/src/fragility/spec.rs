@@ -18,6 +18,7 @@
 
 use std::path::Path;
 
+use quakejoint_model::fragility::Hazard;
 use quakejoint_model::validity::Flags;
 
 use crate::error::SweepError;
@@ -93,6 +94,27 @@ impl Failed {
     }
 }
 
+/// The site's hazard curve and where it comes from.
+#[derive(Debug, Clone)]
+pub struct SiteHazard {
+    /// The curve: (intensity \[g\], annual frequency of exceedance
+    /// \[1/year\]).
+    pub curve: Hazard,
+    /// Its source in words (a file's path as written, or the config's table).
+    pub source: String,
+    /// The file it was read from, if any (an input of the sweep).
+    pub file: Option<std::path::PathBuf>,
+}
+
+/// Two sites' hazards are the same when their curves are, wherever they
+/// were read from: the same sweep run from another folder has the same
+/// hazard.
+impl PartialEq for SiteHazard {
+    fn eq(&self, other: &Self) -> bool {
+        self.curve == other.curve
+    }
+}
+
 /// `[sweep.fragility]` as resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FragilitySpec {
@@ -106,9 +128,8 @@ pub struct FragilitySpec {
     pub seed: u64,
     /// The intervals' level [-].
     pub confidence: f64,
-    /// The site's hazard curve: (intensity \[g\], annual frequency of
-    /// exceedance \[1/year\]); its source in words.
-    pub hazard: Option<(Vec<(f64, f64)>, String)>,
+    /// The site's hazard curve.
+    pub hazard: Option<SiteHazard>,
     /// The limit states' tables as given (or the defaults').
     pub tables: Vec<toml::Table>,
 }
@@ -139,6 +160,15 @@ fn positive(v: Option<&toml::Value>, field: &str, units: &str) -> Result<Option<
 }
 
 fn field_index(name: &str, at: &str) -> Result<usize, SweepError> {
+    if crate::results::MACHINE_DEPENDENT.contains(&name) {
+        return Err(err(
+            at,
+            format!(
+                "{name:?} depends on the machine that ran the job, not on the job: a fragility of it would differ \
+                 between machines and runs"
+            ),
+        ));
+    }
     FIELDS.iter().position(|&f| f == name).ok_or_else(|| {
         let nearest = FIELDS.iter().min_by_key(|f| distance(f, name)).copied().unwrap_or("sd");
         err(
@@ -245,7 +275,7 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
             one(
                 format!("pounding at {} m/s", quakejoint_motion::number(speed)),
                 field("max_impact_speed", speed, true),
-                format!("an impact of two beams (or a beam and an edge beam) at {} m/s or faster", speed),
+                format!("an impact of two beams (or a beam and an edge beam) faster than {} m/s", speed),
             )
         }
         "contact_force" => {
@@ -453,9 +483,9 @@ impl FragilitySpec {
         t.insert("bootstrap".into(), toml::Value::Integer(self.bootstrap as i64));
         t.insert("seed".into(), toml::Value::Integer(self.seed as i64));
         t.insert("confidence".into(), toml::Value::Float(self.confidence));
-        if let Some((points, _)) = &self.hazard {
+        if let Some(h) = &self.hazard {
             let col = |f: fn(&(f64, f64)) -> f64| {
-                toml::Value::Array(points.iter().map(|p| toml::Value::Float(f(p))).collect())
+                toml::Value::Array(h.curve.points().iter().map(|p| toml::Value::Float(f(p))).collect())
             };
             let mut h = toml::Table::new();
             h.insert("intensity".into(), col(|p| p.0));
@@ -469,15 +499,15 @@ impl FragilitySpec {
 /// The hazard curve: `{ intensity = [...], frequency = [...] }` or
 /// `{ file = "..." }` (two columns; `#` comments and a header line of
 /// words allowed). Checked as the risk integral needs it.
-fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<(Vec<(f64, f64)>, String), SweepError> {
+fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<SiteHazard, SweepError> {
     let field = "sweep.fragility.hazard";
     let toml::Value::Table(t) = v else {
         return Err(err(field, "{ intensity = [...] (g), frequency = [...] (1/year) } or { file = \"...\" }"));
     };
-    let (points, source) = match (t.get("file"), t.get("intensity"), t.get("frequency")) {
+    let hazard = match (t.get("file"), t.get("intensity"), t.get("frequency")) {
         (Some(toml::Value::String(f)), None, None) if t.len() == 1 => {
             let path = base_dir.join(f);
-            let text = std::fs::read_to_string(&path)
+            let text = quakejoint_motion::read_input_text(&path, quakejoint_motion::MAX_TABLE_BYTES)
                 .map_err(|e| err(&format!("{field}.file"), format!("{}: {e}", path.display())))?;
             let (mut points, mut lines) = (Vec::new(), Vec::new());
             let mut header = false;
@@ -509,8 +539,8 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<(Vec<(f64, f64)>, Strin
                 }
             }
             let source = path.display().to_string();
-            check_hazard(&points, &|i| format!("{source} line {}", lines[i]), field)?;
-            (points, source)
+            let curve = checked(points, &|i| format!("{source} line {}", lines[i]), field)?;
+            SiteHazard { curve, source: f.clone(), file: Some(path) }
         }
         (None, Some(i), Some(f)) if t.len() == 2 => {
             let list = |v: &toml::Value, k: &str| -> Result<Vec<f64>, SweepError> {
@@ -527,32 +557,21 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<(Vec<(f64, f64)>, Strin
                 return Err(err(field, format!("{} intensities but {} frequencies", i.len(), f.len())));
             }
             let points: Vec<(f64, f64)> = i.into_iter().zip(f).collect();
-            check_hazard(&points, &|i| format!("{field}.intensity[{i}] and frequency[{i}]"), field)?;
-            (points, "the config's table".to_string())
+            let curve = checked(points, &|i| format!("{field}.intensity[{i}] and frequency[{i}]"), field)?;
+            SiteHazard { curve, source: "the config's table".to_string(), file: None }
         }
         _ => return Err(err(field, "either `file` or both `intensity` [g] and `frequency` [1/year]")),
     };
-    Ok((points, source))
+    Ok(hazard)
 }
 
-/// The risk integral's own checks of a hazard curve (with a fragility that
-/// cannot fail them), the point named by `at`.
-fn check_hazard(points: &[(f64, f64)], at: &dyn Fn(usize) -> String, field: &str) -> Result<(), SweepError> {
-    if points.len() < 2 {
-        return Err(err(field, format!("{} points: a hazard curve needs two at least", points.len())));
-    }
-    let probe = quakejoint_model::fragility::Fragility {
-        median: 1.0,
-        beta: 0.5,
-        log_likelihood: 0.0,
-        se_ln_median: 0.0,
-        se_beta: 0.0,
-    };
-    match quakejoint_model::fragility::mean_annual_frequency(&probe, points) {
-        Ok(_) => Ok(()),
-        Err(quakejoint_model::fragility::FragilityError::Hazard { index, reason }) => {
-            Err(err(field, format!("{}: {reason}", at(index.min(points.len() - 1)))))
+/// The hazard curve of `points`, checked, the point named by `at`.
+fn checked(points: Vec<(f64, f64)>, at: &dyn Fn(usize) -> String, field: &str) -> Result<Hazard, SweepError> {
+    let n = points.len();
+    Hazard::new(points).map_err(|e| match e {
+        quakejoint_model::fragility::FragilityError::Hazard { index, reason } if n > 0 => {
+            err(field, format!("{}: {reason}", at(index.min(n - 1))))
         }
-        Err(e) => Err(err(field, e.to_string())),
-    }
+        e => err(field, e.to_string()),
+    })
 }

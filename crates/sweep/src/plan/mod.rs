@@ -202,7 +202,8 @@ fn without_run_settings(table: &toml::Table) -> toml::Table {
 /// Refuses a hazard curve that does not reach the stripes' range: it is
 /// for another measure, or in other units than g.
 fn hazard_overlaps(s: &Stripes, f: &crate::fragility::FragilitySpec) -> Result<(), SweepError> {
-    let Some((points, source)) = &f.hazard else { return Ok(()) };
+    let Some(h) = &f.hazard else { return Ok(()) };
+    let (points, source) = (h.curve.points(), &h.source);
     let (h0, h1) = (points[0].0, points[points.len() - 1].0);
     let (l0, l1) = (s.levels[0], s.levels[s.levels.len() - 1]);
     if h1 < l0 || h0 > l1 {

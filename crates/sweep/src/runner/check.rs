@@ -140,6 +140,7 @@ pub(super) fn check_output(plan: &Plan, opts: &SweepOptions) -> Result<(), Sweep
     let mut inputs = vec![opts.config_path.clone()];
     inputs.extend(plan.records.iter().chain(&plan.record_y).map(|r| r.path.clone()));
     inputs.extend(plan.modal.iter().map(|m| m.path.clone()));
+    inputs.extend(plan.fragility.iter().filter_map(|f| f.hazard.as_ref()?.file.clone()));
     check_not_an_input(output, &inputs)?;
     let dir = output.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !dir.is_dir() {

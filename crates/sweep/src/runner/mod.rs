@@ -192,7 +192,7 @@ pub fn sweep_file(plan: &Plan, shard: Option<(usize, usize)>, provenance: Proven
             .stripes
             .as_ref()
             .zip(plan.fragility.as_ref())
-            .map(|(stripes, spec)| crate::fragility::StoredFragility { stripes: stripes.clone(), spec: spec.clone() }),
+            .map(|(stripes, spec)| crate::fragility::StoredFragility::new(stripes.clone(), spec.clone())),
         records: plan
             .records
             .iter()

@@ -14,12 +14,16 @@
 //!   resampling the records (each record's outcome at every stripe kept
 //!   together), with a seeded generator: the same seed gives the same
 //!   intervals, bit for bit.
-//! - [`mean_annual_frequency`]: `lambda_LS = integral P(LS | im) |d
-//!   lambda_IM / d im| d im` over a hazard curve given as a table, joined
+//! - [`Hazard::mean_annual_frequency`]: `lambda_LS = integral P(LS | im)
+//!   |d lambda_IM / d im| d im` over a hazard curve given as a table, joined
 //!   by power laws between its points (straight in log-log) and continued by
-//!   its end segments' power laws.
+//!   its end segments' power laws, in closed form ([`hazard`]).
 
 use thiserror::Error;
+
+pub mod hazard;
+
+pub use hazard::{Hazard, Parts};
 
 /// One stripe: the intensity every record was scaled to, how many runs
 /// count and how many of them exceeded the limit state.
@@ -64,6 +68,9 @@ pub enum FragilityError {
     /// The counts do not determine a lognormal fragility.
     #[error("the stripes do not determine a fragility: {0}")]
     Undetermined(String),
+    /// An argument out of its range.
+    #[error("{0}")]
+    Argument(String),
     /// A hazard curve's point cannot be.
     #[error("hazard curve, point {index}: {reason}")]
     Hazard {
@@ -80,7 +87,7 @@ pub fn phi_cdf(t: f64) -> f64 {
 }
 
 /// `ln Phi(t)`, accurate in the far left tail.
-fn ln_phi(t: f64) -> f64 {
+pub(crate) fn ln_phi(t: f64) -> f64 {
     if t > -30.0 {
         phi_cdf(t).ln()
     } else {
@@ -338,6 +345,9 @@ pub struct Intervals {
     pub separated: usize,
 }
 
+/// Most bootstrap resamples [`bootstrap_risk`] draws.
+pub const MAX_SAMPLES: usize = 100_000;
+
 /// The bootstrap of [`fit`] over records (a resample whose counts are
 /// separated enters with beta = 0, the limit of its likelihood's maximum,
 /// so that the intervals are not biased towards the resamples that
@@ -356,17 +366,24 @@ pub fn bootstrap(
     bootstrap_risk(outcomes, intensities, samples, seed, level, None)
 }
 
-/// [`bootstrap`], and with a hazard curve (as [`mean_annual_frequency`]
-/// takes it) the interval of the mean annual frequency over the same
-/// resamples ([`Intervals::annual_frequency`]).
+/// [`bootstrap`], and with a hazard curve the interval of the mean annual
+/// frequency over the same resamples ([`Intervals::annual_frequency`]).
 pub fn bootstrap_risk(
     outcomes: &[Vec<Option<bool>>],
     intensities: &[f64],
     samples: usize,
     seed: u64,
     level: f64,
-    hazard: Option<&[(f64, f64)]>,
+    hazard: Option<&Hazard>,
 ) -> Result<Intervals, FragilityError> {
+    if !(1..=MAX_SAMPLES).contains(&samples) {
+        return Err(FragilityError::Argument(format!(
+            "{samples} bootstrap resamples: from 1 to {MAX_SAMPLES} (1000 give the intervals to about 1 %)"
+        )));
+    }
+    if !(level > 0.0 && level < 1.0) {
+        return Err(FragilityError::Argument(format!("level {level}: between 0 and 1 (0.9: 5 % to 95 %)")));
+    }
     let mut rng = SplitMix64::new(seed);
     let mut rates = Vec::new();
     let (mut medians, mut betas) = (Vec::with_capacity(samples), Vec::with_capacity(samples));
@@ -405,7 +422,7 @@ pub fn bootstrap_risk(
             medians.push(f.median);
             betas.push(f.beta);
             if let Some(h) = hazard {
-                rates.push(mean_annual_frequency(&f, h)?);
+                rates.push(h.mean_annual_frequency(&f)?);
             }
         }
     }
@@ -426,46 +443,4 @@ pub fn bootstrap_risk(
         undetermined,
         separated,
     })
-}
-
-/// The mean annual frequency of the limit state \[1/year\] for a site's
-/// hazard curve `hazard`: `(intensity, annual frequency of exceedance)`
-/// pairs, intensities increasing, frequencies decreasing and positive.
-pub fn mean_annual_frequency(f: &Fragility, hazard: &[(f64, f64)]) -> Result<f64, FragilityError> {
-    if hazard.len() < 2 {
-        return Err(FragilityError::Hazard { index: 0, reason: "two points at least are needed".into() });
-    }
-    for (index, w) in hazard.windows(2).enumerate() {
-        let ok = |p: (f64, f64)| p.0.is_finite() && p.0 > 0.0 && p.1.is_finite() && p.1 > 0.0;
-        if !ok(w[0]) || !ok(w[1]) {
-            let index = if ok(w[0]) { index + 1 } else { index };
-            return Err(FragilityError::Hazard { index, reason: "intensity and frequency must be positive".into() });
-        }
-        if w[1].0 <= w[0].0 || w[1].1 > w[0].1 {
-            return Err(FragilityError::Hazard {
-                index: index + 1,
-                reason: "intensities must increase and frequencies not increase".into(),
-            });
-        }
-    }
-    // log-log: ln lambda = c_i - k_i ln im on segment i, ends continued
-    let ln_lambda = |x: f64| {
-        let i = hazard.partition_point(|p| p.0.ln() < x).clamp(1, hazard.len() - 1);
-        let ((x0, l0), (x1, l1)) = ((hazard[i - 1].0.ln(), hazard[i - 1].1.ln()), (hazard[i].0.ln(), hazard[i].1.ln()));
-        l0 + (l1 - l0) * (x - x0) / (x1 - x0)
-    };
-    // lambda_LS = integral lambda_IM(im) f_LS(im) d im (by parts: P rises
-    // from 0 to 1), in u = (ln im - ln theta) / beta: integral lambda(theta
-    // e^{beta u}) phi(u) du, Simpson on [-10, 10] (phi below 1e-22 beyond)
-    let (lo, hi, n) = (-10.0f64, 10.0f64, 4000usize);
-    let h = (hi - lo) / n as f64;
-    let g = |u: f64| {
-        let x = f.median.ln() + f.beta * u;
-        (ln_lambda(x) - 0.5 * u * u).exp() / (2.0 * std::f64::consts::PI).sqrt()
-    };
-    let mut sum = g(lo) + g(hi);
-    for k in 1..n {
-        sum += g(lo + k as f64 * h) * if k % 2 == 1 { 4.0 } else { 2.0 };
-    }
-    Ok(sum * h / 3.0)
 }
