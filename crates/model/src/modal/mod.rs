@@ -301,7 +301,7 @@ pub fn loaded(m: &ModalConfig) -> Result<&ModalBridge, ModelError> {
 
 /// A mode as a body of the solver system: its coordinate `y = s q` is the
 /// mode's largest displacement at the file's points \[m\] (`s` the largest
-/// `|phi|`), so its mass is `1/s^2` \[kg\], its spring `w^2/s^2` \[N/m\], its
+/// `|phi|`, at least [`MIN_COORDINATE_SCALE`] of the largest mode's), so its mass is `1/s^2` \[kg\], its spring `w^2/s^2` \[N/m\], its
 /// damper `2 zeta w/s^2` \[N s/m\] and the ground acts on `Gamma/s` \[kg\].
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModalBody {
@@ -379,6 +379,17 @@ pub struct ModalDeck {
 /// (`modal_joints::reference_joint_factorises_in_blocks` checks it).
 pub const DECK_END_MASS_RATIO: f64 = 1e-6;
 
+/// The smallest coordinate scale of a mode, relative to the largest
+/// among the kept modes [-]. A mode's coordinate is its displacement at
+/// the point it moves most ([`ModalBody`]); a mode that hardly moves any
+/// point of the file (a vertical mode of a planar frame moves the points
+/// along x by 1e-13 per unit) would get a mass of 1e26 kg and make the
+/// iteration matrix singular. Its coordinate is scaled up to this
+/// fraction of the largest mode's instead: its mass stays within 1e6 of
+/// the others', and its displacement is still its own (at its points,
+/// `phi / s` is small).
+pub const MIN_COORDINATE_SCALE: f64 = 1e-3;
+
 /// A joint's end to tie to the modes: its name, its point along x, its
 /// point across (if it moves across) and its sign.
 #[derive(Debug, Clone)]
@@ -402,12 +413,15 @@ pub fn add_modes(
     ends: &[EndSpec],
 ) -> ModalParts {
     let effective: f64 = kept.iter().map(|k| k.gamma[0] * k.gamma[0]).sum();
-    let scales: Vec<f64> = kept
+    let largest: Vec<f64> = kept.iter().map(|k| k.shape.iter().fold(0.0f64, |m, v| m.max(v.abs()))).collect();
+    let floor = MIN_COORDINATE_SCALE * largest.iter().copied().fold(0.0f64, f64::max);
+    let scales: Vec<f64> = largest
         .iter()
-        .map(|k| {
-            let s = k.shape.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            if s > 0.0 {
+        .map(|&s| {
+            if s > floor {
                 s
+            } else if floor > 0.0 {
+                floor
             } else {
                 1.0
             }
