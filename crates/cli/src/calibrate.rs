@@ -35,8 +35,12 @@ pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
         };
         options.record = Some(quakejoint_model::run::run_window(&config, &record.record));
     }
+    let dir = a.output_dir.clone().unwrap_or_else(|| default_dir(&a.config));
+    let mut inputs = config.input_files(&quakejoint_model::config::base_dir(&a.config));
+    inputs.push(a.config.clone());
+    inputs.extend(a.record.clone());
+    check_outputs(&dir, &inputs)?;
     let c = calibrate(&config, &options)?;
-    let dir = a.output_dir.unwrap_or_else(|| default_dir(&a.config));
     let written = write_exports(&c, &dir, &a.config.display().to_string())?;
     for w in &c.warnings {
         eprintln!("warning: {w}");
@@ -55,18 +59,47 @@ fn default_dir(config: &Path) -> PathBuf {
     quakejoint_model::config::base_dir(config).join(format!("{stem}_link"))
 }
 
+/// The files the calibration writes in its folder.
+const OUTPUTS: [&str; 5] = ["link.toml", "link.tcl", "link_opensees.py", "link_sap2000.txt", "loops.csv"];
+
+/// Refuses, before the calibration runs, an output folder that is a file
+/// and an output that would overwrite one of the `inputs` (the config, its
+/// records, its modes file).
+fn check_outputs(dir: &Path, inputs: &[PathBuf]) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(crate::commands::InputError(format!(
+            "--output-dir {}: it is a file, not a folder; the calibration writes {} there",
+            dir.display(),
+            OUTPUTS.join(", ")
+        ))
+        .into());
+    }
+    for name in OUTPUTS {
+        let path = dir.join(name);
+        if let Some(input) = inputs.iter().find(|i| quakejoint_io::files::same_file(&path, i)) {
+            return Err(crate::commands::InputError(format!(
+                "{}: the calibration would overwrite its input {} there; choose another --output-dir",
+                path.display(),
+                input.display()
+            ))
+            .into());
+        }
+    }
+    Ok(())
+}
+
 /// Writes the exports and the loops; returns the paths written.
 fn write_exports(c: &Calibration, dir: &Path, source: &str) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    let files = [
-        ("link.toml", export::toml(c, source)),
-        ("link.tcl", export::opensees_tcl(c, source)),
-        ("link_opensees.py", export::opensees_py(c, source)),
-        ("link_sap2000.txt", export::sap2000(c, source)),
-        ("loops.csv", loops_csv(c)),
+    let texts = [
+        export::toml(c, source),
+        export::opensees_tcl(c, source),
+        export::opensees_py(c, source),
+        export::sap2000(c, source),
+        loops_csv(c),
     ];
     let mut written = Vec::new();
-    for (name, text) in files {
+    for (name, text) in OUTPUTS.into_iter().zip(texts) {
         let path = dir.join(name);
         std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
         written.push(path);

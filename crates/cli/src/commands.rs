@@ -135,11 +135,13 @@ fn read_plan(config: &Path) -> Result<Plan> {
 }
 
 fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
+    // first: a signal while the config, records and modes are read stops
+    // the sweep before its first job, with the command that continues it
+    let signals = Signals::install()?;
     let plan = read_plan(&a.config)?;
     let output = a.output.clone().unwrap_or_else(|| {
         PathBuf::from(a.config.file_stem().map_or("sweep".into(), |s| s.to_string_lossy().to_string()) + ".h5")
     });
-    let signals = Signals::install()?;
     let opts = SweepOptions {
         output,
         threads: a.threads,
@@ -240,8 +242,7 @@ fn compare_cmd(a: CompareArgs) -> Result<ExitCode> {
         if !p.exists() {
             return Err(InputError(format!("{}: no such file", p.display())));
         }
-        quakejoint_sweep::sweep_h5::read_sweep(p)
-            .map_err(|e| InputError(format!("{}: not a readable sweep file ({})", p.display(), e.message)))
+        quakejoint_sweep::sweep_h5::read_sweep(p).map_err(|e| InputError(quakejoint_sweep::sweep_read::refusal(&e)))
     };
     let (fa, fb) = (read(&a.a)?, read(&a.b)?);
     let diffs = quakejoint_sweep::compare::differences(&fa, &fb);

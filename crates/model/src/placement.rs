@@ -35,7 +35,7 @@ pub struct Place {
 pub const MAX_ABUTMENT_LAG: f64 = 10.0;
 
 /// The joints of `config`, checked (each joint's values as `[joint]`'s are,
-/// named `joints[k].joint.<key>`; names unique).
+/// named `joints[k].joint.<key>`).
 pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
     let modal = config.bridge.modal.as_ref().map(crate::modal::loaded).transpose()?;
     if config.joints.is_empty() {
@@ -67,14 +67,8 @@ pub fn places(config: &Config) -> Result<Vec<Place>, ModelError> {
     };
     let mut out: Vec<Place> = Vec::with_capacity(config.joints.len());
     for (k, j) in config.joints.iter().enumerate() {
+        // (names unique: Config::validate)
         let field = |key: &str| format!("joints[{k}].{key}");
-        if j.name.trim().is_empty() || out.iter().any(|p| p.name == j.name) {
-            return Err(ModelError::Invalid {
-                field: field("name"),
-                value: format!("\"{}\"", j.name),
-                reason: "every joint needs a name of its own".to_string(),
-            });
-        }
         let mut c = config.clone();
         if let Some(joint) = &j.joint {
             c.joint = joint.clone();

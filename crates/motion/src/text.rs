@@ -377,6 +377,12 @@ mod tests {
     }
 
     #[test]
+    fn a_first_number_beyond_a_double_is_refused_not_taken_for_a_header() {
+        let e = parse_one_column("1e400\n0.1\n0.2\n", "f.txt", 0.01, None).unwrap_err().to_string();
+        assert!(e.contains("f.txt") && e.contains("1e400"), "{e}");
+    }
+
+    #[test]
     fn csv_empty_field() {
         let e = parse_two_column("0,,1\n1,2,3\n", "f.csv", 2).unwrap_err().to_string();
         assert!(e.starts_with("f.csv:1:"), "{e}");

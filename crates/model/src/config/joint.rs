@@ -70,9 +70,10 @@ pub struct LinkConfig {
     /// Stiffness of the closed joint (every cell closed) \[N/m\].
     pub gap_stiffness: f64,
     /// The closed joint as a Hertz law `F = k d^1.5` \[N/m^1.5\] with the
-    /// joint's restitution (`joint.contact`), in place of the linear
-    /// `gap_stiffness`: the cells' contacts in series, `2 k_h / (Nc +
-    /// 1)^1.5` (quakejoint only; the exports keep the linear law).
+    /// joint's restitution (`joint.contact`), which quakejoint uses in
+    /// place of the linear `gap_stiffness` (still required: the exports
+    /// keep the linear law): the cells' contacts in series, `2 k_h / (Nc +
+    /// 1)^1.5`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gap_hertz: Option<f64>,
     /// Damper in parallel with the spring \[N s/m\] (default 0).

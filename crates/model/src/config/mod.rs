@@ -326,6 +326,16 @@ impl Config {
         Ok(config)
     }
 
+    /// The files the config reads besides itself (its records and the
+    /// modes file), resolved against `base_dir`: what no output may
+    /// overwrite.
+    pub fn input_files(&self, base_dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+        let mut files: Vec<std::path::PathBuf> =
+            self.record.iter().chain(&self.record_y).map(|r| r.resolve_path(base_dir)).collect();
+        files.extend(self.bridge.modal.iter().map(|m| base_dir.join(&m.modes)));
+        files
+    }
+
     /// Reads the modes file of `[bridge.modal]` (relative to `base_dir`)
     /// and checks the config's modal keys against it.
     pub fn load_modes(&mut self, base_dir: &std::path::Path) -> Result<(), ModelError> {
@@ -623,6 +633,13 @@ fn check_modal(config: &Config, m: &ModalConfig) -> Result<(), ModelError> {
         check("bridge.modal.period_scale", f)?;
     }
     for (k, j) in config.joints.iter().enumerate() {
+        if j.name.trim().is_empty() || config.joints[..k].iter().any(|o| o.name == j.name) {
+            return Err(ModelError::Invalid {
+                field: format!("joints[{k}].name"),
+                value: format!("\"{}\"", j.name),
+                reason: "every joint needs a name of its own".to_string(),
+            });
+        }
         check_lag(k, j)?;
     }
     Ok(())

@@ -150,8 +150,9 @@ pub(crate) fn data_lines<'a>(text: &'a str, file: &str, reading: Format) -> Resu
         let (fields, sep) = split_fields(trimmed, file, i + 1)?;
         if first {
             first = false;
-            if fields.iter().all(|f| parse_number(f).is_err()) {
-                // a column header such as "time,acc"
+            if fields.iter().all(|f| parse_number(f) == Err(NumberError::NotANumber)) {
+                // a column header such as "time,acc" (a number beyond a
+                // double, `1e400`, is a number: refused with its line below)
                 header = Some(HeaderLine { line: i + 1, labels: header_labels(&fields, sep) });
                 continue;
             }
