@@ -163,7 +163,7 @@ def _static_displacements(loads, points, dofs):
     return u
 
 
-def modal_data(points, n_modes, solver="-fullGenLapack", dofs=None, static=True):
+def modal_data(points, n_modes, solver="-fullGenLapack", dofs=None, static=True, plan=False):
     """Everything the modes file holds, from the current openseespy model.
 
     points: [(name, node tag, direction)]; n_modes: number of modes, or
@@ -173,10 +173,19 @@ def modal_data(points, n_modes, solver="-fullGenLapack", dofs=None, static=True)
     flexibility [m/N] and ground_x [s^2] (if static), and the checks:
     normalisation (the factors OpenSees' vectors were scaled by) and
     orthogonality (max |Phi^T M Phi - I|).
+
+    A 2-D model is taken as an elevation (X along the bridge, Y vertical):
+    its DOF 2 is vertical, and a point across the bridge ("y") is refused
+    unless `plan=True` says the model is a plan view (Y horizontal, across).
     """
     ndm = len(ops.nodeCoord(ops.getNodeTags()[0]))
     if dofs is None:
         dofs = {"x": 1, "y": 2} if ndm == 3 else {"x": 1}
+    if ndm == 2 and "y" in dofs and not plan:
+        raise ValueError(
+            "a 2-D model's DOF 2 is vertical in an elevation of the bridge, not across it: quakejoint's y is "
+            "horizontal, across the bridge. Give points along x only, or pass plan=True for a model in plan view"
+        )
     for name, tag, direction in points:
         if direction not in dofs:
             raise ValueError(f"point {name!r}: direction {direction!r} is not one of {sorted(dofs)}")
@@ -297,10 +306,10 @@ def default_mode_count(f_max=50.0, n_max=40, solver="-fullGenLapack"):
 
 
 def export_modes(points, n_modes, output, source, header=(), solver="-fullGenLapack",
-                 dofs=None, damping=None, static=True, verbose=True):
+                 dofs=None, damping=None, static=True, verbose=True, plan=False):
     """Exports the current openseespy model's modes to `output` (TOML).
     Returns modal_data's dict."""
-    data = modal_data(points, n_modes, solver=solver, dofs=dofs, static=static)
+    data = modal_data(points, n_modes, solver=solver, dofs=dofs, static=static, plan=plan)
     text = modes_toml(data, points, source, header=header, damping=damping)
     Path(output).parent.mkdir(parents=True, exist_ok=True)
     Path(output).write_text(text + "\n")

@@ -206,7 +206,10 @@ impl RunSpec {
         let points: Vec<usize> =
             places.iter().flat_map(|p| std::iter::once(p.deck_point).chain(p.abutment_point)).collect();
         let check = bridge.mode_check(&kept, &points);
-        let warnings = check.warnings(bridge, &points, m.corrected());
+        let mut warnings = check.warnings(bridge, &points, m.corrected(), !self.alone);
+        if !self.alone {
+            warnings.extend(places.iter().filter_map(|p| bridge.across_warning(p.deck_point_y?)));
+        }
         result.mode_check = Some((check, warnings));
         if let Some(h) = &mut result.histories {
             let mut a = alone.points[point].a_abs.clone();

@@ -25,6 +25,26 @@ pub use residual::{PseudoMode, StaticCorrection};
 /// The format tag the file must carry.
 pub const FORMAT: &str = "quakejoint-modes-1";
 
+/// The shortest period of a mode \[s\] (100 kHz).
+pub const MIN_PERIOD: f64 = 1e-5;
+
+/// The largest magnitude of a shape value or a participation factor: their
+/// squares and products must stay finite.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+
+/// The most the modes' effective masses along x may add up to, over
+/// `total_mass_x` [-] (the rest is round-off in the file's digits).
+pub const MAX_MASS_RATIO: f64 = 1.01;
+
+/// The range of `sum_i Gamma_i phi_i(p)` at a point a file is taken with
+/// [-]: 1 with every mode, a file of the lower modes gives between about
+/// 0.6 and 1.6 (the tip of a cantilever's first mode alone: 1.57), a point
+/// that does not move 0; negated participations give -1, shapes twice
+/// too large 4.
+pub const MIN_RIGID_SUM: f64 = -0.2;
+/// See [`MIN_RIGID_SUM`].
+pub const MAX_RIGID_SUM: f64 = 2.5;
+
 /// A direction of a point's motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -157,17 +177,28 @@ impl ModalBridge {
         let n = self.points.len();
         for (i, m) in self.modes.iter().enumerate() {
             let f = |name: &str| format!("mode[{i}].{name}");
-            if !(m.period.is_finite() && m.period > 0.0 && m.period <= 100.0) {
-                return Err(bad(f("period"), m.period.to_string(), "must be above 0 and at most 100 s"));
+            if !(m.period.is_finite() && (MIN_PERIOD..=100.0).contains(&m.period)) {
+                return Err(bad(
+                    f("period"),
+                    quakejoint_motion::number(m.period),
+                    &format!(
+                        "must be from {MIN_PERIOD:e} to 100 s (a mode above 100 kHz is none of a structure's: a unit \
+                         or export error; leave such modes out of the file)"
+                    ),
+                ));
             }
             if let Some(z) = m.damping {
                 if !(z.is_finite() && (0.0..1.0).contains(&z)) {
-                    return Err(bad(f("damping"), z.to_string(), "must be at least 0 and below 1"));
+                    return Err(bad(f("damping"), quakejoint_motion::number(z), "must be at least 0 and below 1"));
                 }
             }
             for (name, v) in [("participation_x", m.participation_x), ("participation_y", m.participation_y)] {
-                if !v.is_finite() {
-                    return Err(bad(f(name), v.to_string(), "must be a finite number [kg^0.5]"));
+                if !(v.abs() <= MAX_MAGNITUDE) {
+                    return Err(bad(
+                        f(name),
+                        quakejoint_motion::number(v),
+                        &format!("must be a finite number of at most {MAX_MAGNITUDE:e} in size [kg^0.5]"),
+                    ));
                 }
             }
             if m.shape.len() != n {
@@ -177,15 +208,20 @@ impl ModalBridge {
                     &format!("must have one value per [[point]] ({n})"),
                 ));
             }
-            if let Some(v) = m.shape.iter().find(|v| !v.is_finite()) {
-                return Err(bad(f("shape"), v.to_string(), "must hold finite numbers [kg^-0.5]"));
+            if let Some(v) = m.shape.iter().find(|v| !(v.abs() <= MAX_MAGNITUDE)) {
+                return Err(bad(
+                    f("shape"),
+                    quakejoint_motion::number(*v),
+                    &format!("must hold finite numbers of at most {MAX_MAGNITUDE:e} in size [kg^-0.5]"),
+                ));
             }
         }
         if let Some(m) = self.total_mass_x {
             if !(m.is_finite() && m > 0.0) {
-                return Err(bad("total_mass_x".into(), m.to_string(), "must be a positive mass [kg]"));
+                return Err(bad("total_mass_x".into(), quakejoint_motion::number(m), "must be a positive mass [kg]"));
             }
         }
+        self.check_normalisation(file)?;
         if let Some(s) = &self.static_response {
             if (!s.ground_x.is_empty() && s.ground_x.len() != n) || s.ground_x.iter().any(|v| !v.is_finite()) {
                 return Err(bad(
@@ -204,8 +240,76 @@ impl ModalBridge {
                     &format!("must be {n} x {n} finite values [m/N]"),
                 ));
             }
+            check_flexibility(&s.flexibility).map_err(|(field, value, reason)| bad(field, value, &reason))?;
         }
         Ok(())
+    }
+
+    /// The checks of the modes' normalisation and signs that need no
+    /// model: the effective masses add up to at most `total_mass_x`, and
+    /// at every point along x `sum_i Gamma_x,i phi_i(p)` (1 with every
+    /// mode of the model, for a point that moves with the ground's
+    /// displacement) lies between [`MIN_RIGID_SUM`] and [`MAX_RIGID_SUM`]:
+    /// negated participations give -1, shapes not mass-normalised (times
+    /// a) give a^2, and either doubles or halves the mass ratio.
+    fn check_normalisation(&self, file: &str) -> Result<(), ModelError> {
+        let bad = |field: &str, value: String, reason: String| ModelError::Invalid {
+            field: format!("{file}: {field}"),
+            value,
+            reason,
+        };
+        let effective: f64 = self.modes.iter().map(|m| m.participation_x * m.participation_x).sum();
+        if let Some(total) = self.total_mass_x {
+            let ratio = effective / total;
+            if ratio > MAX_MASS_RATIO {
+                return Err(bad(
+                    "total_mass_x",
+                    format!("{total:e}"),
+                    format!(
+                        "the modes' effective masses along x add up to {effective:.6e} kg, {:.1} % of total_mass_x: \
+                         more than all of it. Is total_mass_x in another unit (tonnes?), or are the shapes not \
+                         mass-normalised (phi^T M phi = 1; docs/bridge.md, \"What the numbers are\")?",
+                        100.0 * ratio
+                    ),
+                ));
+            }
+        }
+        for (p, point) in self.points.iter().enumerate() {
+            let gamma = |m: &Mode| if point.direction == Direction::X { m.participation_x } else { m.participation_y };
+            if self.modes.iter().all(|m| gamma(m) == 0.0) {
+                continue;
+            }
+            let sum: f64 = self.modes.iter().map(|m| gamma(m) * m.shape[p]).sum();
+            if !(MIN_RIGID_SUM..=MAX_RIGID_SUM).contains(&sum) {
+                let along = if point.direction == Direction::X { "x" } else { "y" };
+                return Err(bad(
+                    &format!("point[{p}]"),
+                    format!("\"{}\"", point.name),
+                    format!(
+                        "sum over the modes of participation_{along} times shape there is {sum:.4}; with every mode \
+                         of the model it is 1 (a point moving with the ground), and a file of the lower modes comes \
+                         close: near -1 the participations have the opposite sign convention to the shapes (negate \
+                         every participation), near a^2 the shapes are not mass-normalised (times a); \
+                         docs/bridge.md, \"What the numbers are\""
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// A warning when a joint moves across the bridge with the point `p`
+    /// (direction y) while no mode has `participation_y`: the point may be
+    /// the second DOF of a 2-D frame, which is vertical, not across.
+    pub fn across_warning(&self, p: usize) -> Option<String> {
+        self.modes.iter().all(|m| m.participation_y == 0.0).then(|| {
+            format!(
+                "\"{}\" is a point across the bridge (direction y), but no mode of the file has participation_y: is \
+                 it the second DOF of a 2-D frame, which is vertical? quakejoint's y is horizontal, across the bridge \
+                 (docs/bridge.md)",
+                self.points[p].name
+            )
+        })
     }
 
     /// The index of the point `name` (along `direction`), or an error that
@@ -639,6 +743,59 @@ pub struct ModeCheck {
     pub between: Vec<(usize, usize, f64)>,
 }
 
+/// The `[static]` flexibility as a flexibility matrix must be: symmetric
+/// (Maxwell's reciprocity), with positive diagonal, and positive
+/// semi-definite (no load does negative work); the error names the entry
+/// (field, value, reason).
+fn check_flexibility(f: &[Vec<f64>]) -> Result<(), (String, String, String)> {
+    let n = f.len();
+    for p in 0..n {
+        if !(f[p][p] > 0.0) {
+            return Err((
+                format!("static.flexibility[{p}][{p}]"),
+                quakejoint_motion::number(f[p][p]),
+                "must be positive: a unit force at a point moves it along itself [m/N]".into(),
+            ));
+        }
+    }
+    for p in 0..n {
+        for q in p + 1..n {
+            let scale = (f[p][p] * f[q][q]).sqrt();
+            if (f[p][q] - f[q][p]).abs() > 1e-6 * scale {
+                return Err((
+                    format!("static.flexibility[{p}][{q}]"),
+                    format!("{:e} against [{q}][{p}] = {:e}", f[p][q], f[q][p]),
+                    "must be symmetric (Maxwell's reciprocity): the displacement at one point under a unit force \
+                     at the other is the same both ways"
+                        .into(),
+                ));
+            }
+        }
+    }
+    // Cholesky of the matrix scaled to a unit diagonal: a pivot below
+    // -1e-9 is a load that does negative work
+    let d: Vec<f64> = (0..n).map(|p| f[p][p].sqrt()).collect();
+    let mut l = vec![vec![0.0; n]; n];
+    for j in 0..n {
+        let mut pivot = 1.0 - (0..j).map(|k| l[j][k] * l[j][k]).sum::<f64>();
+        if pivot < -1e-9 {
+            return Err((
+                "static.flexibility".into(),
+                format!("{n} x {n}"),
+                format!("must be positive semi-definite (no load does negative work); it is not from row {j} on"),
+            ));
+        }
+        pivot = pivot.max(0.0).sqrt();
+        l[j][j] = pivot;
+        for i in j + 1..n {
+            let sym = 0.5 * (f[i][j] + f[j][i]) / (d[i] * d[j]);
+            let v = sym - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>();
+            l[i][j] = if pivot > 0.0 { v / pivot } else { 0.0 };
+        }
+    }
+    Ok(())
+}
+
 /// Below this share of the mass or of a joint point's flexibility, a run
 /// warns that more modes are needed [-].
 pub const ENOUGH: f64 = 0.9;
@@ -680,11 +837,12 @@ impl ModalBridge {
 
 impl ModeCheck {
     /// Warnings for the joints' points `points` (indices) where the kept
-    /// modes hold less than [`ENOUGH`], and for the mass.
-    /// With the static correction on (`corrected`) the joints' points
-    /// hold the full model's static flexibility and only the mass is
-    /// warned about.
-    pub fn warnings(&self, bridge: &ModalBridge, points: &[usize], corrected: bool) -> Vec<String> {
+    /// modes hold less than [`ENOUGH`], and for the mass. With the static
+    /// correction on (`corrected`) the joints' points hold the full model's
+    /// static flexibility and only the mass is warned about; a run without
+    /// the joints' forces (`joints_act` false: the bridge alone) needs no
+    /// flexibility at their points.
+    pub fn warnings(&self, bridge: &ModalBridge, points: &[usize], corrected: bool, joints_act: bool) -> Vec<String> {
         let mut out = Vec::new();
         if let Some(r) = self.mass_ratio.filter(|&r| r < ENOUGH) {
             out.push(format!(
@@ -692,6 +850,9 @@ impl ModeCheck {
                  motion excites the rest",
                 r * 100.0
             ));
+        }
+        if !joints_act {
+            return out;
         }
         if corrected {
             if bridge.static_response.as_ref().is_some_and(|s| s.ground_x.is_empty()) {
