@@ -12,8 +12,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/setup.sh
 system_packages
-echo "== building quakejoint (release)"
-cargo build --release --quiet -p quakejoint
+echo "== building quakejoint (release; the first build compiles about 200 crates: 5 to 15 minutes on 2 cores, later ones seconds)"
+cargo build --release -p quakejoint
 echo "== quakejoint sweep configs/paper.toml --output paper.h5"
 status=0
 target/release/quakejoint sweep configs/paper.toml --output paper.h5 || status=$?
@@ -24,5 +24,6 @@ case "$status" in
 esac
 python_env
 python3 scripts/plot_spectrum.py paper.h5 paper.png
+python3 scripts/headline.py paper.h5
 echo "== done: $PWD/paper.h5 (docs/hdf5-layout.md) and $PWD/paper.png"
 echo "   to use quakejoint directly: cargo install --path crates/cli  (puts it on PATH, in ~/.cargo/bin)"

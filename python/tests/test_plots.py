@@ -292,3 +292,16 @@ def test_fragility_draws_a_panel_per_limit_state_with_its_fit(stripes_sweep):
             x, y = np.asarray(curve.get_xdata(), float), np.asarray(curve.get_ydata(), float)
             assert abs(np.interp(ls.median[0, 0, 0], x, y) - 0.5) < 0.02, ls.name
     assert any("hazard" in ax.get_title().lower() or ax.get_xscale() == "log" for ax in fig.axes)
+
+
+def test_the_main_jobs_headline_is_the_files_numbers(quick_sweep):
+    """scripts/headline.py (the main job's last words) quotes Sa with and
+    without the joint at the period nearest 1 s, as the file holds them."""
+    import headline
+
+    text = headline.headline(str(quick_sweep))
+    with h5py.File(quick_sweep, "r") as f:
+        s = f["spectrum"]
+        t = int(np.argmin(np.abs(s["period"][:] - 1.0)))
+        without, with_ = s["without_joint/sa"][0, 0, t], s["with_joint/sa"][0, 0, 0, t]
+    assert f"Sa {without:.3f} m/s^2 without the joint, {with_:.3f} with it" in text, text

@@ -449,7 +449,7 @@ pub struct SpectrumArgs {
     /// Points per sample interval at which peaks are sought (1: the sample times).
     #[arg(long, default_value_t = 1)]
     pub subdivisions: u32,
-    /// Print CSV (the default) with the columns damping,period,sa,psa,sd,sv.
+    /// Print CSV (the default) with the columns damping [1], period [s], sa and psa [m/s^2], sd [m], sv [m/s] (the header gives the units).
     #[arg(long, conflicts_with = "json")]
     pub csv: bool,
     #[command(flatten)]

@@ -188,7 +188,7 @@ fn record_and_spectrum_commands() {
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines[0], "damping,period,sa,psa,sd,sv");
+    assert_eq!(lines[0], "damping [1],period [s],sa [m/s^2],psa [m/s^2],sd [m],sv [m/s]");
     assert_eq!(lines.len(), 11);
 }
 

@@ -233,14 +233,20 @@ fn static_correction_of_two_modes_keeping_one_is_the_second_mode_taken_staticall
     let only = ModalBridge::parse(&format!("{TWO_MODES}{flexible}"), "m.toml").unwrap();
     let c = only.static_correction(&kept, &[0, 1], 1.0, "m.toml").unwrap();
     assert!(close(c.pseudo[0].stiffness, w[1] * w[1] / (norm * norm)) && c.pseudo[0].base_mass == 0.0);
-    let warned = only.mode_check(&kept, &[0, 1]).warnings(&only, &[0, 1], true);
+    let warned = only.mode_check(&kept, &[0, 1]).warnings(&only, &[0, 1], true, true);
     assert!(warned.iter().any(|w| w.contains("no ground_x")), "{warned:?}");
 
     let none = ModalBridge::parse(TWO_MODES, "m.toml").unwrap();
     let e = none.static_correction(&kept, &[0], 1.0, "m.toml").unwrap_err().to_string();
     assert!(e.contains("bridge.modal.static_correction") && e.contains("m.toml") && e.contains("[static]"), "{e}");
+    // a table with less flexibility than the kept modes' does not belong to
+    // them; halved at one point it is no flexibility matrix at all (not
+    // positive semi-definite) and the file is refused as it is read
     let small = table.replacen(&format!("{:e}", f(0, 0)), &format!("{:e}", f(0, 0) * 0.5), 1);
-    let wrong = ModalBridge::parse(&format!("{TWO_MODES}{small}"), "m.toml").unwrap();
+    let e = ModalBridge::parse(&format!("{TWO_MODES}{small}"), "m.toml").unwrap_err().to_string();
+    assert!(e.contains("m.toml: static.flexibility") && e.contains("positive semi-definite"), "{e}");
+    let less = table.replacen(&format!("{:e}", f(1, 1)), &format!("{:e}", f(1, 1) * 0.9), 1);
+    let wrong = ModalBridge::parse(&format!("{TWO_MODES}{less}"), "m.toml").unwrap();
     let e = wrong.static_correction(&kept, &[0, 1], 1.0, "m.toml").unwrap_err().to_string();
     assert!(e.contains("does not belong to these modes"), "{e}");
 }

@@ -300,6 +300,10 @@ pub fn plan_summary(
         );
     }
     out!("sbatch resources per shard: --cpus-per-task={threads} --mem={mem_mb}M --time={time}");
+    out!(
+        "(the estimate is for runs whose joints do not pound; a run whose beams strike each other takes up to \
+         about twice as long: its time steps follow the impacts)"
+    );
 }
 
 /// `quakejoint compare`.

@@ -193,7 +193,7 @@ impl ModalBridge {
                 }
             }
             for (name, v) in [("participation_x", m.participation_x), ("participation_y", m.participation_y)] {
-                if !(v.abs() <= MAX_MAGNITUDE) {
+                if !v.is_finite() || v.abs() > MAX_MAGNITUDE {
                     return Err(bad(
                         f(name),
                         quakejoint_motion::number(v),
@@ -208,7 +208,7 @@ impl ModalBridge {
                     &format!("must have one value per [[point]] ({n})"),
                 ));
             }
-            if let Some(v) = m.shape.iter().find(|v| !(v.abs() <= MAX_MAGNITUDE)) {
+            if let Some(v) = m.shape.iter().find(|v| !v.is_finite() || v.abs() > MAX_MAGNITUDE) {
                 return Err(bad(
                     f("shape"),
                     quakejoint_motion::number(*v),
@@ -749,11 +749,11 @@ pub struct ModeCheck {
 /// (field, value, reason).
 fn check_flexibility(f: &[Vec<f64>]) -> Result<(), (String, String, String)> {
     let n = f.len();
-    for p in 0..n {
-        if !(f[p][p] > 0.0) {
+    for (p, row) in f.iter().enumerate() {
+        if row[p].is_nan() || row[p] <= 0.0 {
             return Err((
                 format!("static.flexibility[{p}][{p}]"),
-                quakejoint_motion::number(f[p][p]),
+                quakejoint_motion::number(row[p]),
                 "must be positive: a unit force at a point moves it along itself [m/N]".into(),
             ));
         }

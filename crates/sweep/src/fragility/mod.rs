@@ -92,61 +92,92 @@ pub fn rows(f: &StoredFragility, results: &Results, label: &dyn Fn(usize, usize,
     out
 }
 
-/// The fitted curves as a table for a terminal: per limit state (and per
-/// case, damping ratio and period when there are several), the median
-/// and dispersion with their intervals, with a hazard curve the mean
-/// annual frequency and return period, and the exceedances per stripe;
-/// each curve's note below it.
+/// The fitted curves for a terminal, a few lines each within 100
+/// columns: the limit state, its median and dispersion with their
+/// intervals and, with a hazard curve, the mean annual frequency with its
+/// interval and the return period; the exceedances per stripe; the notes
+/// of its own. Notes every curve shares are said once, at the end.
 pub fn summary(f: &StoredFragility, rows: &[CurveRow]) -> String {
     let mut out = format!(
-        "fragility: {} at {} stripes ({} g), {} records each\n",
+        "fragility: {} at {} stripes ({} g), {} records each\n  (intervals: {} %, bootstrap over the records)\n",
         f.stripes.measure.label(),
         f.stripes.levels.len(),
         f.stripes.levels.iter().map(|l| quakejoint_motion::number(*l)).collect::<Vec<_>>().join(", "),
-        f.stripes.ground.len()
+        f.stripes.ground.len(),
+        (100.0 * f.spec.confidence).round()
     );
-    let hazard = f.spec.hazard.is_some();
-    let pct = (100.0 * f.spec.confidence).round();
-    out += &format!(
-        "  {:<44} {:>26} {:>18}{}  exceeded / runs per stripe\n",
-        "limit state",
-        format!("median [g] ({pct} % interval)"),
-        "beta (interval)",
-        if hazard { format!(" {:>26} {:>10}", "per year (interval)", "return [y]") } else { String::new() }
-    );
-    for row in rows {
-        let median = if row.median_interval[0].is_finite() {
-            format!("{} ({}-{})", g3(row.median), g3(row.median_interval[0]), g3(row.median_interval[1]))
-        } else {
-            g3(row.median)
+    let notes: Vec<Vec<&str>> = rows.iter().map(|r| r.note.split("; ").filter(|n| !n.is_empty()).collect()).collect();
+    let shared: Vec<&str> = match notes.first() {
+        Some(first) if rows.len() > 1 => {
+            first.iter().copied().filter(|n| notes.iter().all(|ns| ns.contains(n))).collect()
+        }
+        _ => Vec::new(),
+    };
+    for (row, own) in rows.iter().zip(&notes) {
+        out += &format!("  {}\n", row.name);
+        let interval = |[lo, hi]: [f64; 2], f: fn(f64) -> String| {
+            if lo.is_finite() {
+                format!(" ({}-{})", f(lo), f(hi))
+            } else {
+                String::new()
+            }
         };
-        let beta = if row.beta_interval[0].is_finite() {
-            format!("{} ({}-{})", b2(row.beta), b2(row.beta_interval[0]), b2(row.beta_interval[1]))
-        } else if row.beta.is_finite() {
-            b2(row.beta)
+        // (a limit state without a fit has no annual frequency either)
+        let mut fit = if row.median.is_finite() {
+            format!(
+                "median {} g{}, beta {}{}",
+                g3(row.median),
+                interval(row.median_interval, g3),
+                b2(row.beta),
+                interval(row.beta_interval, b2)
+            )
         } else {
-            "-".to_string()
+            "no fit".to_string()
         };
-        let risk = if hazard && row.annual_frequency.is_finite() {
+        if f.spec.hazard.is_some() && row.annual_frequency.is_finite() {
             let years = 1.0 / row.annual_frequency;
             let years = if years >= 10.0 { format!("{years:.0}") } else { format!("{years:.2}") };
-            let [lo, hi] = row.annual_frequency_interval;
-            let rate = if lo.is_finite() {
-                format!("{:.2e} ({lo:.1e}-{hi:.1e})", row.annual_frequency)
-            } else {
-                format!("{:.2e}", row.annual_frequency)
-            };
-            format!(" {rate:>26} {years:>10}")
-        } else if hazard {
-            format!(" {:>26} {:>10}", "-", "-")
-        } else {
-            String::new()
-        };
+            fit += &format!(
+                "\n      {:.2e} per year{}: once in {years} years",
+                row.annual_frequency,
+                interval(row.annual_frequency_interval, |x| format!("{x:.1e}"))
+            );
+        }
+        out += &format!("      {fit}\n");
         let counts: Vec<String> = row.exceeded.iter().zip(&row.runs).map(|(e, n)| format!("{e}/{n}")).collect();
-        out += &format!("  {:<44} {median:>26} {beta:>18}{risk}  {}\n", row.name, counts.join(" "));
-        if !row.note.is_empty() {
-            out += &format!("      {}\n", row.note);
+        out += &format!("      exceeded / runs per stripe: {}\n", counts.join(" "));
+        for n in own.iter().filter(|n| !shared.contains(n)) {
+            out += &wrapped(n, 6, 100);
+        }
+    }
+    if !shared.is_empty() {
+        out += "  every limit state:\n";
+        for n in shared {
+            out += &wrapped(n, 6, 100);
         }
     }
     out
+}
+
+/// `text` in lines of at most `width` columns (a word longer than a line
+/// on its own), each indented by `indent` spaces, the later ones by two
+/// more.
+fn wrapped(text: &str, indent: usize, width: usize) -> String {
+    let mut out = String::new();
+    let mut line = " ".repeat(indent);
+    let mut empty = true;
+    for word in text.split(' ') {
+        if !empty && line.chars().count() + 1 + word.chars().count() > width {
+            out += &line;
+            out.push('\n');
+            line = " ".repeat(indent + 2);
+            empty = true;
+        }
+        if !empty {
+            line.push(' ');
+        }
+        line += word;
+        empty = false;
+    }
+    out + &line + "\n"
 }

@@ -539,6 +539,12 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<SiteHazard, SweepError>
                 }
             }
             let source = path.display().to_string();
+            if points.len() < 2 {
+                return Err(err(
+                    &format!("{field}.file"),
+                    format!("{source}: {} points: a hazard curve needs two at least", points.len()),
+                ));
+            }
             let curve = checked(points, &|i| format!("{source} line {}", lines[i]), field)?;
             SiteHazard { curve, source: f.clone(), file: Some(path) }
         }

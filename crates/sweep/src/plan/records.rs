@@ -95,7 +95,8 @@ pub(super) fn window_warning(
         "record {}: the runs cover its first {} s of {} s (simulation.duration); both spectra, with and without \
           the joint, are taken over that window{missed}",
         record.name,
-        quakejoint_motion::number(window.duration()),
-        quakejoint_motion::number(record.duration())
+        // (to the microsecond: 1999 samples of 0.02 s are 39.980000000000004 s)
+        quakejoint_motion::number((window.duration() * 1e6).round() / 1e6),
+        quakejoint_motion::number((record.duration() * 1e6).round() / 1e6)
     ))
 }
