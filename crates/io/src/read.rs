@@ -128,9 +128,14 @@ pub fn check_attributes(group: &Group) -> hdf5::Result<()> {
     attributes(group)?;
     for name in group.member_names().map_err(|e| about(&group.name(), e))? {
         let path = path_of(group, &name);
-        match group.group(&name) {
-            Ok(g) => check_attributes(&g)?,
-            Err(_) => {
+        // the object's kind from its header, once: libhdf5 1.10 refuses a
+        // damaged header the first time it is loaded, but opening it again
+        // after that failure succeeds (the header stays in its cache
+        // unverified), so an object is never opened a second time after a
+        // failed attempt
+        match group.loc_type_by_name(&name).map_err(|e| about(&path, e))? {
+            hdf5::LocationType::Group => check_attributes(&group.group(&name).map_err(|e| about(&path, e))?)?,
+            _ => {
                 let ds = group.dataset(&name).map_err(|e| about(&path, e))?;
                 attributes(&ds)?;
                 crate::h5::check_scales(&ds).map_err(|e| about(&path, e))?;

@@ -238,6 +238,14 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
         let ds = strings(&lg, "bootstrap_key", &keys, &[nc, nz, nt])?;
         attr_str(&ds, "meaning", "SHA-256 of the bootstrap's inputs (empty: no bootstrap)")?;
         attach_scales(&ds, &curve_axes)?;
+        let checks: Vec<String> = r.curves.iter().map(check_of).collect();
+        let ds = strings(&lg, "bootstrap_check", &checks, &[nc, nz, nt])?;
+        attr_str(
+            &ds,
+            "meaning",
+            "SHA-256 of the key with the intervals and counts stored for it (empty: no bootstrap)",
+        )?;
+        attach_scales(&ds, &curve_axes)?;
         for ((name, meaning), data) in BOOTSTRAP_FIELDS.iter().zip(bootstrap_counts(&r)) {
             let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape_err)?;
             let ds = array(&lg, name, view)?;
@@ -256,30 +264,57 @@ fn bootstrap_counts(r: &LimitStateResult) -> [Vec<u32>; 2] {
     [of(|i| i.separated), of(|i| i.undetermined)]
 }
 
+/// The SHA-256 (hex) of a curve's bootstrap key with the intervals and
+/// counts stored for it (empty without a bootstrap): a value of them
+/// rewritten in the file, checksum and all, no longer matches it.
+fn check_of(c: &super::Curve) -> String {
+    match &c.intervals {
+        Some(i) if !c.bootstrap_key.is_empty() => interval_check(&c.bootstrap_key, i),
+        _ => String::new(),
+    }
+}
+
+fn interval_check(key: &str, i: &quakejoint_model::fragility::Intervals) -> String {
+    let mut bytes = key.as_bytes().to_vec();
+    let a = i.annual_frequency.unwrap_or([f64::NAN; 2]);
+    for x in [i.median[0], i.median[1], i.beta[0], i.beta[1], a[0], a[1]] {
+        bytes.extend(x.to_bits().to_le_bytes());
+    }
+    bytes.extend((i.separated as u64).to_le_bytes());
+    bytes.extend((i.undetermined as u64).to_le_bytes());
+    quakejoint_motion::sha256_hex(&bytes)
+}
+
 /// Gives `memo` the intervals each curve of the limit state group `lg`
-/// stored under its bootstrap's key.
+/// stored under its bootstrap's key, once they match their check.
 fn remember(lg: &hdf5::Group, spec: &FragilitySpec, memo: &Memo) -> hdf5::Result<()> {
     let keys = text(lg, "bootstrap_key")?;
+    let checks = text(lg, "bootstrap_check")?;
     let f = |name: &str| values::<f64>(lg, name);
     let (m0, m1, b0, b1) = (f("median_lo")?, f("median_hi")?, f("beta_lo")?, f("beta_hi")?);
     let (a0, a1) = (f("annual_frequency_lo")?, f("annual_frequency_hi")?);
     let (sep, und) = (values::<u32>(lg, BOOTSTRAP_FIELDS[0].0)?, values::<u32>(lg, BOOTSTRAP_FIELDS[1].0)?);
     let n = keys.len();
-    if [m0.len(), m1.len(), b0.len(), b1.len(), a0.len(), a1.len(), sep.len(), und.len()].iter().any(|&l| l != n) {
+    let lengths = [m0.len(), m1.len(), b0.len(), b1.len(), a0.len(), a1.len(), sep.len(), und.len(), checks.len()];
+    if lengths.iter().any(|&l| l != n) {
         return Err(hdf5::Error::from(format!("{}: the bootstrap's arrays do not match its keys", lg.name())));
     }
     for (i, key) in keys.into_iter().enumerate().filter(|(_, k)| !k.is_empty()) {
-        memo.insert(
-            key,
-            quakejoint_model::fragility::Intervals {
-                level: spec.confidence,
-                median: [m0[i], m1[i]],
-                beta: [b0[i], b1[i]],
-                annual_frequency: spec.hazard.as_ref().map(|_| [a0[i], a1[i]]),
-                undetermined: und[i] as usize,
-                separated: sep[i] as usize,
-            },
-        );
+        let intervals = quakejoint_model::fragility::Intervals {
+            level: spec.confidence,
+            median: [m0[i], m1[i]],
+            beta: [b0[i], b1[i]],
+            annual_frequency: spec.hazard.as_ref().map(|_| [a0[i], a1[i]]),
+            undetermined: und[i] as usize,
+            separated: sep[i] as usize,
+        };
+        if interval_check(&key, &intervals) != checks[i] {
+            return Err(crate::sweep_read::disagrees(
+                &format!("{}/bootstrap_check", lg.name()),
+                "the bootstrap's key, intervals and counts",
+            ));
+        }
+        memo.insert(key, intervals);
     }
     Ok(())
 }
@@ -379,6 +414,10 @@ pub fn read_fragility(file: &hdf5::File, results: &Results) -> hdf5::Result<Opti
         let keys: Vec<String> = r.curves.iter().map(|c| c.bootstrap_key.clone()).collect();
         if text(&lg, "bootstrap_key")? != keys {
             return Err(disagrees(path("bootstrap_key")));
+        }
+        let checks: Vec<String> = r.curves.iter().map(check_of).collect();
+        if text(&lg, "bootstrap_check")? != checks {
+            return Err(disagrees(path("bootstrap_check")));
         }
         for ((name, _), data) in BOOTSTRAP_FIELDS.iter().zip(bootstrap_counts(&r)) {
             if values::<u32>(&lg, name)? != data {
