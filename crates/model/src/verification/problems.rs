@@ -5,6 +5,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use quakejoint_motion::{load_record, peaks, RecordSpec, SpectrumOptions};
+use quakejoint_solver::reference::andrews::{self, Squeezer};
 use quakejoint_solver::reference::closed_form::{self, SignChanges, Watch};
 use quakejoint_solver::reference::contact::HeadOn;
 use quakejoint_solver::reference::{self, FrictionOscillator};
@@ -45,6 +46,15 @@ pub const PROBLEMS: &[Problem] = &[
         quantity: "coefficient of restitution [-]",
         band: Band::Relative(1e-6),
         run: head_on_linear_contact,
+    },
+    Problem {
+        id: "andrews-squeezer",
+        layer: "solver",
+        title: "Andrews' squeezing mechanism (Hairer and Wanner VII.7): 7 bodies on 10 revolute joints, a spring and a driving torque of 0.033 N m, from rest to t = 0.03 s at tolerances 1e-12",
+        source: "published value: the IVP Test Set's reference solution at t = 0.03 s (Mazzia and Iavernaro, problem andrews; PSIDE at tolerances 1e-14), subroutine andsoln of rforge/bvpsolve pkg/deTestSet/src/Ex_andrews.f; its digits are themselves 1.4e-9 rad off the converged solution of their equations, which a Runge-Kutta integration of the test set's own equations confirms (crates/solver/tests/andrews_squeezer.rs)",
+        quantity: "of the seven angles (beta, Theta, gamma, Phi, delta, Omega, epsilon), the one farthest from its published value [rad]",
+        band: Band::Absolute(2e-9),
+        run: andrews_squeezer,
     },
     Problem {
         id: "resonance-amplitude",
@@ -221,6 +231,12 @@ fn head_on_linear_contact(_root: &Path) -> Result<Outcome, String> {
     let tr = (PI - (2.0 * decay * wd / (w * w - 2.0 * decay * decay)).atan()) / wd;
     let reference = (-decay * tr).exp() * (decay / wd * (wd * tr).sin() - (wd * tr).cos());
     Ok(Outcome { computed, reference })
+}
+
+fn andrews_squeezer(_root: &Path) -> Result<Outcome, String> {
+    let run = Squeezer::default().simulate(andrews::options(1e-12), andrews::END_TIME).map_err(|e| e.to_string())?;
+    let (k, _) = run.worst();
+    Ok(Outcome { computed: run.angles[k], reference: andrews::REFERENCE_ANGLES[k] })
 }
 
 fn resonance_amplitude(_root: &Path) -> Result<Outcome, String> {

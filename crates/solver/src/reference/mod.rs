@@ -345,5 +345,6 @@ pub fn element_zoo() -> System {
     sys
 }
 
+pub mod andrews;
 pub mod closed_form;
 pub mod contact;
