@@ -9,6 +9,7 @@
 
 pub mod modal;
 mod problems;
+mod programs;
 
 use std::path::Path;
 
