@@ -45,7 +45,7 @@ pub enum Command {
 /// Options shared by the commands that print results.
 #[derive(Debug, Args)]
 pub struct PrintArgs {
-    /// Print one JSON object on stdout instead of a table.
+    /// Print JSON on stdout instead of text: one object (`spectrum`: an array of one object per damping and period, with psv and the times of the peaks too).
     #[arg(long)]
     pub json: bool,
 }
@@ -449,7 +449,7 @@ pub struct SpectrumArgs {
     /// Points per sample interval at which peaks are sought (1: the sample times).
     #[arg(long, default_value_t = 1)]
     pub subdivisions: u32,
-    /// Print CSV (the default) with the columns damping [1], period [s], sa and psa [m/s^2], sd [m], sv [m/s] (the header gives the units).
+    /// Print CSV (the default) with the columns damping [1], period [s], sa and psa [m/s^2], sd [m], sv [m/s] (the header gives the units), every digit.
     #[arg(long, conflicts_with = "json")]
     pub csv: bool,
     #[command(flatten)]

@@ -190,6 +190,31 @@ fn record_and_spectrum_commands() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines[0], "damping [1],period [s],sa [m/s^2],psa [m/s^2],sd [m],sv [m/s]");
     assert_eq!(lines.len(), 11);
+    // every digit: the CSV's numbers are the JSON's, bit for bit
+    let rows = json(&quakejoint(&[
+        "spectrum",
+        "ground_motions/RSN753_LOMAP_CLS090-hor2.AT2",
+        "--periods",
+        "0.3,1.0",
+        "--damping",
+        "0.05",
+        "--json",
+    ]));
+    let csv = quakejoint(&[
+        "spectrum",
+        "ground_motions/RSN753_LOMAP_CLS090-hor2.AT2",
+        "--periods",
+        "0.3,1.0",
+        "--damping",
+        "0.05",
+        "--csv",
+    ]);
+    for (line, row) in String::from_utf8(csv.stdout).unwrap().lines().skip(1).zip(rows.as_array().unwrap()) {
+        let cols: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        for (k, key) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
+            assert_eq!(cols[2 + k].to_bits(), row[key].as_f64().unwrap().to_bits(), "{key}");
+        }
+    }
 }
 
 #[test]

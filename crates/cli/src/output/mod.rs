@@ -327,6 +327,7 @@ pub fn spectrum_rows(rows: &[SpectrumRow], json: bool) {
     }
     out!("damping [1],period [s],sa [m/s^2],psa [m/s^2],sd [m],sv [m/s]");
     for r in rows {
-        out!("{},{},{:.9e},{:.9e},{:.9e},{:.9e}", r.damping, r.period, r.peaks.sa, r.peaks.psa, r.peaks.sd, r.peaks.sv);
+        // every digit (the shortest text that reads back as the same number)
+        out!("{},{},{:e},{:e},{:e},{:e}", r.damping, r.period, r.peaks.sa, r.peaks.psa, r.peaks.sd, r.peaks.sv);
     }
 }
