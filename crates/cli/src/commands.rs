@@ -138,6 +138,7 @@ fn sweep_cmd(a: SweepArgs) -> Result<ExitCode> {
     // first: a signal while the config, records and modes are read stops
     // the sweep before its first job, with the command that continues it
     let signals = Signals::install()?;
+    quakejoint_sweep::fault::hold_start(&signals.stop);
     let plan = read_plan(&a.config)?;
     let output = a.output.clone().unwrap_or_else(|| {
         PathBuf::from(a.config.file_stem().map_or("sweep".into(), |s| s.to_string_lossy().to_string()) + ".h5")

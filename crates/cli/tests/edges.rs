@@ -276,3 +276,99 @@ fn a_damaged_earlier_merge_is_replaced_by_the_next_merge() {
     assert!(stderr(&again).contains("the earlier merge there cannot be read") && stderr(&again).contains("replaced"));
     assert_eq!(run(&["compare", &merged, &merged]).status.code(), Some(0));
 }
+
+/// Every file the tool opens goes through one reader that refuses what is
+/// not a regular file: a FIFO (which would block until something writes
+/// to it) or /dev/zero (which never ends: the process held 7 GB after 6 s)
+/// as the modes file, the hazard curve, or an HDF5 input of `compare` and
+/// `merge`, refused at once, named.
+#[test]
+fn fifos_and_devices_are_refused_as_modes_files_hazard_curves_and_hdf5_inputs() {
+    let d = dir("edges-fifo-inputs");
+    let fifo = d.join("input.fifo");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let modal = |modes: &Path| {
+        format!(
+            "[bridge]\ndamping = 0.05\n[bridge.modal]\nmodes = {:?}\njoint_point = \"left end\"\n[simulation]\nduration = 1.0\n",
+            modes.display().to_string()
+        )
+    };
+    let record = root().join("ground_motions/RSN753_LOMAP_CLS090-hor2.AT2").display().to_string();
+    let stripes = |hazard: &Path| {
+        format!(
+            "[sweep]\nperiods = [1.0]\nrecords = [{{ file = {record:?} }}]\n[sweep.stripes]\nmeasure = \"pga\"\n\
+             levels = [0.1, 0.2]\n[sweep.fragility]\nhazard = {{ file = {:?} }}\n",
+            hazard.display().to_string()
+        )
+    };
+    let good = config(&d, "good.toml", "[sweep]\nperiods = [1.0]\ndamping = [0.05]\n", 1.0);
+    let good_out = d.join("good.h5");
+    assert_eq!(run(&["sweep", good.to_str().unwrap(), "--output", good_out.to_str().unwrap()]).status.code(), Some(0));
+    for (what, input) in [("a FIFO", fifo.as_path()), ("a device", Path::new("/dev/zero"))] {
+        let modes_cfg = d.join("modes.toml");
+        std::fs::write(&modes_cfg, modal(input)).unwrap();
+        let hazard_cfg = config(&d, "hazard.toml", &stripes(input), 1.0);
+        for args in [
+            vec![os("model"), modes_cfg.as_os_str()],
+            vec![os("simulate"), modes_cfg.as_os_str()],
+            vec![os("sweep"), hazard_cfg.as_os_str(), os("--check")],
+            vec![os("compare"), good_out.as_os_str(), input.as_os_str()],
+            vec![os("merge"), input.as_os_str(), os("--output"), d.join("m.h5").as_os_str()],
+        ] {
+            let out = run_within(&args, 30);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+            assert!(stderr(&out).contains(what), "{args:?}: {}", stderr(&out));
+        }
+    }
+}
+
+/// An output never overwrites an input: `calibrate --output-dir` holding
+/// the config as `link.toml` is refused before the calibration runs, and
+/// so is an output folder that is a file.
+#[test]
+fn calibrate_refuses_to_write_over_its_own_config_or_into_a_file() {
+    let d = dir("edges-calibrate");
+    let cfg = config(&d, "link.toml", "", 1.0);
+    let before = std::fs::read(&cfg).unwrap();
+    let start = Instant::now();
+    let out = run_within(&[os("calibrate"), cfg.as_os_str(), os("--output-dir"), d.as_os_str()], 30);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("would overwrite its input"), "{}", stderr(&out));
+    assert!(start.elapsed() < Duration::from_secs(10), "refused before calibrating");
+    assert_eq!(std::fs::read(&cfg).unwrap(), before, "the config is untouched");
+    let file = d.join("a-file");
+    std::fs::write(&file, b"x").unwrap();
+    let out = run_within(&[os("calibrate"), cfg.as_os_str(), os("--output-dir"), file.as_os_str()], 30);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("it is a file, not a folder"), "{}", stderr(&out));
+}
+
+/// A SIGTERM while the sweep still reads its config and records (the
+/// first tenths of a second) stops it as one during its jobs does: exit
+/// 143 and the command that continues it (a SLURM log then has the
+/// resubmission). `QUAKEJOINT_TEST_HOLD_START` holds the sweep after its
+/// handlers are installed and before it reads the config, so the signal
+/// lands there however fast the machine.
+#[test]
+fn a_sigterm_while_the_config_is_read_leaves_the_continuation() {
+    let d = dir("edges-early-signal");
+    let cfg = config(&d, "c.toml", "[sweep]\nperiods = [1.0, 2.0]\ndamping = [0.05]\n", 1.0);
+    let out = d.join("out.h5");
+    let ready = d.join("held");
+    let child = bin()
+        .args(["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()])
+        .env("QUAKEJOINT_TEST_HOLD_START", &ready)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while !ready.exists() {
+        assert!(start.elapsed() < Duration::from_secs(60), "the sweep never got to reading its config");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap().success());
+    let done = child.wait_with_output().unwrap();
+    assert_eq!(done.status.code(), Some(143), "{}", stderr(&done));
+    assert!(stderr(&done).contains("continue with"), "{}", stderr(&done));
+}

@@ -18,6 +18,9 @@
 //! signals, kills or watches it, however fast the machine
 //! (`crates/cli/tests/batch.rs`, `tests/slurm/test_array.sh`).
 //!
+//! With `QUAKEJOINT_TEST_HOLD_START=<file>`, a sweep holds after installing
+//! its signal handlers and before reading its config ([`hold_start`]).
+//!
 //! The hooks are compiled only with the feature `fault-injection`, which
 //! the command's tests turn on (a dev-dependency of `crates/cli`): a
 //! program built for use (`cargo build`, `cargo install`, the Python
@@ -126,6 +129,25 @@ pub(crate) fn hold(shard: Option<(usize, usize)>, output: &Path, stop: &AtomicBo
     }
     true
 }
+
+/// With `QUAKEJOINT_TEST_HOLD_START=<file>`: creates `<file>` and waits
+/// until `stop` is set (at most a minute), where a sweep would read its
+/// config: a signal that lands there however fast the machine
+/// (`crates/cli/tests/edges.rs`). Without the variable it returns at once.
+#[cfg(feature = "fault-injection")]
+pub fn hold_start(stop: &AtomicBool) {
+    let Some(file) = std::env::var_os("QUAKEJOINT_TEST_HOLD_START") else { return };
+    let _ = std::fs::write(&file, b"");
+    let start = std::time::Instant::now();
+    while !stop.load(Ordering::Relaxed) && start.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// Without the feature: nothing held at the start.
+#[cfg(not(feature = "fault-injection"))]
+#[inline(always)]
+pub fn hold_start(_stop: &AtomicBool) {}
 
 /// Without the feature: no pause.
 #[cfg(not(feature = "fault-injection"))]
