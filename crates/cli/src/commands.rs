@@ -276,7 +276,10 @@ pub fn read_config(path: &Path) -> Result<(Config, String)> {
     let text = quakejoint_motion::read_input_text(path, quakejoint_motion::MAX_CONFIG_BYTES)
         .map_err(|e| InputError(format!("{}: cannot read the config: {e}", path.display())))?;
     let mut config = Config::from_toml(&text, &path.display().to_string())?;
-    config.load_modes(&quakejoint_model::config::base_dir(path))?;
+    let base = quakejoint_model::config::base_dir(path);
+    config.load_modes(&base)?;
+    // its [sweep] table too: a config is refused by every command or none
+    quakejoint_sweep::plan::check_sweep(&text, &path.display().to_string(), &base)?;
     Ok((config, text))
 }
 

@@ -372,3 +372,31 @@ fn a_sigterm_while_the_config_is_read_leaves_the_continuation() {
     assert_eq!(done.status.code(), Some(143), "{}", stderr(&done));
     assert!(stderr(&done).contains("continue with"), "{}", stderr(&done));
 }
+
+/// A config is refused by every command or by none: a broken `[sweep]`
+/// table (here `[sweep.fragility]` and `[sweep.stripes]`) is named by
+/// `model` and `simulate` as by `sweep`, not only when a sweep runs.
+#[test]
+fn a_broken_sweep_table_is_refused_by_model_and_simulate_too() {
+    let d = dir("edges-sweep-table");
+    let record = root().join("ground_motions/RSN753_LOMAP_CLS090-hor2.AT2").display().to_string();
+    for (sweep, says) in [
+        (
+            "[sweep.stripes]\nmeasure = \"pga\"\nlevels = [0.1, 0.2]\n[sweep.fragility]\nbootstrap = -3\n",
+            "sweep.fragility.bootstrap",
+        ),
+        ("[sweep.stripes]\nmeasure = \"pgv\"\nlevels = [0.1, 0.2]\n", "sweep.stripes.measure"),
+    ] {
+        let cfg = config(
+            &d,
+            "c.toml",
+            &format!("[sweep]\nperiods = [1.0]\nrecords = [{{ file = {record:?} }}]\n{sweep}"),
+            1.0,
+        );
+        for cmd in ["model", "simulate", "sweep"] {
+            let out = run_within(&[os(cmd), cfg.as_os_str()], 60);
+            assert_eq!(out.status.code(), Some(2), "{cmd}: {}", stderr(&out));
+            assert!(stderr(&out).contains(says), "{cmd}: {}", stderr(&out));
+        }
+    }
+}

@@ -126,7 +126,8 @@ fn kept_modes_share_of_the_static_flexibility() {
         eprintln!("{count:>4} modes: {:.1} % at the left end, {:.1} % between the ends", end * 100.0, between * 100.0);
         assert!(end >= last.0 && between >= last.1, "{count} modes: {end}, {between} after {last:?}");
         last = (end, between);
-        let warned = check.warnings(&bridge, &[l, r], false, true).iter().any(|w| w.starts_with("between \"left end\""));
+        let warned =
+            check.warnings(&bridge, &[l, r], false, true).iter().any(|w| w.starts_with("between \"left end\""));
         assert_eq!(warned, between < quakejoint_model::modal::ENOUGH, "{count} modes");
     }
     assert!((last.0 - 1.0).abs() < 1e-6 && (last.1 - 1.0).abs() < 1e-6, "every mode: {last:?}");

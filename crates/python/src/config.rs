@@ -29,6 +29,7 @@ impl PyConfig {
         let mut config = Config::from_toml(text, source).map_err(|e| config_error(e, source))?;
         config.load_modes(&base_dir).map_err(|e| config_error(e, source))?;
         check_geometry(&config, source)?;
+        Self::check_sweep(text, source, &base_dir)?;
         Ok(PyConfig { config, base_dir, source: source.into() })
     }
 
@@ -36,6 +37,7 @@ impl PyConfig {
     /// without a text in between, so that a message names the key, not a
     /// line of text the user never wrote.
     fn from_tables(table: toml::Table, source: &str, base_dir: PathBuf) -> PyResult<Self> {
+        let text = toml::to_string(&table).unwrap_or_default();
         let config: Config = toml::Value::Table(table)
             .try_into()
             .map_err(|e: toml::de::Error| InputError::new_err(format!("{source}: {}", dict_error(&e))))?;
@@ -43,7 +45,21 @@ impl PyConfig {
         let mut config = config;
         config.load_modes(&base_dir).map_err(|e| config_error(e, source))?;
         check_geometry(&config, source)?;
+        Self::check_sweep(&text, source, &base_dir)?;
         Ok(PyConfig { config, base_dir, source: source.into() })
+    }
+
+    /// The config's `[sweep]` table, checked as the command line checks it.
+    fn check_sweep(text: &str, source: &str, base_dir: &Path) -> PyResult<()> {
+        quakejoint_sweep::plan::check_sweep(text, source, base_dir).map_err(|e| {
+            let message = crate::message(&e);
+            let message = if message.contains(source) { message } else { format!("{source}: {message}") };
+            if e.is_input_error() {
+                InputError::new_err(message)
+            } else {
+                crate::SimulationError::new_err(message)
+            }
+        })
     }
 
     /// The config as a TOML table.
@@ -135,10 +151,10 @@ impl PyConfig {
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Self> {
         let source = path.display().to_string();
-        let config = Config::from_file(&path).map_err(|e| config_error(e, &source))?;
-        check_geometry(&config, &source)?;
+        let text = quakejoint_motion::read_input_text(&path, quakejoint_motion::MAX_CONFIG_BYTES)
+            .map_err(|e| InputError::new_err(format!("{source}: cannot read the config: {e}")))?;
         // absolute: a later os.chdir must not lose the config's records
-        Ok(PyConfig { config, base_dir: absolute(base_dir(&path)), source })
+        Self::parse(&text, &source, absolute(base_dir(&path)))
     }
 
     /// Parses TOML text; `source` names it in messages.

@@ -29,9 +29,11 @@ fn rows(root: &Path, program: &str, record: &str) -> Result<Vec<Row>, String> {
         .skip(1)
         .filter(|l| !l.trim().is_empty())
         .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|e| {
-                format!("{}: {l:?}: {e}", path.display())
-            })?;
+            let v: Vec<f64> = l
+                .split(',')
+                .map(|x| x.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("{}: {l:?}: {e}", path.display()))?;
             match v[..] {
                 [damping, period, sa, psa, sd, ..] => Ok(Row { damping, period, values: [sa, psa, sd] }),
                 _ => Err(format!("{}: {l:?}: fewer than five columns", path.display())),

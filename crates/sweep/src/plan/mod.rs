@@ -246,6 +246,20 @@ fn stripes_allowed(config: &Config, records: &[SweepRecord]) -> Result<(), Sweep
     Ok(())
 }
 
+/// Checks the `[sweep]` table of a config's text, if it has one, as
+/// `quakejoint sweep` reads it (its records read, a suite or stripes scaled,
+/// its fragility and hazard curve checked): `model`, `simulate` and
+/// Python's `Config` run it, so that a config whose `[sweep]` is broken is
+/// refused by every command, naming the key, not by the sweep alone.
+pub fn check_sweep(config_text: &str, source: &str, base_dir: &Path) -> Result<(), SweepError> {
+    let table: toml::Table =
+        toml::from_str(config_text).map_err(|e| SweepError::from(quakejoint_model::config::parse_error(source, &e)))?;
+    if table.contains_key("sweep") {
+        Plan::new(config_text, source, base_dir)?;
+    }
+    Ok(())
+}
+
 impl Plan {
     /// Reads the sweep of a config file (`source` names it in messages;
     /// record paths are resolved against `base_dir`).
