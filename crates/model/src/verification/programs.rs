@@ -54,7 +54,7 @@ pub fn spectra_against(root: &Path, program: &str) -> Result<Outcome, String> {
             let p = peaks(&rec.acceleration, rec.dt, row.period, row.damping, SpectrumOptions::default());
             for (computed, reference) in [p.sa, p.psa, p.sd].into_iter().zip(row.values) {
                 let error = ((computed - reference) / reference).abs();
-                if !(error <= worst.0) {
+                if error.is_nan() || error > worst.0 {
                     worst = (error, Outcome { computed, reference });
                 }
             }
