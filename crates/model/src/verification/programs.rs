@@ -1,7 +1,8 @@
 //! Reference problems whose independent solution is another program's
 //! output, committed as data with its provenance: the linear response
 //! spectra of eqsig and OpenSees (`tests/data/reference_spectra`, made by
-//! `scripts/reference_spectra.py`).
+//! `scripts/reference_spectra.py`) and Exudyn's run of the small joint
+//! (`tests/data/exudyn`, made by `scripts/exudyn/small_joint.py`).
 
 use std::path::Path;
 
@@ -71,4 +72,43 @@ pub fn spectra_against_eqsig(root: &Path) -> Result<Outcome, String> {
 /// Against OpenSees 3.7.1 (Newmark average acceleration, h = 1.25e-4 s).
 pub fn spectra_against_opensees(root: &Path) -> Result<Outcome, String> {
     spectra_against(root, "opensees")
+}
+
+/// The small joint on a light deck (5e4 kg, T = 1 s, 5 %; the joint raises
+/// its Sa by 16.7 %) under Corralitos 090 x 0.15 for 10 s, at tolerances
+/// 1e-12 (`tests/data/exudyn/quakejoint_small_light_tight.toml`), and
+/// Exudyn's run of the same model (`scripts/exudyn/small_joint.py`,
+/// `tests/data/exudyn/exudyn_small_light.json`): `field` of both.
+fn against_exudyn(root: &Path, field: &str) -> Result<Outcome, String> {
+    let dir = root.join("tests/data/exudyn");
+    let json =
+        quakejoint_motion::read_input_text(&dir.join("exudyn_small_light.json"), quakejoint_motion::MAX_TABLE_BYTES)
+            .map_err(|e| format!("exudyn_small_light.json: {e}"))?;
+    // (a flat JSON object of numbers and strings: the value after the key)
+    let key = format!("\"{field}\":");
+    let reference = json
+        .split_once(&key)
+        .and_then(|(_, rest)| rest.split([',', '\n', '}']).next())
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .ok_or_else(|| format!("exudyn_small_light.json has no number {field}"))?;
+    let path = dir.join("quakejoint_small_light_tight.toml");
+    let config = crate::Config::from_file(&path).map_err(|e| e.to_string())?;
+    let r = crate::run::simulate(&config, &crate::config::base_dir(&path), &crate::run::RunOptions::default())
+        .map_err(|e| e.to_string())?;
+    let computed = match field {
+        "sa" => r.sa,
+        "friction_energy" => r.friction_energy,
+        other => return Err(format!("no field {other}")),
+    };
+    Ok(Outcome { computed, reference })
+}
+
+/// Sa of the light deck against Exudyn's.
+pub fn small_joint_sa_against_exudyn(root: &Path) -> Result<Outcome, String> {
+    against_exudyn(root, "sa")
+}
+
+/// The friction energy against Exudyn's.
+pub fn small_joint_friction_against_exudyn(root: &Path) -> Result<Outcome, String> {
+    against_exudyn(root, "friction_energy")
 }

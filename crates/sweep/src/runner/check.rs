@@ -83,7 +83,7 @@ pub(super) fn output_state(output: &Path, expected: &SweepFile) -> Result<Output
         return if expected.results.finished() > 0 {
             Err("it is missing".into())
         } else {
-            Ok(OutputState { behind: false, refit: false })
+            Ok(OutputState { behind: false, refit: false, memo: None })
         };
     }
     let existing = read_sweep(output).map_err(|e| format!("it cannot be read ({})", e.message))?;
@@ -98,6 +98,7 @@ pub(super) fn output_state(output: &Path, expected: &SweepFile) -> Result<Output
         behind: existing.results.finished() < expected.results.finished()
             || existing.case_configs != expected.case_configs,
         refit,
+        memo: existing.fragility.map(|f| f.memo),
     })
 }
 
@@ -109,6 +110,9 @@ pub(super) struct OutputState {
     /// Its limit states or their fitting (`[sweep.fragility]`, outside the
     /// config's hash) are not the config's: it is refitted and rewritten.
     pub refit: bool,
+    /// The bootstrap intervals it holds, by their inputs' keys (a
+    /// multiple-stripe sweep): the run takes them instead of resampling.
+    pub memo: Option<std::sync::Arc<crate::fragility::Memo>>,
 }
 
 /// An existing file at the output name without a journal is not a sweep's

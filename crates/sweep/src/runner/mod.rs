@@ -255,7 +255,10 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     }
     // the output on disk must agree with its journal, or it is rebuilt
     let mut dirty = match output_state(output, &file) {
-        Ok(check::OutputState { behind, refit }) => {
+        Ok(check::OutputState { behind, refit, memo }) => {
+            if let (Some(memo), Some(f)) = (memo, &mut file.fragility) {
+                f.memo = memo;
+            }
             if refit {
                 notices.push(format!(
                     "{}: the limit states or their fitting ([sweep.fragility]) changed: refitted from the journal, no \
