@@ -244,7 +244,12 @@ impl TargetSpectrum {
                 format!("ASCE 7, S_DS = {sds_g} g, S_D1 = {sd1_g} g, T_L = {tl} s, 5 % damping")
             }
             TargetSpectrum::Table { points, damping } => {
-                format!("table of {} points, {} % damping", points.len(), percent(*damping))
+                format!(
+                    "table of {} point{}, {} % damping",
+                    points.len(),
+                    if points.len() == 1 { "" } else { "s" },
+                    percent(*damping)
+                )
             }
         }
     }

@@ -118,7 +118,8 @@ impl Hazard {
     pub fn new(points: Vec<(f64, f64)>) -> Result<Self, FragilityError> {
         let bad = |index: usize, reason: String| Err(FragilityError::Hazard { index, reason });
         if points.len() < 2 {
-            return bad(0, format!("{} points: two at least are needed", points.len()));
+            let n = points.len();
+            return bad(0, format!("{n} point{}: two at least are needed", if n == 1 { "" } else { "s" }));
         }
         for (index, &(im, rate)) in points.iter().enumerate() {
             if !(im.is_finite() && im > 0.0 && rate.is_finite() && rate > 0.0) {

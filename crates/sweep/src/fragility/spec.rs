@@ -542,7 +542,11 @@ fn hazard_of(v: &toml::Value, base_dir: &Path) -> Result<SiteHazard, SweepError>
             if points.len() < 2 {
                 return Err(err(
                     &format!("{field}.file"),
-                    format!("{source}: {} points: a hazard curve needs two at least", points.len()),
+                    format!(
+                        "{source}: {} point{}: a hazard curve needs two at least",
+                        points.len(),
+                        if points.len() == 1 { "" } else { "s" }
+                    ),
                 ));
             }
             let curve = checked(points, &|i| format!("{source} line {}", lines[i]), field)?;
