@@ -26,4 +26,4 @@ python_env
 python3 scripts/plot_spectrum.py paper.h5 paper.png
 python3 scripts/headline.py paper.h5
 echo "== done: $PWD/paper.h5 (docs/hdf5-layout.md) and $PWD/paper.png"
-echo "   to use quakejoint directly: cargo install --path crates/cli  (puts it on PATH, in ~/.cargo/bin)"
+echo "   to use quakejoint directly: cargo install --locked --path crates/cli  (puts it on PATH, in ~/.cargo/bin)"

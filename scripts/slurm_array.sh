@@ -97,7 +97,7 @@ if [ -z "$bin" ]; then
   bin=$(command -v quakejoint || true)
   [ -n "$bin" ] || bin="$here/target/release/quakejoint"
 fi
-[ -x "$bin" ] || die "no quakejoint binary: install it (cargo install --path crates/cli) or set QUAKEJOINT"
+[ -x "$bin" ] || die "no quakejoint binary: install it (cargo install --locked --path crates/cli) or set QUAKEJOINT"
 bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")
 config=$(cd "$(dirname "$config")" && pwd)/$(basename "$config")
 name=$(basename "${config%.toml}")
