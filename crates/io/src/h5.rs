@@ -270,120 +270,22 @@ pub fn strings_1d(group: &hdf5::Group, name: &str, data: &[String]) -> hdf5::Res
     strings(group, name, data, &[data.len()])
 }
 
-// HDF5 dimension scales (the high-level library, which Debian's
-// libhdf5-dev ships beside the main one).
-#[link(name = "hdf5_hl")]
-extern "C" {
-    fn H5DSset_scale(dsid: i64, dimname: *const std::ffi::c_char) -> i32;
-    fn H5DSattach_scale(did: i64, dsid: i64, idx: std::ffi::c_uint) -> i32;
-    fn H5DSset_label(did: i64, idx: std::ffi::c_uint, label: *const std::ffi::c_char) -> i32;
-    fn H5DSget_label(did: i64, idx: std::ffi::c_uint, label: *mut std::ffi::c_char, size: usize) -> isize;
-    fn H5DSget_num_scales(did: i64, idx: std::ffi::c_uint) -> i32;
-    fn H5DSget_scale_name(dsid: i64, name: *mut std::ffi::c_char, size: usize) -> isize;
-    fn H5DSiterate_scales(
-        did: i64,
-        dim: std::ffi::c_uint,
-        idx: *mut std::ffi::c_int,
-        visitor: extern "C" fn(i64, std::ffi::c_uint, i64, *mut std::ffi::c_void) -> i32,
-        data: *mut std::ffi::c_void,
-    ) -> i32;
-}
-
-/// The attributes HDF5's dimension scales keep (`H5DS`): the scale's
-/// `CLASS` and `NAME`, and on a dataset `DIMENSION_LIST` (references) and
-/// `DIMENSION_LABELS`, which live in the global heap and are checked by
-/// [`check_scales`] instead of being read as attributes.
+/// The attributes HDF5's dimension scales (`H5DS`) kept on the arrays of
+/// files written before schema 12: `CLASS`, `NAME`, `REFERENCE_LIST`,
+/// `DIMENSION_LIST` (references) and `DIMENSION_LABELS`. The last two
+/// live in the global heap, which has no checksum, and libhdf5 1.10 reads
+/// a damaged record of it past its end (a segmentation fault): readers
+/// leave them alone, and files are written without dimension scales
+/// ([`label_axes`] instead).
 pub const SCALE_ATTRIBUTES: [&str; 5] = ["CLASS", "NAME", "REFERENCE_LIST", "DIMENSION_LIST", "DIMENSION_LABELS"];
 
-/// Text of at most 256 bytes that an `H5DS` getter writes into a buffer.
-fn ds_text(get: impl Fn(*mut std::ffi::c_char, usize) -> isize) -> Option<String> {
-    let mut buf = vec![0u8; 257];
-    let n = hdf5::sync::sync(|| get(buf.as_mut_ptr().cast(), buf.len()));
-    if n < 0 {
-        return None;
-    }
-    Some(String::from_utf8_lossy(trim_nul(&buf[..(n as usize).min(256)])).into_owned())
-}
-
-extern "C" fn scale_name(_did: i64, _dim: std::ffi::c_uint, dsid: i64, data: *mut std::ffi::c_void) -> i32 {
-    // SAFETY: `data` is the `Option<String>` that `check_scales` passes
-    // for the call, and `dsid` an open scale the library hands over.
-    let out = unsafe { &mut *(data as *mut Option<String>) };
-    *out = ds_text(|b, n| unsafe { H5DSget_scale_name(dsid, b, n) });
-    1
-}
-
-/// Checks the dimension scales attached to `ds`: each axis's label and the
-/// name of the scale attached to it must agree (they are written equal).
-/// Both live where no checksum covers them (the labels' text and the list
-/// of references in the global heap), so a damaged one is named here.
-pub fn check_scales(ds: &hdf5::Dataset) -> hdf5::Result<()> {
-    if !ds.attr_names()?.iter().any(|n| n == "DIMENSION_LIST") {
-        return Ok(());
-    }
-    let damaged =
-        |axis: usize| hdf5::Error::from(format!("{}: the dimension scale of axis {axis} is damaged", ds.name()));
-    let did = ds.id();
-    for axis in 0..ds.ndim() {
-        let i = axis as std::ffi::c_uint;
-        // SAFETY: `did` is an open dataset and `i` one of its axes.
-        let n = hdf5::sync::sync(|| unsafe { H5DSget_num_scales(did, i) });
-        if n < 0 {
-            return Err(damaged(axis));
-        }
-        if n == 0 {
-            continue;
-        }
-        let label = ds_text(|b, size| unsafe { H5DSget_label(did, i, b, size) }).ok_or_else(|| damaged(axis))?;
-        let mut name: Option<String> = None;
-        let mut idx: std::ffi::c_int = 0;
-        // SAFETY: the visitor writes into `name`, which outlives the call.
-        let rc = hdf5::sync::sync(|| unsafe {
-            H5DSiterate_scales(did, i, &mut idx, scale_name, (&mut name as *mut Option<String>).cast())
-        });
-        if rc < 0 || name.as_deref() != Some(label.as_str()) {
-            return Err(damaged(axis));
-        }
-    }
-    Ok(())
-}
-
-/// Makes `scale` a dimension scale named `name` (readers such as h5py and
-/// xarray then know what each axis of the datasets it is attached to means).
-pub fn set_scale(scale: &hdf5::Dataset, name: &str) -> hdf5::Result<()> {
-    let c = std::ffi::CString::new(name).map_err(|e| hdf5::Error::from(e.to_string()))?;
-    let id = scale.id();
-    // SAFETY: `id` is a valid, open dataset identifier for the duration of
-    // the call, `c` a NUL-terminated string; the library's lock serialises
-    // HDF5 calls.
-    let rc = hdf5::sync::sync(|| unsafe { H5DSset_scale(id, c.as_ptr()) });
-    if rc < 0 {
-        return Err(hdf5::Error::from(format!("H5DSset_scale({name}) failed")));
-    }
-    Ok(())
-}
-
-/// Labels the axes of `data` and attaches one dimension scale per axis
-/// (`scales[i]` for axis `i`, each made a scale by [`set_scale`]).
-pub fn attach_scales(data: &hdf5::Dataset, scales: &[(&hdf5::Dataset, &str)]) -> hdf5::Result<()> {
-    for (i, (scale, label)) in scales.iter().enumerate() {
-        let c = std::ffi::CString::new(*label).map_err(|e| hdf5::Error::from(e.to_string()))?;
-        let (did, sid) = (data.id(), scale.id());
-        // SAFETY: both identifiers are valid, open datasets; `i` is an axis
-        // of `data` (the caller passes one scale per axis).
-        let rc = hdf5::sync::sync(|| unsafe {
-            let a = H5DSattach_scale(did, sid, i as std::ffi::c_uint);
-            if a < 0 {
-                a
-            } else {
-                H5DSset_label(did, i as std::ffi::c_uint, c.as_ptr())
-            }
-        });
-        if rc < 0 {
-            return Err(hdf5::Error::from(format!("attaching the scale {label} failed")));
-        }
-    }
-    Ok(())
+/// Names the axes of `data` in its text attribute `dims`, comma-separated
+/// (`case, record, damping, period`): each name is that of the array that
+/// holds the axis' coordinates (`/spectrum/period`, `/fragility/levels` for
+/// `stripe`). Text under the object header's checksum, unlike HDF5's
+/// dimension scales (their references and labels live in the global heap).
+pub fn label_axes(data: &hdf5::Dataset, labels: &[&str]) -> hdf5::Result<()> {
+    attr_str(data, "dims", &labels.join(", "))
 }
 
 /// Writes a 1-D f64 dataset with a `units` attribute.

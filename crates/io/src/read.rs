@@ -97,12 +97,12 @@ pub enum AttrValue {
 }
 
 /// Every attribute of `loc`, read (text checked as UTF-8), in name order,
-/// but the dimension scales' references and labels
-/// ([`crate::h5::check_scales`] checks those); a damaged one named.
+/// but the dimension scales' of files before schema 12
+/// ([`crate::h5::SCALE_ATTRIBUTES`]); a damaged one named.
 pub fn attributes(loc: &hdf5::Location) -> hdf5::Result<Vec<(String, AttrValue)>> {
     use hdf5::types::TypeDescriptor as TD;
     let mut names = loc.attr_names().map_err(|e| about(&format!("{} attributes", loc.name()), e))?;
-    names.retain(|n| !crate::h5::SCALE_ATTRIBUTES[2..].contains(&n.as_str()));
+    names.retain(|n| !crate::h5::SCALE_ATTRIBUTES.contains(&n.as_str()));
     names.sort();
     names
         .into_iter()
@@ -138,7 +138,6 @@ pub fn check_attributes(group: &Group) -> hdf5::Result<()> {
             _ => {
                 let ds = group.dataset(&name).map_err(|e| about(&path, e))?;
                 attributes(&ds)?;
-                crate::h5::check_scales(&ds).map_err(|e| about(&path, e))?;
             }
         }
     }

@@ -5,7 +5,7 @@ use ndarray::{ArrayView2, ArrayView3};
 
 use crate::plan::Suite;
 use crate::statistics::Statistics;
-use quakejoint_io::h5::{array, attach_scales, attr_str, scalar};
+use quakejoint_io::h5::{array, attr_str, label_axes, scalar};
 
 /// A suite as stored in `/suite`: the target, the factors and the
 /// Eurocode 8 check.
@@ -65,14 +65,9 @@ impl StoredSuite {
     }
 }
 
-/// Writes `/suite`; `record` and `period` are the dimension scales (the
-/// period axis with its label).
-pub fn write_suite(
-    file: &hdf5::File,
-    s: &StoredSuite,
-    record: &hdf5::Dataset,
-    period: (&hdf5::Dataset, &str),
-) -> hdf5::Result<()> {
+/// Writes `/suite`; `axis` names the period axis (`period`, or
+/// `period_scale` for a bridge given by its modes).
+pub fn write_suite(file: &hdf5::File, s: &StoredSuite, axis: &str) -> hdf5::Result<()> {
     let g = file.create_group("suite")?;
     attr_str(&g, "target", &s.target)?;
     attr_str(&g, "target_config", &s.target_config)?;
@@ -80,7 +75,7 @@ pub fn write_suite(
     g.new_attr::<u8>().create("ec8_satisfied")?.write_scalar(&u8::from(s.ec8_satisfied))?;
     let ds = array(&g, "factor", &s.factors[..])?;
     attr_str(&ds, "units", "1")?;
-    attach_scales(&ds, &[(record, "record")])?;
+    label_axes(&ds, &["record"])?;
     let ds = array(&g, "range", &s.range[..])?;
     attr_str(&ds, "units", "s")?;
     scalar(&g, "rule_factor", s.rule_factor, "1")?;
@@ -89,7 +84,7 @@ pub fn write_suite(
     scalar(&g, "pga_ratio", s.pga_ratio, "1")?;
     let ds = array(&g, "target_sa", &s.target_sa[..])?;
     attr_str(&ds, "units", "m/s^2")?;
-    attach_scales(&ds, &[period])?;
+    label_axes(&ds, &[axis])?;
     let fit = g.create_group("fit")?;
     for (name, data, units) in
         [("period", &s.fit_periods, "s"), ("target", &s.fit_target, "m/s^2"), ("mean", &s.fit_mean, "m/s^2")]
@@ -127,20 +122,17 @@ pub fn read_suite(file: &hdf5::File) -> hdf5::Result<Option<StoredSuite>> {
 }
 
 /// Writes `/spectrum/statistics` (every sweep; for one record its own
-/// values, with the spreads NaN); `scales`
-/// are the case, damping and period dimension scales, `axis` the period
-/// axis' label, and `per_case` says whether the statistics without the
-/// joint have a case axis ([`crate::results::Results::without_per_case`]).
+/// values, with the spreads NaN); `axis` names the period axis, and
+/// `per_case` says whether the statistics without the joint have a case
+/// axis ([`crate::results::Results::without_per_case`]).
 pub fn write_statistics(
     spec: &hdf5::Group,
     st: &Statistics,
     dims: [usize; 4],
-    scales: [&hdf5::Dataset; 3],
     axis: &str,
     per_case: bool,
 ) -> hdf5::Result<()> {
     let [nc, _, nz, nt] = dims;
-    let [case, damping, period] = scales;
     let g = spec.create_group("statistics")?;
     attr_str(
         &g,
@@ -152,13 +144,13 @@ pub fn write_statistics(
         let view = ArrayView3::from_shape((nc, nz, nt), data).map_err(shape)?;
         let ds = array(g, name, view)?;
         attr_str(&ds, "units", units)?;
-        attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, axis)])
+        label_axes(&ds, &["case", "damping", axis])
     };
     let two = |g: &hdf5::Group, name: &str, data: &[f64], units: &str| -> hdf5::Result<()> {
         let view = ArrayView2::from_shape((nz, nt), data).map_err(shape)?;
         let ds = array(g, name, view)?;
         attr_str(&ds, "units", units)?;
-        attach_scales(&ds, &[(damping, "damping"), (period, axis)])
+        label_axes(&ds, &["damping", axis])
     };
     let with = g.create_group("with_joint")?;
     three(&with, "mean", &st.with_mean, "m/s^2")?;
@@ -185,7 +177,7 @@ pub fn write_statistics(
         let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape)?;
         let ds = array(&g, name, view)?;
         attr_str(&ds, "units", "1")?;
-        attach_scales(&ds, &[(case, "case"), (damping, "damping"), (period, axis)])?;
+        label_axes(&ds, &["case", "damping", axis])?;
     }
     Ok(())
 }

@@ -11,7 +11,7 @@ use crate::results::{Results, FIELDS, JOINT_FIELDS, UNITS};
 use crate::statistics::Statistics;
 use crate::suite_h5::{write_statistics, write_suite, StoredSuite};
 pub use crate::sweep_read::read_sweep;
-use quakejoint_io::h5::{array, attach_scales, attr_str, scalar, set_scale, strings, strings_1d, write_atomically};
+use quakejoint_io::h5::{array, attr_str, label_axes, scalar, strings, strings_1d, write_atomically};
 use quakejoint_io::run_h5::{write_provenance, Provenance};
 use quakejoint_io::OutputError;
 
@@ -98,10 +98,10 @@ fn shape_err(e: ndarray::ShapeError) -> hdf5::Error {
     hdf5::Error::from(e.to_string())
 }
 
-/// The four axes of the result arrays and their dimension scales.
-struct Axes<'a> {
+/// The four axes of the result arrays: sizes and names.
+struct Axes {
     dims: [usize; 4],
-    scales: [(&'a hdf5::Dataset, &'static str); 4],
+    labels: [&'static str; 4],
 }
 
 /// The label of the period axis: `period`, or for a bridge given by its
@@ -114,20 +114,20 @@ fn period_axis(f: &SweepFile) -> &'static str {
     }
 }
 
-impl Axes<'_> {
+impl Axes {
     /// Writes a (case, record, damping, period) array with its axes.
     fn ds4<T: hdf5::H5Type + Clone>(&self, g: &hdf5::Group, name: &str, data: &[T]) -> hdf5::Result<hdf5::Dataset> {
         let d = self.dims;
         let view = ArrayView4::from_shape((d[0], d[1], d[2], d[3]), data).map_err(shape_err)?;
         let ds = array(g, name, view)?;
-        attach_scales(&ds, &self.scales)?;
+        label_axes(&ds, &self.labels)?;
         Ok(ds)
     }
 
     /// Writes a (case, record, damping, period) array of text with its axes.
     fn text4(&self, g: &hdf5::Group, name: &str, data: &[String]) -> hdf5::Result<hdf5::Dataset> {
         let ds = strings(g, name, data, &self.dims)?;
-        attach_scales(&ds, &self.scales)?;
+        label_axes(&ds, &self.labels)?;
         Ok(ds)
     }
 
@@ -136,7 +136,7 @@ impl Axes<'_> {
         let d = self.dims;
         let view = ArrayView3::from_shape((d[1], d[2], d[3]), data).map_err(shape_err)?;
         let ds = array(g, name, view)?;
-        attach_scales(&ds, &self.scales[1..])?;
+        label_axes(&ds, &self.labels[1..])?;
         Ok(ds)
     }
 }
@@ -185,21 +185,18 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
             }
         };
         for (ds, name) in [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, axis)] {
-            set_scale(ds, name)?;
+            label_axes(ds, &[name])?;
         }
         if f.modal.is_some() {
             let longest = array(&spec, "longest_period", &f.periods[..])?;
             attr_str(&longest, "units", "s")?;
             attr_str(&longest, "meaning", "the bridge's longest kept period at each period scale")?;
-            attach_scales(&longest, &[(&period, axis)])?;
+            label_axes(&longest, &[axis])?;
         }
         strings_1d(&spec, "case_config", &f.case_configs)?;
         let scope = array(&spec, "scope", &f.scope[..])?;
         attr_str(&scope, "meaning", "flat indices of the jobs this file is responsible for (its shard's, or all)")?;
-        let axes = Axes {
-            dims: r.dims,
-            scales: [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, axis)],
-        };
+        let axes = Axes { dims: r.dims, labels: ["case", "record", "damping", axis] };
 
         let without = spec.create_group("without_joint")?;
         for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
@@ -224,16 +221,13 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         let ds = axes.ds4(&spec, "reduction", &r.reduction())?;
         attr_str(&ds, "units", "1")?;
         {
-            write_statistics(&spec, &Statistics::of(r), r.dims, [&case, &damping, &period], axis, r.without_per_case)?;
+            write_statistics(&spec, &Statistics::of(r), r.dims, axis, r.without_per_case)?;
         }
         if let Some(suite) = &f.suite {
-            write_suite(file, suite, &record, (&period, axis))?;
+            write_suite(file, suite, axis)?;
         }
         if let Some(fragility) = &f.fragility {
-            let scales = crate::fragility::h5::Scales {
-                axes: [(&case, "case"), (&record, "record"), (&damping, "damping"), (&period, axis)],
-            };
-            crate::fragility::write_fragility(file, fragility, r, &scales)?;
+            crate::fragility::write_fragility(file, fragility, r, ["case", "record", "damping", axis])?;
         }
         if !r.joints.is_empty() {
             // the joints after the first, as a run's /joints/<k> (k from 1)

@@ -6,7 +6,7 @@
 
 use ndarray::{ArrayView3, ArrayView4};
 
-use quakejoint_io::h5::{array, attach_scales, attr_str, scalar, strings, strings_1d};
+use quakejoint_io::h5::{array, attr_str, label_axes, scalar, strings, strings_1d};
 use quakejoint_io::read::{attr, group, number, text, values};
 
 use std::sync::Arc;
@@ -153,14 +153,9 @@ fn count_values(r: &LimitStateResult) -> [Vec<u32>; 6] {
     out
 }
 
-/// The scales of the sweep's axes: case, record, damping, period (and its label).
-pub struct Scales<'a> {
-    /// The four axes' datasets and labels.
-    pub axes: [(&'a hdf5::Dataset, &'a str); 4],
-}
-
-/// Writes `/fragility`.
-pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results, scales: &Scales) -> hdf5::Result<()> {
+/// Writes `/fragility`; `axes` names the sweep's four axes (case, record,
+/// damping, and period or period_scale).
+pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results, axes: [&str; 4]) -> hdf5::Result<()> {
     let (s, spec) = (&f.stripes, &f.spec);
     let g = file.create_group("fragility")?;
     attr_str(&g, "measure", s.measure.key())?;
@@ -175,14 +170,13 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
     attr_str(&g, "failed", spec.failed.key())?;
     let levels = array(&g, "levels", &s.levels[..])?;
     attr_str(&levels, "units", "g")?;
-    quakejoint_io::h5::set_scale(&levels, "stripe")?;
+    label_axes(&levels, &["stripe"])?;
     let names: Vec<String> = s.ground.iter().map(|g| g.0.clone()).collect();
     strings_1d(&g, "ground_record", &names)?;
     let im: Vec<f64> = s.ground.iter().map(|g| g.1).collect();
     let ds = array(&g, "ground_intensity", &im[..])?;
     attr_str(&ds, "units", "g")?;
     attr_str(&ds, "meaning", "each record's intensity as read, over the runs' window")?;
-    let record = [scales.axes[1]];
     let rg: Vec<u32> = s.runs.iter().map(|r| r.ground as u32).collect();
     let rs: Vec<u32> = s.runs.iter().map(|r| r.stripe as u32).collect();
     let rf: Vec<f64> = s.runs.iter().map(|r| r.factor).collect();
@@ -193,7 +187,7 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
     ] {
         attr_str(&ds, "meaning", meaning)?;
         attr_str(&ds, "units", "1")?;
-        attach_scales(&ds, &record)?;
+        label_axes(&ds, &[axes[1]])?;
     }
     if let Some(h) = &spec.hazard {
         let (i, q): (Vec<f64>, Vec<f64>) = h.curve.points().iter().copied().unzip();
@@ -205,7 +199,7 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
     }
     let [nc, nr, nz, nt] = results.dims;
     let ns = s.levels.len();
-    let curve_axes = [scales.axes[0], scales.axes[2], scales.axes[3]];
+    let curve_axes = [axes[0], axes[2], axes[3]];
     for (k, (ls, r)) in spec.limit_states.iter().zip(f.evaluate(results)).enumerate() {
         let lg = g.create_group(&ls.key)?;
         lg.new_attr::<u32>().create("index")?.write_scalar(&(k as u32))?;
@@ -214,30 +208,30 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
         attr_str(&lg, "definition", &ls.definition)?;
         let view = ArrayView4::from_shape((nc, nr, nz, nt), &r.outcome[..]).map_err(shape_err)?;
         let ds = array(&lg, "outcome", view)?;
-        attach_scales(&ds, &scales.axes)?;
+        label_axes(&ds, &axes)?;
         attr_str(&ds, "meaning", "1 exceeded, 0 not, -1 failed, -2 not run, -3 not reported by the run (NaN)")?;
         attr_str(&ds, "units", "1")?;
         for ((name, meaning), data) in COUNT_FIELDS.iter().zip(count_values(&r)) {
             let view = ArrayView4::from_shape((nc, nz, nt, ns), &data[..]).map_err(shape_err)?;
             let ds = array(&lg, name, view)?;
-            attach_scales(&ds, &[curve_axes[0], curve_axes[1], curve_axes[2], (&levels, "stripe")])?;
+            label_axes(&ds, &[curve_axes[0], curve_axes[1], curve_axes[2], "stripe"])?;
             attr_str(&ds, "meaning", meaning)?;
             attr_str(&ds, "units", "1")?;
         }
         for ((name, units, meaning), data) in CURVE_FIELDS.iter().zip(curve_values(&r)) {
             let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape_err)?;
             let ds = array(&lg, name, view)?;
-            attach_scales(&ds, &curve_axes)?;
+            label_axes(&ds, &curve_axes)?;
             attr_str(&ds, "units", units)?;
             attr_str(&ds, "meaning", meaning)?;
         }
         let notes: Vec<String> = r.curves.iter().map(|c| c.note.clone()).collect();
         let ds = strings(&lg, "note", &notes, &[nc, nz, nt])?;
-        attach_scales(&ds, &curve_axes)?;
+        label_axes(&ds, &curve_axes)?;
         let keys: Vec<String> = r.curves.iter().map(|c| c.bootstrap_key.clone()).collect();
         let ds = strings(&lg, "bootstrap_key", &keys, &[nc, nz, nt])?;
         attr_str(&ds, "meaning", "SHA-256 of the bootstrap's inputs (empty: no bootstrap)")?;
-        attach_scales(&ds, &curve_axes)?;
+        label_axes(&ds, &curve_axes)?;
         let checks: Vec<String> = r.curves.iter().map(check_of).collect();
         let ds = strings(&lg, "bootstrap_check", &checks, &[nc, nz, nt])?;
         attr_str(
@@ -245,11 +239,11 @@ pub fn write_fragility(file: &hdf5::File, f: &StoredFragility, results: &Results
             "meaning",
             "SHA-256 of the key with the intervals and counts stored for it (empty: no bootstrap)",
         )?;
-        attach_scales(&ds, &curve_axes)?;
+        label_axes(&ds, &curve_axes)?;
         for ((name, meaning), data) in BOOTSTRAP_FIELDS.iter().zip(bootstrap_counts(&r)) {
             let view = ArrayView3::from_shape((nc, nz, nt), &data[..]).map_err(shape_err)?;
             let ds = array(&lg, name, view)?;
-            attach_scales(&ds, &curve_axes)?;
+            label_axes(&ds, &curve_axes)?;
             attr_str(&ds, "units", "1")?;
             attr_str(&ds, "meaning", meaning)?;
         }
