@@ -47,7 +47,7 @@ def load(src):
         if "suite" in f:
             su = f["suite"]
             d["suite"] = {
-                "target": str(su.attrs["target"]),
+                "target": text(su.attrs["target"]),
                 "target_sa": su["target_sa"][()],
                 "range": su["range"][()],
                 "fit_period": su["fit/period"][()],

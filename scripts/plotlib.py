@@ -20,7 +20,7 @@ G = 9.80665
 
 
 def text(x):
-    """A string from an h5py value (datasets give bytes, attributes str)."""
+    """A string from an h5py value (the files store text fixed-length, which h5py gives as bytes; files before schema 12 kept attribute text variable-length, given as str)."""
     return x.decode() if isinstance(x, bytes) else str(x)
 
 
