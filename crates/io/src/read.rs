@@ -125,6 +125,7 @@ pub fn attributes(loc: &hdf5::Location) -> hdf5::Result<Vec<(String, AttrValue)>
 /// HDF5's metadata checksums (`crate::h5::attr_str`), which a read checks,
 /// so a damaged attribute anywhere is named.
 pub fn check_attributes(group: &Group) -> hdf5::Result<()> {
+    group.loc_info().map_err(|e| about(&group.name(), e))?;
     attributes(group)?;
     for name in group.member_names().map_err(|e| about(&group.name(), e))? {
         let path = path_of(group, &name);
@@ -133,7 +134,10 @@ pub fn check_attributes(group: &Group) -> hdf5::Result<()> {
         // after that failure succeeds (the header stays in its cache
         // unverified), so an object is never opened a second time after a
         // failed attempt
-        match group.loc_type_by_name(&name).map_err(|e| about(&path, e))? {
+        // (the full information: every chunk of the object's header is
+        // loaded and checked, also those that hold nothing the reader
+        // asks for)
+        match group.loc_info_by_name(&name).map_err(|e| about(&path, e))?.loc_type {
             hdf5::LocationType::Group => check_attributes(&group.group(&name).map_err(|e| about(&path, e))?)?,
             _ => {
                 let ds = group.dataset(&name).map_err(|e| about(&path, e))?;
