@@ -441,180 +441,37 @@ pub fn build_with(
     bearing_joint: BearingJoint,
 ) -> Result<JointModel, ModelError> {
     config.validate()?;
-    let bridge = Bridge {
-        mass: config.bridge.mass,
-        omega: omega.unwrap_or_else(|| config.bridge.omega()),
-        damping: config.bridge.damping,
-        transverse: config.bridge.transverse(),
-        far: None,
-    };
-    let bridge = Bridge { far: config.bridge.far_segment(bridge.omega), ..bridge };
     let modes = config.bridge.modal.as_ref().map(|m| crate::modal::kept_modes(m, config.bridge.damping)).transpose()?;
-    let bridge = match &modes {
-        Some(kept) => Bridge { omega: kept[0].omega, damping: kept[0].damping, ..bridge },
-        None => bridge,
-    };
-    if !(bridge.omega.is_finite() && bridge.omega > 0.0) {
-        return Err(crate::config::invalid("bridge.w0", bridge.omega, "must be positive"));
-    }
+    let bridge = bridge_of(config, omega, modes.as_deref())?;
     let mut sys = System::new();
     let places = crate::placement::places(config)?;
     let mut models = Vec::with_capacity(places.len());
     for place in &places {
-        let mut model = JointModel {
-            system: System::new(),
-            geometry: None,
-            deck: BodyId::GROUND,
-            center_beams: Vec::new(),
-            supports: Vec::new(),
-            bearings: Vec::new(),
-            joist_boxes: Vec::new(),
-            far_deck: None,
-            abutment_links: Vec::new(),
-            contacts: Vec::new(),
-            driver: None,
-            bridge,
-            modal: None,
-            counts: Counts { bodies: 0, coordinates: 0, constraints: 0, dof: 0 },
-            name: place.name.clone(),
-            first_contact: 0,
-            sign: place.sign,
-            others: Vec::new(),
-            link: None,
-        };
+        let mut model = empty_model(place, bridge);
         if place.config.joint.enabled && !place.config.joint.is_link() {
             add_joint_bodies(&mut sys, &mut model, &place.config, bearing_joint, place.sign, &place.prefix)?;
         }
         models.push(model);
     }
-    let model = &mut models[0];
     // the abutment, or the adjacent segment's deck the joint rests on there
     let abutment = match bridge.far {
-        Some((mass, w, zeta)) => {
-            let far = sys.add_body(Body::new("far deck", mass, 1.0, [0.0; 3]).only(&[Coord::X]));
-            sys.add_force_named(
-                "far segment spring and damper",
-                ForceElement::CoordinateSpring(CoordinateSpring {
-                    body: far,
-                    coord: Coord::X,
-                    stiffness: mass * w * w,
-                    damping: 2.0 * zeta * mass * w,
-                    rest: 0.0,
-                }),
-            );
-            model.far_deck = Some(far);
-            far
-        }
+        Some(far) => add_far_segment(&mut sys, &mut models[0], far),
         None => BodyId::GROUND,
     };
     // the decks (and the abutment sides at in-span hinges)
     let (decks, hinges) = match &modes {
-        Some(kept) => {
-            let mut ends: Vec<EndSpec> = places
-                .iter()
-                .map(|p| EndSpec {
-                    name: format!("{}deck end", p.prefix),
-                    point: p.deck_point,
-                    point_y: p.deck_point_y,
-                    sign: p.sign,
-                })
-                .collect();
-            let mut hinges = Vec::new();
-            for p in &places {
-                hinges.push(p.abutment_point.map(|a| {
-                    ends.push(EndSpec {
-                        name: format!("{}abutment end", p.prefix),
-                        point: a,
-                        point_y: None,
-                        sign: p.sign,
-                    });
-                    ends.len() - 1
-                }));
-            }
-            let correction = match config.bridge.modal.as_ref().filter(|m| m.corrected()) {
-                Some(m) => {
-                    let points: Vec<usize> =
-                        ends.iter().flat_map(|e| std::iter::once(e.point).chain(e.point_y)).collect();
-                    Some(crate::modal::loaded(m)?.static_correction(kept, &points, m.scale(), &m.modes)?)
-                }
-                None => None,
-            };
-            let parts = std::sync::Arc::new(add_modes(&mut sys, kept, correction.as_ref(), &ends));
-            for (k, m) in models.iter_mut().enumerate() {
-                m.modal = Some(ModalDeck { parts: parts.clone(), end: k });
-            }
-            let decks = parts.ends[..places.len()].iter().map(|e| e.body).collect::<Vec<_>>();
-            (decks, hinges.into_iter().map(|h| h.map(|e| parts.ends[e].body)).collect::<Vec<_>>())
-        }
+        Some(kept) => add_modal_decks(&mut sys, config, kept, &places, &mut models)?,
         None => {
             let deck_coords: &[Coord] = if bridge.transverse.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
             (vec![sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords))], vec![None])
         }
     };
-    let mut contacts = 0;
-    for (k, (model, place)) in models.iter_mut().zip(&places).enumerate() {
-        let lagged = match &drive {
-            Drive::Earthquake { x, .. } if place.abutment_lag != 0.0 => {
-                Some(lagged_abutment(&mut sys, x, place.abutment_lag, &place.prefix)?)
-            }
-            _ => None,
-        };
-        let abutment = hinges[k].or(lagged).unwrap_or(if k == 0 { abutment } else { BodyId::GROUND });
-        if let Some(h) = hinges[k].or(lagged) {
-            // the abutment side moves: its edge beam with it (the sub-gaps and
-            // the validity checks read it, as an adjacent segment's deck)
-            model.far_deck = Some(h);
-        }
-        model.deck = decks[k];
-        let j = &place.config.joint;
-        if j.enabled && j.is_link() {
-            let mut link = crate::link::add_link(&mut sys, j, decks[k], abutment, place.sign, &place.prefix)?;
-            if j.contact.enabled {
-                link.contact = Some(contacts);
-                contacts += 1;
-            }
-            model.link = Some(link);
-            continue;
-        }
-        connect_joint(&mut sys, model, decks[k], abutment, &place.prefix);
-        let j = &place.config.joint;
-        if let (true, Some(geo)) = (j.enabled && j.contact.enabled, model.geometry.clone()) {
-            // a modal end weighs nothing of its own: the impact on it meets
-            // the bridge, many times the center beam's mass
-            let beam = Some(j.center_beam.mass);
-            let impacts = [hinges[k].and(beam), model.modal.as_ref().and(beam)];
-            model.first_contact = contacts;
-            add_contacts(&mut sys, model, &geo, contact_law(&place.config), abutment, impacts, &place.prefix);
-            contacts += model.contacts.len();
-        }
-    }
+    let ends = Ends { decks: &decks, hinges: &hinges, abutment };
+    connect_joints(&mut sys, &mut models, &places, &ends, &drive)?;
     let deck = decks[0];
     let mut model = models.remove(0);
     model.others = models;
-    if model.modal.is_none() {
-        sys.add_force_named(
-            "bridge spring and damper",
-            ForceElement::CoordinateSpring(CoordinateSpring {
-                body: deck,
-                coord: Coord::X,
-                stiffness: bridge.stiffness(),
-                damping: bridge.damper(),
-                rest: 0.0,
-            }),
-        );
-    }
-    if let Some((w, zeta)) = bridge.transverse {
-        sys.add_force_named(
-            "bridge spring and damper across",
-            ForceElement::CoordinateSpring(CoordinateSpring {
-                body: deck,
-                coord: Coord::Y,
-                stiffness: bridge.mass * w * w,
-                damping: 2.0 * zeta * bridge.mass * w,
-                rest: 0.0,
-            }),
-        );
-    }
+    add_bridge_springs(&mut sys, deck, &bridge, model.modal.is_none());
     model.counts = Counts {
         bodies: sys.body_count() - 1,
         coordinates: sys.coordinate_count(),
@@ -641,4 +498,202 @@ pub fn build_with(
     }
     model.system = sys;
     Ok(model)
+}
+
+/// The bridge of `config` at the circular frequency `omega` [rad/s] (the
+/// config's unless given; a modal bridge's first kept mode).
+fn bridge_of(
+    config: &Config,
+    omega: Option<f64>,
+    modes: Option<&[crate::modal::KeptMode]>,
+) -> Result<Bridge, ModelError> {
+    let bridge = Bridge {
+        mass: config.bridge.mass,
+        omega: omega.unwrap_or_else(|| config.bridge.omega()),
+        damping: config.bridge.damping,
+        transverse: config.bridge.transverse(),
+        far: None,
+    };
+    let bridge = Bridge { far: config.bridge.far_segment(bridge.omega), ..bridge };
+    let bridge = match modes {
+        Some(kept) => Bridge { omega: kept[0].omega, damping: kept[0].damping, ..bridge },
+        None => bridge,
+    };
+    if !(bridge.omega.is_finite() && bridge.omega > 0.0) {
+        return Err(crate::config::invalid("bridge.w0", bridge.omega, "must be positive"));
+    }
+    Ok(bridge)
+}
+
+/// A joint's model with no bodies yet, at `place` on `bridge`.
+fn empty_model(place: &crate::placement::Place, bridge: Bridge) -> JointModel {
+    JointModel {
+        system: System::new(),
+        geometry: None,
+        deck: BodyId::GROUND,
+        center_beams: Vec::new(),
+        supports: Vec::new(),
+        bearings: Vec::new(),
+        joist_boxes: Vec::new(),
+        far_deck: None,
+        abutment_links: Vec::new(),
+        contacts: Vec::new(),
+        driver: None,
+        bridge,
+        modal: None,
+        counts: Counts { bodies: 0, coordinates: 0, constraints: 0, dof: 0 },
+        name: place.name.clone(),
+        first_contact: 0,
+        sign: place.sign,
+        others: Vec::new(),
+        link: None,
+    }
+}
+
+/// The adjacent segment's deck (mass \[kg\], circular frequency [rad/s],
+/// damping ratio [-]) on its spring and damper, the first joint's abutment
+/// side.
+fn add_far_segment(sys: &mut System, model: &mut JointModel, (mass, w, zeta): (f64, f64, f64)) -> BodyId {
+    let far = sys.add_body(Body::new("far deck", mass, 1.0, [0.0; 3]).only(&[Coord::X]));
+    sys.add_force_named(
+        "far segment spring and damper",
+        ForceElement::CoordinateSpring(CoordinateSpring {
+            body: far,
+            coord: Coord::X,
+            stiffness: mass * w * w,
+            damping: 2.0 * zeta * mass * w,
+            rest: 0.0,
+        }),
+    );
+    model.far_deck = Some(far);
+    far
+}
+
+/// A modal bridge's kept modes with a deck end at every joint's deck
+/// point (and an abutment end at each in-span hinge): the decks, and the
+/// hinges' abutment sides.
+fn add_modal_decks(
+    sys: &mut System,
+    config: &Config,
+    kept: &[crate::modal::KeptMode],
+    places: &[crate::placement::Place],
+    models: &mut [JointModel],
+) -> Result<(Vec<BodyId>, Vec<Option<BodyId>>), ModelError> {
+    let mut ends: Vec<EndSpec> = places
+        .iter()
+        .map(|p| EndSpec {
+            name: format!("{}deck end", p.prefix),
+            point: p.deck_point,
+            point_y: p.deck_point_y,
+            sign: p.sign,
+        })
+        .collect();
+    let mut hinges = Vec::new();
+    for p in places {
+        hinges.push(p.abutment_point.map(|a| {
+            ends.push(EndSpec { name: format!("{}abutment end", p.prefix), point: a, point_y: None, sign: p.sign });
+            ends.len() - 1
+        }));
+    }
+    let correction = match config.bridge.modal.as_ref().filter(|m| m.corrected()) {
+        Some(m) => {
+            let points: Vec<usize> = ends.iter().flat_map(|e| std::iter::once(e.point).chain(e.point_y)).collect();
+            Some(crate::modal::loaded(m)?.static_correction(kept, &points, m.scale(), &m.modes)?)
+        }
+        None => None,
+    };
+    let parts = std::sync::Arc::new(add_modes(sys, kept, correction.as_ref(), &ends));
+    for (k, m) in models.iter_mut().enumerate() {
+        m.modal = Some(ModalDeck { parts: parts.clone(), end: k });
+    }
+    let decks = parts.ends[..places.len()].iter().map(|e| e.body).collect::<Vec<_>>();
+    Ok((decks, hinges.into_iter().map(|h| h.map(|e| parts.ends[e].body)).collect::<Vec<_>>()))
+}
+
+/// What the joints connect to: each joint's deck, the abutment side of an
+/// in-span hinge, and the first joint's abutment (the ground, or the
+/// adjacent segment's deck).
+struct Ends<'a> {
+    decks: &'a [BodyId],
+    hinges: &'a [Option<BodyId>],
+    abutment: BodyId,
+}
+
+/// Connects each joint to its deck and its abutment side (a hinge's, a
+/// lagged abutment, the adjacent segment or the ground), with its contacts
+/// numbered across the joints.
+fn connect_joints(
+    sys: &mut System,
+    models: &mut [JointModel],
+    places: &[crate::placement::Place],
+    ends: &Ends<'_>,
+    drive: &Drive,
+) -> Result<(), ModelError> {
+    let (decks, hinges) = (ends.decks, ends.hinges);
+    let mut contacts = 0;
+    for (k, (model, place)) in models.iter_mut().zip(places).enumerate() {
+        let lagged = match drive {
+            Drive::Earthquake { x, .. } if place.abutment_lag != 0.0 => {
+                Some(lagged_abutment(sys, x, place.abutment_lag, &place.prefix)?)
+            }
+            _ => None,
+        };
+        let abutment = hinges[k].or(lagged).unwrap_or(if k == 0 { ends.abutment } else { BodyId::GROUND });
+        if let Some(h) = hinges[k].or(lagged) {
+            // the abutment side moves: its edge beam with it (the sub-gaps and
+            // the validity checks read it, as an adjacent segment's deck)
+            model.far_deck = Some(h);
+        }
+        model.deck = decks[k];
+        let j = &place.config.joint;
+        if j.enabled && j.is_link() {
+            let mut link = crate::link::add_link(sys, j, decks[k], abutment, place.sign, &place.prefix)?;
+            if j.contact.enabled {
+                link.contact = Some(contacts);
+                contacts += 1;
+            }
+            model.link = Some(link);
+            continue;
+        }
+        connect_joint(sys, model, decks[k], abutment, &place.prefix);
+        if let (true, Some(geo)) = (j.enabled && j.contact.enabled, model.geometry.clone()) {
+            // a modal end weighs nothing of its own: the impact on it meets
+            // the bridge, many times the center beam's mass
+            let beam = Some(j.center_beam.mass);
+            let impacts = [hinges[k].and(beam), model.modal.as_ref().and(beam)];
+            model.first_contact = contacts;
+            add_contacts(sys, model, &geo, contact_law(&place.config), abutment, impacts, &place.prefix);
+            contacts += model.contacts.len();
+        }
+    }
+    Ok(())
+}
+
+/// The single-DOF deck's spring and damper (`along`: not for a modal
+/// bridge, whose modes carry them) and, when it moves across, those across.
+fn add_bridge_springs(sys: &mut System, deck: BodyId, bridge: &Bridge, along: bool) {
+    if along {
+        sys.add_force_named(
+            "bridge spring and damper",
+            ForceElement::CoordinateSpring(CoordinateSpring {
+                body: deck,
+                coord: Coord::X,
+                stiffness: bridge.stiffness(),
+                damping: bridge.damper(),
+                rest: 0.0,
+            }),
+        );
+    }
+    if let Some((w, zeta)) = bridge.transverse {
+        sys.add_force_named(
+            "bridge spring and damper across",
+            ForceElement::CoordinateSpring(CoordinateSpring {
+                body: deck,
+                coord: Coord::Y,
+                stiffness: bridge.mass * w * w,
+                damping: 2.0 * zeta * bridge.mass * w,
+                rest: 0.0,
+            }),
+        );
+    }
 }

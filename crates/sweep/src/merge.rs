@@ -157,18 +157,12 @@ fn check_output(output: &Path, inputs: &[PathBuf]) -> Result<Option<String>, Swe
     }
 }
 
-/// Merges shard files into `output`.
-pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result<MergeSummary, SweepError> {
-    if inputs.is_empty() {
-        return Err(SweepError::Merge("no input files".into()));
-    }
-    let replaced = check_output(output, inputs)?;
-    let _lock = OutputLock::acquire(output)?;
-    let mut notices: Vec<String> = replaced.into_iter().collect();
-    let files = read_all(inputs, &mut notices)?;
-    if let Some(expected) = &options.expected {
+/// Refuses shards computed from another version of the config than
+/// `expected` (its SHA-256).
+fn check_versions(files: &[(PathBuf, SweepFile)], expected: Option<&str>) -> Result<(), SweepError> {
+    if let Some(expected) = expected {
         let stale: Vec<String> =
-            files.iter().filter(|(_, f)| &f.config_sha256 != expected).map(|(p, _)| p.display().to_string()).collect();
+            files.iter().filter(|(_, f)| f.config_sha256 != expected).map(|(p, _)| p.display().to_string()).collect();
         if !stale.is_empty() {
             return Err(SweepError::Merge(format!(
                 "these shards were computed from another version of the config: {}; run their shards again (into \
@@ -177,28 +171,22 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
             )));
         }
     }
-    let (first_path, first) = &files[0];
-    let results = first.results.empty_like();
-    let mut merged = SweepFile { results, scope: Vec::new(), ..first.clone() };
-    // the config's limit states and fitting, when it is given: the shards'
-    // own (fitted at their last write) do not matter then
-    if let (Some(spec), Some(fr)) = (&options.fragility, &mut merged.fragility) {
-        if &fr.spec != spec {
-            notices.push(
-                "the shards were fitted with other limit states or fitting than the config's ([sweep.fragility]): \
-                 the merged file is fitted with the config's"
-                    .to_string(),
-            );
-            fr.spec = spec.clone();
-        }
-    }
+    Ok(())
+}
+
+/// Combines every input's results into `merged`, refusing inputs that are
+/// not shards of one sweep and a shard given twice; how many jobs were in
+/// more than one input (identical). `config_fits`: the config's limit
+/// states are written, so the shards' own fits need not agree.
+fn combine_all(merged: &mut SweepFile, files: &[(PathBuf, SweepFile)], config_fits: bool) -> Result<usize, SweepError> {
+    let first_path = &files[0].0;
     let mut claimed: Vec<(String, &Path)> = Vec::new();
     let mut overlaps = 0;
-    for (path, other) in &files {
+    for (path, other) in files {
         // the same config, grids, records, provenance, suite and spectra
         // without the joint, bit for bit, as `compare` checks them
-        let mut diffs = crate::compare::sweep_differences(&merged, other);
-        if options.fragility.is_some() {
+        let mut diffs = crate::compare::sweep_differences(merged, other);
+        if config_fits {
             // the shards' own fits do not matter: the config's are written
             diffs.retain(|d| d != crate::compare::SPECS_DIFFER);
         }
@@ -228,6 +216,35 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         }
         overlaps += combine(&mut merged.results, &other.results, &path.display().to_string())?;
     }
+    Ok(overlaps)
+}
+
+/// Merges shard files into `output`.
+pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result<MergeSummary, SweepError> {
+    if inputs.is_empty() {
+        return Err(SweepError::Merge("no input files".into()));
+    }
+    let replaced = check_output(output, inputs)?;
+    let _lock = OutputLock::acquire(output)?;
+    let mut notices: Vec<String> = replaced.into_iter().collect();
+    let files = read_all(inputs, &mut notices)?;
+    check_versions(&files, options.expected.as_deref())?;
+    let first = &files[0].1;
+    let results = first.results.empty_like();
+    let mut merged = SweepFile { results, scope: Vec::new(), ..first.clone() };
+    // the config's limit states and fitting, when it is given: the shards'
+    // own (fitted at their last write) do not matter then
+    if let (Some(spec), Some(fr)) = (&options.fragility, &mut merged.fragility) {
+        if &fr.spec != spec {
+            notices.push(
+                "the shards were fitted with other limit states or fitting than the config's ([sweep.fragility]): \
+                 the merged file is fitted with the config's"
+                    .to_string(),
+            );
+            fr.spec = spec.clone();
+        }
+    }
+    let overlaps = combine_all(&mut merged, &files, options.fragility.is_some())?;
     if overlaps > 0 {
         notices.push(format!("{overlaps} jobs were in more than one input with identical results: kept once"));
     }

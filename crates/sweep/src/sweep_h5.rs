@@ -229,34 +229,10 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         if let Some(fragility) = &f.fragility {
             crate::fragility::write_fragility(file, fragility, r, ["case", "record", "damping", axis])?;
         }
-        if !r.joints.is_empty() {
-            // the joints after the first, as a run's /joints/<k> (k from 1)
-            let joints = file.create_group("joints")?;
-            for (k, joint) in r.joints.iter().enumerate() {
-                let g = joints.create_group(&(k + 1).to_string())?;
-                attr_str(&g, "name", &joint.name)?;
-                for (values, (name, units)) in joint.values.iter().zip(JOINT_FIELDS.iter()) {
-                    let ds = axes.ds4(&g, name, values)?;
-                    attr_str(&ds, "units", units)?;
-                }
-                let ds = axes.ds4(&g, "validity", &joint.validity)?;
-                attr_str(&ds, "meaning", &quakejoint_model::validity::Flags::legend())?;
-            }
-        }
+        write_joints(file, r, &axes)?;
         crate::fault::point(crate::fault::Point::Checkpoint, path);
 
-        let recs = file.create_group("records")?;
-        for rec in &f.records {
-            let g = recs.create_group(&rec.name)?;
-            let ds = array(&g, "acceleration", &rec.acceleration[..])?;
-            attr_str(&ds, "units", "m/s^2")?;
-            attr_str(&g, "source", &rec.source)?;
-            attr_str(&g, "sha256", &rec.sha256)?;
-            attr_str(&g, "file_units", &rec.file_units)?;
-            scalar(&g, "dt", rec.dt, "s")?;
-            scalar(&g, "scale", rec.scale, "m/s^2 per file unit")?;
-            scalar(&g, "pga", rec.pga, "m/s^2")?;
-        }
+        write_records(file, &f.records)?;
         if !r.histories.is_empty() {
             let hist = file.create_group("histories")?;
             for (&job, h) in &r.histories {
@@ -265,6 +241,42 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         }
         Ok(())
     })
+}
+
+/// The joints after the first, as a run's `/joints/<k>` (k from 1).
+fn write_joints(file: &hdf5::File, r: &Results, axes: &Axes) -> hdf5::Result<()> {
+    if !r.joints.is_empty() {
+        // the joints after the first, as a run's /joints/<k> (k from 1)
+        let joints = file.create_group("joints")?;
+        for (k, joint) in r.joints.iter().enumerate() {
+            let g = joints.create_group(&(k + 1).to_string())?;
+            attr_str(&g, "name", &joint.name)?;
+            for (values, (name, units)) in joint.values.iter().zip(JOINT_FIELDS.iter()) {
+                let ds = axes.ds4(&g, name, values)?;
+                attr_str(&ds, "units", units)?;
+            }
+            let ds = axes.ds4(&g, "validity", &joint.validity)?;
+            attr_str(&ds, "meaning", &quakejoint_model::validity::Flags::legend())?;
+        }
+    }
+    Ok(())
+}
+
+/// `/records`: each record's acceleration and provenance.
+fn write_records(file: &hdf5::File, records: &[StoredRecord]) -> hdf5::Result<()> {
+    let recs = file.create_group("records")?;
+    for rec in records {
+        let g = recs.create_group(&rec.name)?;
+        let ds = array(&g, "acceleration", &rec.acceleration[..])?;
+        attr_str(&ds, "units", "m/s^2")?;
+        attr_str(&g, "source", &rec.source)?;
+        attr_str(&g, "sha256", &rec.sha256)?;
+        attr_str(&g, "file_units", &rec.file_units)?;
+        scalar(&g, "dt", rec.dt, "s")?;
+        scalar(&g, "scale", rec.scale, "m/s^2 per file unit")?;
+        scalar(&g, "pga", rec.pga, "m/s^2")?;
+    }
+    Ok(())
 }
 
 fn write_history(hist: &hdf5::Group, job: u32, d: [usize; 4], f: &SweepFile, h: &Histories) -> hdf5::Result<()> {

@@ -173,38 +173,7 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
     let v = &r.validity;
     let record = &loaded.record;
     if json {
-        let mut out = json!({
-            "config": path.display().to_string(),
-            "record": record.name,
-            "record_file": record.source,
-            "record_format": loaded.format.name(),
-            "record_file_units": record.units.name(),
-            "record_scale": record.user_scale,
-            "record_pga_g": record.pga() / quakejoint_motion::G,
-            "joint": !r.exact_linear,
-            "method": if r.exact_linear { "exact linear" } else { "multibody" },
-            "validity": v.flags.0,
-            "validity_label": v.flags.label(),
-            "flags": v.flags.names(),
-            "findings": v.findings,
-            "peak_contact_place": r.pounding.peak_contact_place.map(|p| json!({"gap": p.gap, "end": p.end})),
-            "bridge_model": if modal.is_some() { "modal" } else { "single-DOF" },
-            "modes_file": modal.map(|m| m.modes.clone()),
-            "joint_point": point,
-            "joint_name": config.joints.first().map(|j| j.name.clone()),
-            "joints": r.joints.iter().map(placed_joint_json).collect::<Vec<_>>(),
-            "points": r.points.iter().map(|p| json!({
-                "name": p.name, "sd": p.sd, "t_sd": p.t_sd, "sa": p.sa, "t_sa": p.t_sa,
-                "sd_without_joint": p.sd_without, "sa_without_joint": p.sa_without,
-            })).collect::<Vec<_>>(),
-            "base_shear": r.base_shear,
-            "mass_ratio": r.mode_check.as_ref().and_then(|(c, _)| c.mass_ratio),
-            "flexibility_captured": r.mode_check.as_ref().map(|(c, _)| c.flexibility.clone()),
-            "warnings": r.mode_check.as_ref().map(|(_, w)| w.clone()).unwrap_or_default(),
-            "base_shear_without_joint": r.base_shear_without,
-        });
-        extend(&mut out, fields_json(r));
-        out!("{out}");
+        run_json(path, loaded, r, config, point);
         return;
     }
     let mode = match (r.exact_linear, r.joints.len()) {
@@ -237,6 +206,61 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
         out!("validity: not checked (no joint)");
         return;
     }
+    side_lines(r);
+    first_joint_lines(config, r);
+    for j in &r.joints {
+        placed_joint_lines(config, j);
+    }
+    bridge_lines(config, r);
+    if !r.joints.is_empty() {
+        out!("  (bushing and friction peaks, friction and contact energy: all joints together)");
+    }
+    validity_lines(v);
+    quality_lines(r);
+}
+
+/// `quakejoint simulate --json`: one JSON object.
+fn run_json(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Config, point: Option<String>) {
+    let modal = config.bridge.modal.as_ref();
+    let v = &r.validity;
+    let record = &loaded.record;
+    let mut out = json!({
+        "config": path.display().to_string(),
+        "record": record.name,
+        "record_file": record.source,
+        "record_format": loaded.format.name(),
+        "record_file_units": record.units.name(),
+        "record_scale": record.user_scale,
+        "record_pga_g": record.pga() / quakejoint_motion::G,
+        "joint": !r.exact_linear,
+        "method": if r.exact_linear { "exact linear" } else { "multibody" },
+        "validity": v.flags.0,
+        "validity_label": v.flags.label(),
+        "flags": v.flags.names(),
+        "findings": v.findings,
+        "peak_contact_place": r.pounding.peak_contact_place.map(|p| json!({"gap": p.gap, "end": p.end})),
+        "bridge_model": if modal.is_some() { "modal" } else { "single-DOF" },
+        "modes_file": modal.map(|m| m.modes.clone()),
+        "joint_point": point,
+        "joint_name": config.joints.first().map(|j| j.name.clone()),
+        "joints": r.joints.iter().map(placed_joint_json).collect::<Vec<_>>(),
+        "points": r.points.iter().map(|p| json!({
+            "name": p.name, "sd": p.sd, "t_sd": p.t_sd, "sa": p.sa, "t_sa": p.t_sa,
+            "sd_without_joint": p.sd_without, "sa_without_joint": p.sa_without,
+        })).collect::<Vec<_>>(),
+        "base_shear": r.base_shear,
+        "mass_ratio": r.mode_check.as_ref().and_then(|(c, _)| c.mass_ratio),
+        "flexibility_captured": r.mode_check.as_ref().map(|(c, _)| c.flexibility.clone()),
+        "warnings": r.mode_check.as_ref().map(|(_, w)| w.clone()).unwrap_or_default(),
+        "base_shear_without_joint": r.base_shear_without,
+    });
+    extend(&mut out, fields_json(r));
+    out!("{out}");
+}
+
+/// The adjacent segment's and the deck's across the bridge, when the run
+/// has them.
+fn side_lines(r: &RunResult) {
     if let Some(f) = &r.far {
         out!(
             "  adjacent segment: T {:.4} s, Sa {:.5} m/s^2 at t = {:.3} s (without the joint {:.5}), Sd {:.6} m; \
@@ -266,6 +290,10 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
             y.peak_joint_force
         );
     }
+}
+
+/// The first joint's demands, with the whole system's peaks and energies.
+fn first_joint_lines(config: &Config, r: &RunResult) {
     let first = config.joints.first().map_or_else(|| "joint demands".to_string(), |j| format!("joint \"{}\"", j.name));
     out!("{first}");
     joint_model_lines(config, config.joints.first().map_or("", |j| j.name.as_str()));
@@ -297,14 +325,11 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
         out!("  contact energy                {:>12.1} J (dissipated by the impacts)", p.contact_energy);
         out!("  deepest penetration           {:>12.3} mm", p.max_penetration * 1e3);
     }
-    for j in &r.joints {
-        placed_joint_lines(config, j);
-    }
-    bridge_lines(config, r);
-    if !r.joints.is_empty() {
-        out!("  (bushing and friction peaks, friction and contact energy: all joints together)");
-    }
-    validity_lines(v);
+}
+
+/// The run's quality: energy balance, constraint residuals, solver
+/// counters and time.
+fn quality_lines(r: &RunResult) {
     out!("quality");
     out!("  energy balance error          {:>12.2e} of the earthquake work", r.energy_error);
     let res = &r.residuals;

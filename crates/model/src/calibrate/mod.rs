@@ -149,74 +149,10 @@ pub struct Calibration {
 
 /// Calibrates the link of `config`'s joint (the detailed one of `[joint]`).
 pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibration, ModelError> {
-    config.validate()?;
+    let amplitudes = checked_amplitudes(config, options)?;
     let j = &config.joint;
-    if !j.enabled || j.is_link() {
-        return Err(ModelError::Invalid {
-            field: "joint.model".to_string(),
-            value: if j.enabled { "\"link\"".to_string() } else { "joint.enabled = false".to_string() },
-            reason: "the calibration needs the detailed joint (joint.model = \"detailed\", the default)".to_string(),
-        });
-    }
-    if options.amplitudes.is_empty() || options.amplitudes.iter().any(|a| !(a.is_finite() && *a > 0.0 && *a <= 2.0)) {
-        return Err(ModelError::Invalid {
-            field: "amplitudes".to_string(),
-            value: format!("{:?}", options.amplitudes),
-            reason: "give at least one amplitude, each above 0 and at most 2 m".to_string(),
-        });
-    }
-    // (the opening the cells take, and the closing that closes them all)
-    let reach =
-        (j.cells() as f64 * (j.capacity.max_subgap - j.clear_subgap())).min(j.cells() as f64 * j.clear_subgap());
-    if let Some(a) = options.amplitudes.iter().find(|&&a| a >= reach) {
-        return Err(ModelError::Invalid {
-            field: "amplitudes".to_string(),
-            value: format!("{a}"),
-            reason: format!(
-                "the loops must stay inside the joint: below {reach} m, where its cells reach their capacity or all \
-                 close"
-            ),
-        });
-    }
-    let mut amplitudes = options.amplitudes.clone();
-    amplitudes.sort_by(f64::total_cmp);
-    amplitudes.dedup();
     let mut warnings = Vec::new();
-    let mut loops = Vec::with_capacity(amplitudes.len());
-    for &a in &amplitudes {
-        let mut c = config.clone();
-        c.service.amplitude = a;
-        c.service.speed = options.speed;
-        c.service.cycles = options.cycles;
-        // (each reversal rounded over at most a quarter of a stroke)
-        c.service.blend = c.service.blend.min(0.25 * 2.0 * a / options.speed);
-        let r = crate::service::service(&c)?;
-        if r.validity.flags.is_flagged() || r.contact_work_per_cycle > 0.0 {
-            // (its cells racked beyond their capacity, or its beams pounded:
-            // not the law of a joint in service)
-            warnings.push(format!(
-                "the service loop at {a} m is left out of the fit: {}",
-                if r.validity.flags.is_flagged() { r.validity.flags.label() } else { "its beams pound".to_string() }
-            ));
-            continue;
-        }
-        let period = r.period;
-        let last = r.t.last().copied().unwrap_or(0.0) - period;
-        let last_cycle = r.t.partition_point(|t| *t < last);
-        let peak_force = r.joint_force[last_cycle..].iter().fold(0.0f64, |m, f| m.max(f.abs()));
-        loops.push(LoopSummary {
-            amplitude: a,
-            energy: r.loop_work_per_cycle,
-            peak_force,
-            link_energy: 0.0,
-            damping_joint: r.loop_work_per_cycle / (4.0 * std::f64::consts::PI * 0.5 * peak_force * a),
-            damping_bridge: None,
-            t: r.t,
-            u: r.u,
-            force: r.joint_force,
-            last_cycle,
-        });
-    }
+    let mut loops = service_loops(config, &amplitudes, options, &mut warnings)?;
     if loops.is_empty() {
         return Err(ModelError::Invalid {
             field: "amplitudes".to_string(),
@@ -263,6 +199,109 @@ pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibr
         Some(record) => Some(identify(config, record, &mut link, &mut warnings)?),
         None => None,
     };
+    check_fitted(&link)?;
+    Ok(Calibration {
+        link,
+        kinetic_mass: mass,
+        dynamic,
+        hand_friction: hand_friction(config, &geo),
+        fit_rms,
+        gap: cells as f64 * j.clear_subgap(),
+        capacity: cells as f64 * (j.capacity.max_subgap - j.clear_subgap()),
+        cells,
+        loops,
+        options: options.clone(),
+        warnings,
+    })
+}
+
+/// `config`'s joint and `options`' amplitudes checked for a calibration:
+/// the amplitudes sorted, each once.
+fn checked_amplitudes(config: &Config, options: &CalibrationOptions) -> Result<Vec<f64>, ModelError> {
+    config.validate()?;
+    let j = &config.joint;
+    if !j.enabled || j.is_link() {
+        return Err(ModelError::Invalid {
+            field: "joint.model".to_string(),
+            value: if j.enabled { "\"link\"".to_string() } else { "joint.enabled = false".to_string() },
+            reason: "the calibration needs the detailed joint (joint.model = \"detailed\", the default)".to_string(),
+        });
+    }
+    if options.amplitudes.is_empty() || options.amplitudes.iter().any(|a| !(a.is_finite() && *a > 0.0 && *a <= 2.0)) {
+        return Err(ModelError::Invalid {
+            field: "amplitudes".to_string(),
+            value: format!("{:?}", options.amplitudes),
+            reason: "give at least one amplitude, each above 0 and at most 2 m".to_string(),
+        });
+    }
+    // (the opening the cells take, and the closing that closes them all)
+    let reach =
+        (j.cells() as f64 * (j.capacity.max_subgap - j.clear_subgap())).min(j.cells() as f64 * j.clear_subgap());
+    if let Some(a) = options.amplitudes.iter().find(|&&a| a >= reach) {
+        return Err(ModelError::Invalid {
+            field: "amplitudes".to_string(),
+            value: format!("{a}"),
+            reason: format!(
+                "the loops must stay inside the joint: below {reach} m, where its cells reach their capacity or all \
+                 close"
+            ),
+        });
+    }
+    let mut amplitudes = options.amplitudes.clone();
+    amplitudes.sort_by(f64::total_cmp);
+    amplitudes.dedup();
+    Ok(amplitudes)
+}
+
+/// The detailed joint's service loops at `amplitudes` \[m\], each left out
+/// (with a warning) where its cells rack beyond their capacity or its beams
+/// pound.
+fn service_loops(
+    config: &Config,
+    amplitudes: &[f64],
+    options: &CalibrationOptions,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<LoopSummary>, ModelError> {
+    let mut loops = Vec::with_capacity(amplitudes.len());
+    for &a in amplitudes {
+        let mut c = config.clone();
+        c.service.amplitude = a;
+        c.service.speed = options.speed;
+        c.service.cycles = options.cycles;
+        // (each reversal rounded over at most a quarter of a stroke)
+        c.service.blend = c.service.blend.min(0.25 * 2.0 * a / options.speed);
+        let r = crate::service::service(&c)?;
+        if r.validity.flags.is_flagged() || r.contact_work_per_cycle > 0.0 {
+            // (its cells racked beyond their capacity, or its beams pounded:
+            // not the law of a joint in service)
+            warnings.push(format!(
+                "the service loop at {a} m is left out of the fit: {}",
+                if r.validity.flags.is_flagged() { r.validity.flags.label() } else { "its beams pound".to_string() }
+            ));
+            continue;
+        }
+        let period = r.period;
+        let last = r.t.last().copied().unwrap_or(0.0) - period;
+        let last_cycle = r.t.partition_point(|t| *t < last);
+        let peak_force = r.joint_force[last_cycle..].iter().fold(0.0f64, |m, f| m.max(f.abs()));
+        loops.push(LoopSummary {
+            amplitude: a,
+            energy: r.loop_work_per_cycle,
+            peak_force,
+            link_energy: 0.0,
+            damping_joint: r.loop_work_per_cycle / (4.0 * std::f64::consts::PI * 0.5 * peak_force * a),
+            damping_bridge: None,
+            t: r.t,
+            u: r.u,
+            force: r.joint_force,
+            last_cycle,
+        });
+    }
+    Ok(loops)
+}
+
+/// Refuses a fitted link whose parameters lie outside their ranges.
+fn check_fitted(link: &LinkConfig) -> Result<(), ModelError> {
     for (key, v) in [
         ("stiffness", link.stiffness),
         ("friction", link.friction),
@@ -280,19 +319,7 @@ pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibr
             }
         }
     }
-    Ok(Calibration {
-        link,
-        kinetic_mass: mass,
-        dynamic,
-        hand_friction: hand_friction(config, &geo),
-        fit_rms,
-        gap: cells as f64 * j.clear_subgap(),
-        capacity: cells as f64 * (j.capacity.max_subgap - j.clear_subgap()),
-        cells,
-        loops,
-        options: options.clone(),
-        warnings,
-    })
+    Ok(())
 }
 
 /// The joint's force on the deck and friction energy in a run of `config`

@@ -389,92 +389,16 @@ impl Config {
     /// Checks every value against its admissible range
     /// ([`crate::limits::LIMITS`]) and the values against each other.
     pub fn validate(&self) -> Result<(), ModelError> {
-        let j = &self.joint;
-        if j.enabled {
-            check("joint.center_beams", j.center_beams as f64)?;
-            for (key, v) in [
-                ("joint.pitch", j.pitch),
-                ("joint.center_beam.length", j.center_beam.length),
-                ("joint.center_beam.width", j.center_beam.width),
-                ("joint.center_beam.mass", j.center_beam.mass),
-                ("joint.center_beam.inertia", j.center_beam.inertia()),
-                ("joint.support_beam.length", j.support_beam.length),
-                ("joint.support_beam.mass", j.support_beam.mass),
-                ("joint.support_beam.inertia", j.support_beam.inertia()),
-                ("joint.bearing.mass", j.bearing.mass),
-                ("joint.bearing.inertia", j.bearing.inertia),
-                ("joint.bushing.kx", j.bushing.kx),
-                ("joint.bushing.ky", j.bushing.ky),
-                ("joint.bushing.cx", j.bushing.cx),
-                ("joint.bushing.cy", j.bushing.cy),
-                ("joint.friction.mu", j.friction.mu),
-                ("joint.friction.normal_force", j.friction.normal_force),
-                ("joint.friction.surfaces", j.friction.surfaces),
-                ("joint.friction.v_eps", j.friction.v_eps),
-                ("joint.contact.restitution", j.contact.restitution),
-                ("joint.contact.max_penetration", j.contact.max_penetration),
-                ("joint.capacity.max_subgap", j.capacity.max_subgap),
-            ] {
-                check(key, v)?;
-            }
-            if j.is_link() {
-                let Some(l) = &j.link else {
-                    return Err(ModelError::Invalid {
-                        field: "joint.link".to_string(),
-                        value: "none".to_string(),
-                        reason: "joint.model = \"link\" needs [joint.link] (stiffness, friction, mass, \
-                                 gap_stiffness): quakejoint calibrate writes it (docs/link.md)"
-                            .to_string(),
-                    });
-                };
-                for (key, v) in [
-                    ("joint.link.stiffness", l.stiffness),
-                    ("joint.link.friction", l.friction),
-                    ("joint.link.mass", l.mass),
-                    ("joint.link.gap_stiffness", l.gap_stiffness),
-                    ("joint.link.damping", l.damping.unwrap_or(0.0)),
-                    ("joint.link.gap_hertz", l.gap_hertz.unwrap_or(1e6)),
-                    ("joint.link.v_eps", l.v_eps()),
-                ] {
-                    check(key, v)?;
-                }
-            }
-            check("joint.contact.hertz_stiffness", j.contact.hertz_stiffness)?;
-            check("joint.contact.linear_stiffness", j.contact.linear_stiffness)?;
-            let clear = j.pitch - j.center_beam.width;
-            if j.capacity.max_subgap <= clear {
-                return Err(invalid(
-                    "joint.capacity.max_subgap",
-                    j.capacity.max_subgap,
-                    &format!(
-                        "must exceed the clear sub-gap at rest, joint.pitch - joint.center_beam.width = {} m",
-                        quakejoint_motion::number(clear)
-                    ),
-                ));
-            }
-            if j.support_beams.is_empty() {
-                return Err(invalid("joint.support_beams", 0.0, "the list of support beams is empty"));
-            }
-            if j.friction.surfaces.fract() != 0.0 {
-                return Err(invalid("joint.friction.surfaces", j.friction.surfaces, "must be a whole number"));
-            }
-            for (k, sb) in j.support_beams.iter().enumerate() {
-                check_as("joint.support_beams[k].y", &format!("joint.support_beams[{k}].y"), sb.y)?;
-                let field = format!("joint.support_beams[{k}].angle_deg");
-                check_as("joint.support_beams[k].angle_deg", &field, sb.angle_deg)?;
-                if sb.kind == SupportKind::Joist && sb.angle_deg.abs() < MIN_JOIST_ANGLE_DEG {
-                    return Err(invalid(
-                        &field,
-                        sb.angle_deg,
-                        &format!(
-                            "a swivel joist turns as the gap opens only if it is inclined: at least \
-                             {MIN_JOIST_ANGLE_DEG} degrees either way (is the angle in radians? 13 degrees is \
-                             0.227 rad)"
-                        ),
-                    ));
-                }
-            }
+        if self.joint.enabled {
+            check_joint(&self.joint)?;
         }
+        self.check_bridge()?;
+        check_simulation(&self.simulation)?;
+        check_service(&self.service)
+    }
+
+    /// Checks `[bridge]`.
+    fn check_bridge(&self) -> Result<(), ModelError> {
         let b = &self.bridge;
         check("bridge.mass", b.mass)?;
         match (b.w0, b.period) {
@@ -543,32 +467,6 @@ impl Config {
                      segments is not modelled",
                 ));
             }
-        }
-        let s = &self.simulation;
-        check("simulation.extra_time", s.extra_time)?;
-        for (key, v) in [
-            ("simulation.duration", s.duration),
-            ("simulation.h_max", s.h_max),
-            ("simulation.max_wall_time", s.max_wall_time),
-        ] {
-            if let Some(v) = v {
-                check(key, v)?;
-            }
-        }
-        if let Some(n) = s.max_steps {
-            check("simulation.max_steps", n as f64)?;
-        }
-        check("simulation.rtol", s.rtol)?;
-        check("simulation.atol", s.atol)?;
-        check("simulation.atol_rotation", s.atol_rotation)?;
-        check("simulation.bearing_atol_factor", s.bearing_atol_factor)?;
-        let v = &self.service;
-        check("service.speed", v.speed)?;
-        check("service.amplitude", v.amplitude)?;
-        check("service.cycles", v.cycles as f64)?;
-        check("service.blend", v.blend)?;
-        if v.blend >= 2.0 * v.amplitude / v.speed {
-            return Err(invalid("service.blend", v.blend, "must be shorter than one stroke (2 amplitude / speed)"));
         }
         Ok(())
     }
@@ -698,4 +596,138 @@ pub(crate) fn check_as(key: &str, field: &str, v: f64) -> Result<(), ModelError>
     }
     let unit = if unit == "1" { String::new() } else { format!(" {unit}") };
     Err(invalid(field, v, &format!("must be within {}{unit}", bound.describe())))
+}
+
+/// Checks an enabled `[joint]`.
+fn check_joint(j: &JointConfig) -> Result<(), ModelError> {
+    check("joint.center_beams", j.center_beams as f64)?;
+    for (key, v) in [
+        ("joint.pitch", j.pitch),
+        ("joint.center_beam.length", j.center_beam.length),
+        ("joint.center_beam.width", j.center_beam.width),
+        ("joint.center_beam.mass", j.center_beam.mass),
+        ("joint.center_beam.inertia", j.center_beam.inertia()),
+        ("joint.support_beam.length", j.support_beam.length),
+        ("joint.support_beam.mass", j.support_beam.mass),
+        ("joint.support_beam.inertia", j.support_beam.inertia()),
+        ("joint.bearing.mass", j.bearing.mass),
+        ("joint.bearing.inertia", j.bearing.inertia),
+        ("joint.bushing.kx", j.bushing.kx),
+        ("joint.bushing.ky", j.bushing.ky),
+        ("joint.bushing.cx", j.bushing.cx),
+        ("joint.bushing.cy", j.bushing.cy),
+        ("joint.friction.mu", j.friction.mu),
+        ("joint.friction.normal_force", j.friction.normal_force),
+        ("joint.friction.surfaces", j.friction.surfaces),
+        ("joint.friction.v_eps", j.friction.v_eps),
+        ("joint.contact.restitution", j.contact.restitution),
+        ("joint.contact.max_penetration", j.contact.max_penetration),
+        ("joint.capacity.max_subgap", j.capacity.max_subgap),
+    ] {
+        check(key, v)?;
+    }
+    if j.is_link() {
+        check_link(j)?;
+    }
+    check("joint.contact.hertz_stiffness", j.contact.hertz_stiffness)?;
+    check("joint.contact.linear_stiffness", j.contact.linear_stiffness)?;
+    let clear = j.pitch - j.center_beam.width;
+    if j.capacity.max_subgap <= clear {
+        return Err(invalid(
+            "joint.capacity.max_subgap",
+            j.capacity.max_subgap,
+            &format!(
+                "must exceed the clear sub-gap at rest, joint.pitch - joint.center_beam.width = {} m",
+                quakejoint_motion::number(clear)
+            ),
+        ));
+    }
+    if j.support_beams.is_empty() {
+        return Err(invalid("joint.support_beams", 0.0, "the list of support beams is empty"));
+    }
+    if j.friction.surfaces.fract() != 0.0 {
+        return Err(invalid("joint.friction.surfaces", j.friction.surfaces, "must be a whole number"));
+    }
+    check_support_beams(j)?;
+    Ok(())
+}
+
+/// Checks `[joint.link]` of a joint modelled as a link element.
+fn check_link(j: &JointConfig) -> Result<(), ModelError> {
+    let Some(l) = &j.link else {
+        return Err(ModelError::Invalid {
+            field: "joint.link".to_string(),
+            value: "none".to_string(),
+            reason: "joint.model = \"link\" needs [joint.link] (stiffness, friction, mass, \
+                         gap_stiffness): quakejoint calibrate writes it (docs/link.md)"
+                .to_string(),
+        });
+    };
+    for (key, v) in [
+        ("joint.link.stiffness", l.stiffness),
+        ("joint.link.friction", l.friction),
+        ("joint.link.mass", l.mass),
+        ("joint.link.gap_stiffness", l.gap_stiffness),
+        ("joint.link.damping", l.damping.unwrap_or(0.0)),
+        ("joint.link.gap_hertz", l.gap_hertz.unwrap_or(1e6)),
+        ("joint.link.v_eps", l.v_eps()),
+    ] {
+        check(key, v)?;
+    }
+    Ok(())
+}
+
+/// Checks `joint.support_beams`.
+fn check_support_beams(j: &JointConfig) -> Result<(), ModelError> {
+    for (k, sb) in j.support_beams.iter().enumerate() {
+        check_as("joint.support_beams[k].y", &format!("joint.support_beams[{k}].y"), sb.y)?;
+        let field = format!("joint.support_beams[{k}].angle_deg");
+        check_as("joint.support_beams[k].angle_deg", &field, sb.angle_deg)?;
+        if sb.kind == SupportKind::Joist && sb.angle_deg.abs() < MIN_JOIST_ANGLE_DEG {
+            return Err(invalid(
+                &field,
+                sb.angle_deg,
+                &format!(
+                    "a swivel joist turns as the gap opens only if it is inclined: at least \
+                     {MIN_JOIST_ANGLE_DEG} degrees either way (is the angle in radians? 13 degrees is \
+                     0.227 rad)"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Checks `[simulation]`.
+fn check_simulation(s: &SimulationConfig) -> Result<(), ModelError> {
+    check("simulation.extra_time", s.extra_time)?;
+    for (key, v) in [
+        ("simulation.duration", s.duration),
+        ("simulation.h_max", s.h_max),
+        ("simulation.max_wall_time", s.max_wall_time),
+    ] {
+        if let Some(v) = v {
+            check(key, v)?;
+        }
+    }
+    if let Some(n) = s.max_steps {
+        check("simulation.max_steps", n as f64)?;
+    }
+    check("simulation.rtol", s.rtol)?;
+    check("simulation.atol", s.atol)?;
+    check("simulation.atol_rotation", s.atol_rotation)?;
+    check("simulation.bearing_atol_factor", s.bearing_atol_factor)?;
+    Ok(())
+}
+
+/// Checks `[service]`.
+fn check_service(v: &ServiceConfig) -> Result<(), ModelError> {
+    check("service.speed", v.speed)?;
+    check("service.amplitude", v.amplitude)?;
+    check("service.cycles", v.cycles as f64)?;
+    check("service.blend", v.blend)?;
+    if v.blend >= 2.0 * v.amplitude / v.speed {
+        return Err(invalid("service.blend", v.blend, "must be shorter than one stroke (2 amplitude / speed)"));
+    }
+    Ok(())
 }

@@ -3,7 +3,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::Instant as Clock;
 
 use quakejoint_motion::Record;
 use quakejoint_solver::{
@@ -31,34 +31,14 @@ pub fn simulate_records(
     check_run_length(config, record_x)?;
     let gx = series(record_x)?;
     let gy = record_y.map(series).transpose()?;
-    let gy_series = gy.clone();
-    let model = build_with(config, None, Drive::Earthquake { x: gx.clone(), y: gy }, options.bearing_joint)?;
+    let model = build_with(config, None, Drive::Earthquake { x: gx.clone(), y: gy.clone() }, options.bearing_joint)?;
     let duration = run_duration(config, record_x);
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
-    let start = Instant::now();
+    let start = Clock::now();
     let cpu = crate::resources::CpuClock::start();
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
-    let places = crate::placement::places(config)?;
-    let mut joints = Vec::with_capacity(places.len());
-    let point_names: Vec<String> = config
-        .bridge
-        .modal
-        .as_ref()
-        .map(crate::modal::loaded)
-        .transpose()?
-        .map(|b| b.points.iter().map(|p| p.name.clone()).collect())
-        .unwrap_or_default();
-    for (k, (jm, place)) in model.joints().zip(&places).enumerate() {
-        let mut obs = EarthquakeObserver::new(jm, &asm, gx.clone(), record_x.dt, options.histories)?;
-        obs.monitor = Monitor::new(jm, &asm, &place.config)?;
-        obs.ground_y = gy_series.clone();
-        if k == 0 {
-            obs.points = vec![[Peak::default(); 2]; point_names.len()];
-        }
-        obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), &asm, &mut asm.workspace());
-        joints.push(obs);
-    }
-    let mut obs = Observers { joints, progress: options.progress.clone(), cancel: options.cancel.clone() };
+    let ground = Ground { x: gx, y: gy, dt: record_x.dt };
+    let mut obs = Observers::new(config, &model, &asm, &sim, &ground, options)?;
     obs.joints[0].deadline = config.simulation.max_wall_time.map(|s| (start, s));
     if !sim.run(duration, &mut obs)? {
         return Err(match obs.joints[0].deadline {
@@ -72,100 +52,29 @@ pub fn simulate_records(
     let cpu_time_s = cpu.elapsed_s();
     let e = sim.energy();
     let energy_error = e.error_relative_to_input();
-    let mut results = obs.joints.into_iter().zip(model.joints()).enumerate().map(|(k, (mut obs, jm))| {
-        let mut validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
-        let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
-        if let Some(l) = &obs.link {
-            pounding = l.pounding();
-            l.validity(&mut validity);
-        }
-        pounding.contact_energy = e.contact;
-        if let (Some(h), Some(log)) = (&mut obs.histories, obs.contacts.as_mut().and_then(|c| c.log.take())) {
-            h.impacts = log;
-        }
-        let joint = PlacedJointResult {
-            name: jm.name.clone(),
-            sa: obs.sa.value,
-            t_sa: obs.sa.time,
-            sd: obs.sd.value,
-            sv: obs.sv.value,
-            peak_joint_force: obs.joint_force.value,
-            min_subgap: obs.gaps.as_ref().map(|g| g.min).or(obs.link.as_ref().map(|l| l.cells()[0])),
-            max_subgap: obs.gaps.as_ref().map(|g| g.max).or(obs.link.as_ref().map(|l| l.cells()[1])),
-            // (a link's cells open alike)
-            max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation).or(obs.link.as_ref().map(|_| 0.0)),
-            pounding,
-            validity,
-            // (the first joint's stay the run's; the friction power is the
-            // whole system's: only the run's history has it)
-            histories: if k > 0 {
-                obs.histories.take().map(|h| Histories { friction_power: Vec::new(), ..h })
-            } else {
-                None
-            },
-        };
-        (joint, obs)
-    });
-    let (first, obs) = results.next().expect("a run has a joint");
-    let others: Vec<PlacedJointResult> = results.map(|(joint, _)| joint).collect();
+    let point_names = std::mem::take(&mut obs.point_names);
+    let (first, obs, others) = joint_results(obs.joints, &model, e.contact, energy_error);
     let mut validity = first.validity.clone();
     for j in &others {
         validity.flags = crate::validity::Flags(validity.flags.0 | j.validity.flags.0);
         validity.findings.extend(j.validity.findings.iter().map(|f| format!("{}: {f}", j.name)));
     }
     let w = model.bridge.omega;
-    let transverse = model.bridge.transverse.map(|(wy, zeta)| {
-        let [sa, sd, sv, f] = obs.across;
-        let sa_without = record_y.map_or(0.0, |r| {
-            let period = 2.0 * std::f64::consts::PI / wy;
-            crate::runspec::Reference::for_run(config, record_x, r).peaks(period, zeta).sa
-        });
-        Transverse {
-            omega: wy,
-            sa: sa.value,
-            t_sa: sa.time,
-            sd: sd.value,
-            sv: sv.value,
-            peak_joint_force: f.value,
-            sa_without,
-        }
-    });
-    // across a modal bridge: the first joint's deck end, if it moves across
-    let transverse = transverse.or_else(|| {
-        let m = model.modal.as_ref()?;
-        let (py, _) = m.parts.ends[m.end].across?;
-        let [sa, sd, sv, f] = obs.across;
-        let sa_without = record_y.map_or(0.0, |r| {
-            let kept =
-                config.bridge.modal.as_ref().and_then(|c| crate::modal::kept_modes(c, config.bridge.damping).ok());
-            let window = crate::runspec::Reference::for_run(config, record_x, r);
-            let h = crate::linear::modal_history_in(window.window(), &kept.unwrap_or_default(), py, 1);
-            h.a_abs.iter().fold(0.0f64, |m, a| m.max(a.abs()))
-        });
-        Some(Transverse {
-            omega: f64::NAN,
-            sa: sa.value,
-            t_sa: sa.time,
-            sd: sd.value,
-            sv: sv.value,
-            peak_joint_force: f.value,
-            sa_without,
-        })
-    });
+    let without = Without { config, record_x, record_y };
+    let transverse = transverse_result(&model, &obs, &without);
     let far = model.bridge.far.map(|(_, wf, zeta)| {
         let [sa, sd, f, rel] = obs.far_peaks;
-        let period = 2.0 * std::f64::consts::PI / wf;
-        let exact = crate::runspec::Reference::for_run(config, record_x, record_x).peaks(period, zeta).sa;
         FarSegment {
             omega: wf,
             sa: sa.value,
             t_sa: sa.time,
             sd: sd.value,
             peak_joint_force: f.value,
-            sa_without: exact,
+            sa_without: without.sdof_sa(record_x, wf, zeta),
             max_relative_displacement: rel.value,
         }
     });
+    let points = point_peaks(&obs, &point_names);
     Ok(RunResult {
         omega: w,
         sa: obs.sa.value,
@@ -198,25 +107,140 @@ pub fn simulate_records(
         wall_time_s: wall,
         cpu_time_s,
         duration,
-        points: point_names
-            .into_iter()
-            .zip(&obs.points)
-            .map(|(name, [d, a])| crate::modal::PointPeaks {
-                name,
-                sd: d.value,
-                t_sd: d.time,
-                sa: a.value,
-                t_sa: a.time,
-                sd_without: f64::NAN,
-                sa_without: f64::NAN,
-            })
-            .collect(),
         base_shear: (!obs.points.is_empty()).then_some(obs.base_shear.value),
+        points,
         base_shear_without: None,
         mode_check: None,
         histories: obs.histories,
         joints: others,
     })
+}
+
+/// The ground motion a run is driven by: along x, across, and the
+/// record's time step (the output interval) \[s\].
+struct Ground {
+    x: TimeSeries,
+    y: Option<TimeSeries>,
+    dt: f64,
+}
+
+/// Each joint's results from its observer, with the first joint's observer
+/// (which also watched the bridge) and the first joint's results apart.
+fn joint_results(
+    observers: Vec<EarthquakeObserver>,
+    model: &JointModel,
+    contact_energy: f64,
+    energy_error: f64,
+) -> (PlacedJointResult, EarthquakeObserver, Vec<PlacedJointResult>) {
+    let mut results = observers.into_iter().zip(model.joints()).enumerate().map(|(k, (mut obs, jm))| {
+        let mut validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
+        let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
+        if let Some(l) = &obs.link {
+            pounding = l.pounding();
+            l.validity(&mut validity);
+        }
+        pounding.contact_energy = contact_energy;
+        if let (Some(h), Some(log)) = (&mut obs.histories, obs.contacts.as_mut().and_then(|c| c.log.take())) {
+            h.impacts = log;
+        }
+        let joint = PlacedJointResult {
+            name: jm.name.clone(),
+            sa: obs.sa.value,
+            t_sa: obs.sa.time,
+            sd: obs.sd.value,
+            sv: obs.sv.value,
+            peak_joint_force: obs.joint_force.value,
+            min_subgap: obs.gaps.as_ref().map(|g| g.min).or(obs.link.as_ref().map(|l| l.cells()[0])),
+            max_subgap: obs.gaps.as_ref().map(|g| g.max).or(obs.link.as_ref().map(|l| l.cells()[1])),
+            // (a link's cells open alike)
+            max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation).or(obs.link.as_ref().map(|_| 0.0)),
+            pounding,
+            validity,
+            // (the first joint's stay the run's; the friction power is the
+            // whole system's: only the run's history has it)
+            histories: if k > 0 {
+                obs.histories.take().map(|h| Histories { friction_power: Vec::new(), ..h })
+            } else {
+                None
+            },
+        };
+        (joint, obs)
+    });
+    let (first, obs) = results.next().expect("a run has a joint");
+    let others = results.map(|(joint, _)| joint).collect();
+    (first, obs, others)
+}
+
+/// What a run's bridge does without its joints, for the parts of the
+/// result computed apart from the coupled run (across, the adjacent
+/// segment): the exact linear response over the run's window.
+struct Without<'a> {
+    config: &'a Config,
+    record_x: &'a Record,
+    record_y: Option<&'a Record>,
+}
+
+impl Without<'_> {
+    /// Sa of a single-DOF oscillator of circular frequency `w` [rad/s] and
+    /// damping ratio `zeta` [-] under `record` over the run's window.
+    fn sdof_sa(&self, record: &Record, w: f64, zeta: f64) -> f64 {
+        let period = 2.0 * std::f64::consts::PI / w;
+        crate::runspec::Reference::for_run(self.config, self.record_x, record).peaks(period, zeta).sa
+    }
+
+    /// Sa across of a modal bridge's point `py` under `[record_y]` (0
+    /// without it).
+    fn modal_sa_across(&self, py: usize) -> f64 {
+        self.record_y.map_or(0.0, |r| {
+            let config = self.config;
+            let kept =
+                config.bridge.modal.as_ref().and_then(|c| crate::modal::kept_modes(c, config.bridge.damping).ok());
+            let window = crate::runspec::Reference::for_run(config, self.record_x, r);
+            let h = crate::linear::modal_history_in(window.window(), &kept.unwrap_or_default(), py, 1);
+            h.a_abs.iter().fold(0.0f64, |m, a| m.max(a.abs()))
+        })
+    }
+}
+
+/// The deck's response across the bridge: the single-DOF deck's
+/// transverse oscillator, or a modal bridge's first joint's deck end if it
+/// moves across.
+fn transverse_result(model: &JointModel, obs: &EarthquakeObserver, without: &Without<'_>) -> Option<Transverse> {
+    let [sa, sd, sv, f] = obs.across;
+    let (omega, sa_without) = if let Some((wy, zeta)) = model.bridge.transverse {
+        (wy, without.record_y.map_or(0.0, |r| without.sdof_sa(r, wy, zeta)))
+    } else {
+        let m = model.modal.as_ref()?;
+        let (py, _) = m.parts.ends[m.end].across?;
+        (f64::NAN, without.modal_sa_across(py))
+    };
+    Some(Transverse {
+        omega,
+        sa: sa.value,
+        t_sa: sa.time,
+        sd: sd.value,
+        sv: sv.value,
+        peak_joint_force: f.value,
+        sa_without,
+    })
+}
+
+/// A modal bridge's points' peaks with the joints (those without are
+/// filled in by [`crate::runspec::RunSpec::run`]).
+fn point_peaks(obs: &EarthquakeObserver, names: &[String]) -> Vec<crate::modal::PointPeaks> {
+    names
+        .iter()
+        .zip(&obs.points)
+        .map(|(name, [d, a])| crate::modal::PointPeaks {
+            name: name.clone(),
+            sd: d.value,
+            t_sd: d.time,
+            sa: a.value,
+            t_sa: a.time,
+            sd_without: f64::NAN,
+            sa_without: f64::NAN,
+        })
+        .collect()
 }
 
 /// The observers of every joint of a run, stepped together; the first
@@ -225,6 +249,43 @@ struct Observers {
     joints: Vec<EarthquakeObserver>,
     progress: Option<ProgressFn>,
     cancel: Option<Arc<AtomicBool>>,
+    /// A modal bridge's points, whose peaks the first joint's observer
+    /// watches.
+    point_names: Vec<String>,
+}
+
+impl Observers {
+    /// One observer per joint of `model`, each sampled at the start.
+    fn new(
+        config: &Config,
+        model: &JointModel,
+        asm: &Assembly,
+        sim: &Radau5,
+        ground: &Ground,
+        options: &RunOptions,
+    ) -> Result<Self, ModelError> {
+        let places = crate::placement::places(config)?;
+        let mut joints = Vec::with_capacity(places.len());
+        let point_names: Vec<String> = config
+            .bridge
+            .modal
+            .as_ref()
+            .map(crate::modal::loaded)
+            .transpose()?
+            .map(|b| b.points.iter().map(|p| p.name.clone()).collect())
+            .unwrap_or_default();
+        for (k, (jm, place)) in model.joints().zip(&places).enumerate() {
+            let mut obs = EarthquakeObserver::new(jm, asm, ground.x.clone(), ground.dt, options.histories)?;
+            obs.monitor = Monitor::new(jm, asm, &place.config)?;
+            obs.ground_y = ground.y.clone();
+            if k == 0 {
+                obs.points = vec![[Peak::default(); 2]; point_names.len()];
+            }
+            obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), asm, &mut asm.workspace());
+            joints.push(obs);
+        }
+        Ok(Observers { joints, progress: options.progress.clone(), cancel: options.cancel.clone(), point_names })
+    }
 }
 
 impl Observer for Observers {
@@ -331,7 +392,7 @@ struct EarthquakeObserver {
     checks: quakejoint_solver::OutputTimes,
     /// The run's start and wall-clock limit [s], checked as output samples
     /// are written too (a long free vibration is many samples per step).
-    deadline: Option<(Instant, f64)>,
+    deadline: Option<(Clock, f64)>,
     out_of_time: bool,
     monitor: Option<Monitor>,
     last_report: f64,
@@ -470,31 +531,11 @@ impl EarthquakeObserver {
         if let Some(l) = &mut self.link {
             fj = l.update(t, q, v, asm, ws);
         }
-        let b = &self.bridge;
+        let b = self.bridge;
         // a modal deck end's absolute acceleration across, in the joint's y
-        let mut modal_ay = None;
-        let a_abs = match &self.modal {
-            Some(m) => {
-                let ag = [self.ground.value(t), self.ground_y.as_ref().map_or(0.0, |g| g.value(t))];
-                let mut acc = std::mem::take(&mut self.modal_acc);
-                let at = crate::modal::Instant { t, q, v, lam, ag };
-                m.parts.accelerations(asm, ws, at, &mut self.modal_forces, &mut acc);
-                let end = &m.parts.ends[m.end];
-                // (in the joint's own x and y)
-                let a = end.sign * m.parts.point(asm, end.point, q, v, &acc, ag[0])[2];
-                modal_ay = end.across.map(|(py, _)| end.sign * m.parts.point(asm, py, q, v, &acc, ag[1])[2]);
-                for (p, peaks) in self.points.iter_mut().enumerate() {
-                    let [up, _, ap] = m.parts.point(asm, p, q, v, &acc, ag[0]);
-                    peaks[0].update(up, t);
-                    peaks[1].update(ap, t);
-                }
-                if !self.points.is_empty() {
-                    self.base_shear.update(m.parts.base_shear(asm, q, v), t);
-                }
-                self.modal_acc = acc;
-                a
-            }
-            None => (-b.stiffness() * u - b.damper() * ud + fj) / b.mass,
+        let (a_abs, modal_ay) = match self.modal.is_some() {
+            true => self.modal_sample(Instant { t, q, v, lam }, asm, ws),
+            false => ((-b.stiffness() * u - b.damper() * ud + fj) / b.mass, None),
         };
         if let (Some((c, body)), Some((mass, w, zeta))) = (self.far, b.far) {
             let (uf, vf) = (q[c], v[c]);
@@ -507,23 +548,19 @@ impl EarthquakeObserver {
         }
         // across: the joist boxes alone hold the deck (contacts push along x)
         let across = match (self.deck_y, b.transverse, modal_ay) {
-            (Some(c), _, Some(a)) => {
-                let (uy, vy, fy) = (q[c], v[c], reaction[1]);
-                for (peak, x) in self.across.iter_mut().zip([a, uy, vy, fy]) {
-                    peak.update(x, t);
-                }
-                Some((uy, a, fy))
-            }
+            (Some(c), _, Some(a)) => Some((q[c], v[c], a)),
             (Some(c), Some((w, zeta)), None) => {
                 let (uy, vy, fy) = (q[c], v[c], reaction[1]);
-                let a = (-b.mass * w * w * uy - 2.0 * zeta * b.mass * w * vy + fy) / b.mass;
-                for (peak, x) in self.across.iter_mut().zip([a, uy, vy, fy]) {
-                    peak.update(x, t);
-                }
-                Some((uy, a, fy))
+                Some((uy, vy, (-b.mass * w * w * uy - 2.0 * zeta * b.mass * w * vy + fy) / b.mass))
             }
             _ => None,
         };
+        let across = across.map(|(uy, vy, a)| {
+            for (peak, x) in self.across.iter_mut().zip([a, uy, vy, reaction[1]]) {
+                peak.update(x, t);
+            }
+            (uy, a, reaction[1])
+        });
         self.sa.update(a_abs, t);
         self.sd.update(u, t);
         self.sv.update(ud, t);
@@ -534,41 +571,99 @@ impl EarthquakeObserver {
             self.bushing = self.bushing.max(x.bushing);
             self.friction = self.friction.max(x.friction);
         }
-        if let Some(h) = &mut self.histories {
-            h.t.push(t);
-            h.ag.push(self.ground.value(t));
-            h.u.push(u);
-            h.v.push(ud);
-            h.a_abs.push(a_abs);
-            h.joint_force.push(fj);
-            if let Some((uy, a, fy)) = across {
-                h.uy.push(uy);
-                h.a_abs_y.push(a);
-                h.joint_force_y.push(fy);
+        if self.histories.is_some() {
+            let at = Instant { t, q, v, lam };
+            self.record(at, [u, ud, a_abs, fj], across, asm, ws);
+        }
+    }
+
+    /// A modal deck end's absolute acceleration along and across (in the
+    /// joint's own x and y) at `at`, and the points' and base shear's
+    /// peaks when this observer watches them.
+    fn modal_sample(
+        &mut self,
+        at: Instant<'_>,
+        asm: &Assembly,
+        ws: &mut quakejoint_solver::Workspace,
+    ) -> (f64, Option<f64>) {
+        let Instant { t, q, v, lam } = at;
+        let m = self.modal.as_ref().expect("called for a modal deck");
+        let ag = [self.ground.value(t), self.ground_y.as_ref().map_or(0.0, |g| g.value(t))];
+        let mut acc = std::mem::take(&mut self.modal_acc);
+        let at = crate::modal::Instant { t, q, v, lam, ag };
+        m.parts.accelerations(asm, ws, at, &mut self.modal_forces, &mut acc);
+        let end = &m.parts.ends[m.end];
+        // (in the joint's own x and y)
+        let a = end.sign * m.parts.point(asm, end.point, q, v, &acc, ag[0])[2];
+        let ay = end.across.map(|(py, _)| end.sign * m.parts.point(asm, py, q, v, &acc, ag[1])[2]);
+        for (p, peaks) in self.points.iter_mut().enumerate() {
+            let [up, _, ap] = m.parts.point(asm, p, q, v, &acc, ag[0]);
+            peaks[0].update(up, t);
+            peaks[1].update(ap, t);
+        }
+        if !self.points.is_empty() {
+            self.base_shear.update(m.parts.base_shear(asm, q, v), t);
+        }
+        self.modal_acc = acc;
+        (a, ay)
+    }
+
+    /// Appends one output time to the histories: the deck's `[u, v, a_abs,
+    /// joint force]`, across `(uy, a_abs_y, force_y)` if the deck moves
+    /// across, the friction power and the joint's cells.
+    fn record(
+        &mut self,
+        at: Instant<'_>,
+        deck: [f64; 4],
+        across: Option<(f64, f64, f64)>,
+        asm: &Assembly,
+        ws: &mut quakejoint_solver::Workspace,
+    ) {
+        let Instant { t, q, v, lam } = at;
+        let Some(h) = &mut self.histories else { return };
+        let [u, ud, a_abs, fj] = deck;
+        h.t.push(t);
+        h.ag.push(self.ground.value(t));
+        h.u.push(u);
+        h.v.push(ud);
+        h.a_abs.push(a_abs);
+        h.joint_force.push(fj);
+        if let Some((uy, a, fy)) = across {
+            h.uy.push(uy);
+            h.a_abs_y.push(a);
+            h.joint_force_y.push(fy);
+        }
+        h.friction_power.push(asm.powers(ws, t, q, v, lam).friction);
+        if let Some(g) = &self.gaps {
+            for (i, &c) in g.beams.iter().enumerate() {
+                h.center_beam_dx[i].push(q[c] - g.geometry.center_x[i]);
             }
-            h.friction_power.push(asm.powers(ws, t, q, v, lam).friction);
-            if let Some(g) = &self.gaps {
-                for (i, &c) in g.beams.iter().enumerate() {
-                    h.center_beam_dx[i].push(q[c] - g.geometry.center_x[i]);
-                }
-                for (series, &gap) in h.subgaps.iter_mut().zip(&g.smallest) {
-                    series.push(gap);
-                }
-                for (series, &gap) in h.subgaps_wide.iter_mut().zip(&g.largest) {
-                    series.push(gap);
-                }
-                for (series, &f) in h.contact_force.iter_mut().zip(&self.gap_forces) {
-                    series.push(f);
-                }
+            for (series, &gap) in h.subgaps.iter_mut().zip(&g.smallest) {
+                series.push(gap);
             }
-            if let Some(l) = &self.link {
-                let cell = l.cell();
-                for series in h.subgaps.iter_mut().chain(h.subgaps_wide.iter_mut()) {
-                    series.push(cell);
-                }
+            for (series, &gap) in h.subgaps_wide.iter_mut().zip(&g.largest) {
+                series.push(gap);
+            }
+            for (series, &f) in h.contact_force.iter_mut().zip(&self.gap_forces) {
+                series.push(f);
+            }
+        }
+        if let Some(l) = &self.link {
+            let cell = l.cell();
+            for series in h.subgaps.iter_mut().chain(h.subgaps_wide.iter_mut()) {
+                series.push(cell);
             }
         }
     }
+}
+
+/// The state at one output time.
+#[derive(Clone, Copy)]
+struct Instant<'a> {
+    t: f64,
+    q: &'a [f64],
+    v: &'a [f64],
+    lam: &'a [f64],
 }
 
 impl Observer for EarthquakeObserver {

@@ -240,31 +240,14 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
         Some(_) => return Err(err(&format!("{at}.name"), "a non-empty text")),
         None => None,
     };
-    let required = |k: &str, units: &str| -> Result<f64, SweepError> {
-        positive(t.get(k), &format!("{at}.{k}"), units)?
-            .ok_or_else(|| err(&format!("{at}.{k}"), format!("missing: the threshold [{units}]")))
-    };
-    let field = |name: &str, threshold: f64, above: bool| Kind::Field {
-        field: FIELDS.iter().position(|&f| f == name).expect("a per-job field"),
-        threshold,
-        above,
-    };
-    let one = |default: String, test: Kind, definition: String| {
-        vec![LimitState {
-            key: String::new(),
-            name: name.clone().unwrap_or(default),
-            kind: kind.clone(),
-            test,
-            definition,
-        }]
-    };
+    let e = Entry { t, at, kind: kind.clone(), name };
     Ok(match kind.as_str() {
-        "capacity" => one(
+        "capacity" => e.one(
             "cell beyond capacity".into(),
             Kind::Flag(Flags::CAPACITY_EXCEEDED),
             "a clear sub-gap opened beyond joint.capacity.max_subgap (the run's flag capacity_exceeded)".into(),
         ),
-        "bearing_off_support" => one(
+        "bearing_off_support" => e.one(
             "bearing off its support".into(),
             Kind::Flag(Flags::BEARING_OFF_SUPPORT),
             "a bearing slid off the end of its support beam (the run's flag bearing_off_support)".into(),
@@ -272,114 +255,154 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
         "pounding" => {
             let speed = positive(t.get("speed"), &format!("{at}.speed"), "m/s")?
                 .unwrap_or(quakejoint_model::pounding::IMPACT_SPEED);
-            one(
+            e.one(
                 format!("pounding at {} m/s", quakejoint_motion::number(speed)),
-                field("max_impact_speed", speed, true),
+                field_test("max_impact_speed", speed, true),
                 format!("an impact of two beams (or a beam and an edge beam) faster than {} m/s", speed),
             )
         }
-        "contact_force" => {
-            let force = required("force", "N")?;
-            let deck = match t.get("at").map(|a| a.as_str()) {
-                None | Some(Some("beams")) => false,
-                Some(Some("deck")) => true,
-                Some(_) => {
-                    return Err(err(&format!("{at}.at"), format!("{}: \"beams\" or \"deck\"", shown(t.get("at")))))
-                }
-            };
-            let (f, words) = if deck {
-                ("peak_deck_contact_force", "the closed joint's force on the deck's edge beam")
-            } else {
-                ("peak_contact_force", "the force of one contact (one beam end)")
-            };
-            one(
-                format!(
-                    "contact force{} above {} MN",
-                    if deck { " on the deck" } else { "" },
-                    quakejoint_motion::number(force / 1e6)
-                ),
-                field(f, force, true),
-                format!("{words} above {} N ({f})", quakejoint_motion::number(force)),
-            )
-        }
+        "contact_force" => e.contact_force()?,
         "penetration" => {
-            let depth = required("depth", "m")?;
-            one(
+            let depth = e.required("depth", "m")?;
+            e.one(
                 format!("penetration beyond {} mm", quakejoint_motion::number(depth * 1e3)),
-                field("max_penetration", depth, true),
+                field_test("max_penetration", depth, true),
                 format!("a contact penetrated deeper than {} m (max_penetration)", quakejoint_motion::number(depth)),
             )
         }
         "abutment_force" => {
-            let force = required("force", "N")?;
-            one(
+            let force = e.required("force", "N")?;
+            e.one(
                 format!("abutment force above {} MN", quakejoint_motion::number(force / 1e6)),
-                field("peak_abutment_force", force, true),
+                field_test("peak_abutment_force", force, true),
                 format!(
                     "the joint's force on the abutment above {} N (peak_abutment_force)",
                     quakejoint_motion::number(force)
                 ),
             )
         }
-        "field" => {
-            let f = match t.get("field") {
-                Some(toml::Value::String(s)) => s.clone(),
-                _ => return Err(err(&format!("{at}.field"), "missing: the name of a per-job field")),
-            };
-            let index = field_index(&f, &format!("{at}.field"))?;
-            let (threshold, above) = match (
-                number(t.get("above"), &format!("{at}.above"))?,
-                number(t.get("below"), &format!("{at}.below"))?,
-            ) {
+        "field" => e.field()?,
+        _ => e.deck()?,
+    })
+}
+
+/// A limit state's table being read: where it is (`at`), its kind and
+/// the name it gives itself.
+struct Entry<'a> {
+    t: &'a toml::Table,
+    at: &'a str,
+    kind: String,
+    name: Option<String>,
+}
+
+/// A test of a per-job field against `threshold`, `above` or below it.
+fn field_test(name: &str, threshold: f64, above: bool) -> Kind {
+    Kind::Field { field: FIELDS.iter().position(|&f| f == name).expect("a per-job field"), threshold, above }
+}
+
+impl Entry<'_> {
+    /// The required positive threshold `k` in `units`.
+    fn required(&self, k: &str, units: &str) -> Result<f64, SweepError> {
+        let at = self.at;
+        positive(self.t.get(k), &format!("{at}.{k}"), units)?
+            .ok_or_else(|| err(&format!("{at}.{k}"), format!("missing: the threshold [{units}]")))
+    }
+
+    /// The one limit state of this table: its own name, else `default`.
+    fn one(&self, default: String, test: Kind, definition: String) -> Vec<LimitState> {
+        vec![LimitState {
+            key: String::new(),
+            name: self.name.clone().unwrap_or(default),
+            kind: self.kind.clone(),
+            test,
+            definition,
+        }]
+    }
+
+    /// A `contact_force` limit state: on one beam end, or on the deck.
+    fn contact_force(&self) -> Result<Vec<LimitState>, SweepError> {
+        let (t, at) = (self.t, self.at);
+        let force = self.required("force", "N")?;
+        let deck = match t.get("at").map(|a| a.as_str()) {
+            None | Some(Some("beams")) => false,
+            Some(Some("deck")) => true,
+            Some(_) => return Err(err(&format!("{at}.at"), format!("{}: \"beams\" or \"deck\"", shown(t.get("at"))))),
+        };
+        let (f, words) = if deck {
+            ("peak_deck_contact_force", "the closed joint's force on the deck's edge beam")
+        } else {
+            ("peak_contact_force", "the force of one contact (one beam end)")
+        };
+        Ok(self.one(
+            format!(
+                "contact force{} above {} MN",
+                if deck { " on the deck" } else { "" },
+                quakejoint_motion::number(force / 1e6)
+            ),
+            field_test(f, force, true),
+            format!("{words} above {} N ({f})", quakejoint_motion::number(force)),
+        ))
+    }
+
+    /// A `field` limit state: any per-job field above or below a threshold.
+    fn field(&self) -> Result<Vec<LimitState>, SweepError> {
+        let (t, at) = (self.t, self.at);
+        let f = match t.get("field") {
+            Some(toml::Value::String(s)) => s.clone(),
+            _ => return Err(err(&format!("{at}.field"), "missing: the name of a per-job field")),
+        };
+        let index = field_index(&f, &format!("{at}.field"))?;
+        let (threshold, above) =
+            match (number(t.get("above"), &format!("{at}.above"))?, number(t.get("below"), &format!("{at}.below"))?) {
                 (Some(x), None) => (x, true),
                 (None, Some(x)) => (x, false),
                 _ => return Err(err(at, "give one threshold: `above` or `below`")),
             };
-            if !threshold.is_finite() {
-                return Err(err(at, format!("{threshold}: the threshold must be finite")));
+        if !threshold.is_finite() {
+            return Err(err(at, format!("{threshold}: the threshold must be finite")));
+        }
+        let units = crate::results::UNITS[index];
+        let words =
+            format!("{f} {} {} {units}", if above { "above" } else { "below" }, quakejoint_motion::number(threshold));
+        Ok(self.one(words.clone(), Kind::Field { field: index, threshold, above }, words))
+    }
+
+    /// A `deck` limit state: two, the deck's measure with the joint and
+    /// the bridge alone's.
+    fn deck(&self) -> Result<Vec<LimitState>, SweepError> {
+        let (t, at) = (self.t, self.at);
+        let m = match t.get("measure").map(|m| m.as_str()) {
+            Some(Some(m)) if DECK_MEASURES.contains(&m) => m.to_string(),
+            _ => {
+                return Err(err(
+                    &format!("{at}.measure"),
+                    format!("{}: one of {}", shown(t.get("measure")), DECK_MEASURES.join(", ")),
+                ))
             }
-            let units = crate::results::UNITS[index];
-            let words = format!(
-                "{f} {} {} {units}",
-                if above { "above" } else { "below" },
-                quakejoint_motion::number(threshold)
-            );
-            one(words.clone(), Kind::Field { field: index, threshold, above }, words)
-        }
-        _ => {
-            let m = match t.get("measure").map(|m| m.as_str()) {
-                Some(Some(m)) if DECK_MEASURES.contains(&m) => m.to_string(),
-                _ => {
-                    return Err(err(
-                        &format!("{at}.measure"),
-                        format!("{}: one of {}", shown(t.get("measure")), DECK_MEASURES.join(", ")),
-                    ))
-                }
-            };
-            let measure = DECK_MEASURES.iter().position(|&x| x == m).expect("checked");
-            let threshold = required("above", ["m/s^2", "m/s^2", "m", "m/s"][measure])?;
-            let units = ["m/s^2", "m/s^2", "m", "m/s"][measure];
-            let base =
-                name.clone().unwrap_or(format!("deck {m} above {} {units}", quakejoint_motion::number(threshold)));
-            let words = format!("the deck's {m} above {} {units}", quakejoint_motion::number(threshold));
-            vec![
-                LimitState {
-                    key: String::new(),
-                    name: format!("{base} (with the joint)"),
-                    kind: kind.clone(),
-                    test: field(&m, threshold, true),
-                    definition: format!("{words}, with the joint"),
-                },
-                LimitState {
-                    key: String::new(),
-                    name: format!("{base} (without the joint)"),
-                    kind: kind.clone(),
-                    test: Kind::Without { measure, threshold },
-                    definition: format!("{words}, the bridge alone (exact, over the runs' window)"),
-                },
-            ]
-        }
-    })
+        };
+        let measure = DECK_MEASURES.iter().position(|&x| x == m).expect("checked");
+        let threshold = self.required("above", ["m/s^2", "m/s^2", "m", "m/s"][measure])?;
+        let units = ["m/s^2", "m/s^2", "m", "m/s"][measure];
+        let base =
+            self.name.clone().unwrap_or(format!("deck {m} above {} {units}", quakejoint_motion::number(threshold)));
+        let words = format!("the deck's {m} above {} {units}", quakejoint_motion::number(threshold));
+        Ok(vec![
+            LimitState {
+                key: String::new(),
+                name: format!("{base} (with the joint)"),
+                kind: self.kind.clone(),
+                test: field_test(&m, threshold, true),
+                definition: format!("{words}, with the joint"),
+            },
+            LimitState {
+                key: String::new(),
+                name: format!("{base} (without the joint)"),
+                kind: self.kind.clone(),
+                test: Kind::Without { measure, threshold },
+                definition: format!("{words}, the bridge alone (exact, over the runs' window)"),
+            },
+        ])
+    }
 }
 
 /// A key for `/fragility/<key>`: the name in lower case, letters, digits

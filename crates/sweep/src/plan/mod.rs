@@ -282,133 +282,10 @@ impl Plan {
                  be undone: remove [sweep.suite] and list its records in sweep.records",
             ));
         }
-        let (periods, damping, modal) = match &base_config.bridge.modal {
-            Some(m) => {
-                let modal = modal_axis(&sweep, m, &base_config, base_dir)?;
-                // each scale applied and checked as every job applies it:
-                // the bridge's longest kept period there
-                let periods = (0..modal.period_scales.len())
-                    .map(|t| RunSpec::new(base_config.clone(), &modal.overrides(t)).map(|spec| spec.period))
-                    .collect::<Result<Vec<f64>, ModelError>>()?;
-                (periods, vec![base_config.bridge.damping], Some(modal))
-            }
-            None => {
-                if sweep.contains_key("period_scales") {
-                    return Err(sweep_err(
-                        "sweep.period_scales",
-                        "a factor on the periods of a bridge given by its modes ([bridge.modal]); this bridge is a \
-                         single-DOF deck: sweep its period with sweep.periods",
-                    ));
-                }
-                let periods = grid_of(
-                    sweep.get("periods").ok_or_else(|| sweep_err("sweep.periods", "missing"))?,
-                    "sweep.periods",
-                    "bridge.period",
-                    "s",
-                )?;
-                let damping = match sweep.get("damping") {
-                    Some(v) => list_of_f64(v, "sweep.damping")?,
-                    None => vec![base_config.bridge.damping],
-                };
-                if damping.is_empty() {
-                    return Err(sweep_err("sweep.damping", "no damping ratio"));
-                }
-                check_swept(&damping, "sweep.damping", "bridge.damping")?;
-                (periods, damping, None)
-            }
-        };
-        // each requested period (a modal bridge: period scale) picks the
-        // nearest swept one (within 5 %)
-        let (axis, unit) = match &modal {
-            Some(m) => (&m.period_scales, ""),
-            None => (&periods, " s"),
-        };
-        let what = if modal.is_some() { "period scale" } else { "period" };
-        let history_periods = match sweep.get("histories") {
-            Some(v) => {
-                let mut idx = Vec::new();
-                for t in list_of_f64(v, "sweep.histories")? {
-                    let (i, p) = axis
-                        .iter()
-                        .enumerate()
-                        .min_by(|a, b| (a.1 - t).abs().total_cmp(&(b.1 - t).abs()))
-                        .expect("periods not empty");
-                    // NaN fails the comparison and is refused too
-                    if (p - t).abs().partial_cmp(&(0.05 * t.abs())) != Some(std::cmp::Ordering::Less) {
-                        return Err(sweep_err(
-                            "sweep.histories",
-                            format!("{t}{unit}: no swept {what} within 5 % (nearest {p}{unit})"),
-                        ));
-                    }
-                    if !idx.contains(&i) {
-                        idx.push(i);
-                    }
-                }
-                idx
-            }
-            None => Vec::new(),
-        };
-        let checkpoint_seconds = match sweep.get("checkpoint_seconds") {
-            Some(v) => f64_of(v, "sweep.checkpoint_seconds")?,
-            None => 60.0,
-        };
-        if !(checkpoint_seconds.is_finite() && checkpoint_seconds > 0.0 && checkpoint_seconds <= MAX_INTERVAL) {
-            return Err(sweep_err(
-                "sweep.checkpoint_seconds",
-                format!("{checkpoint_seconds}: seconds between checkpoints, above 0 and at most {MAX_INTERVAL:e}"),
-            ));
-        }
-        // records
-        let specs: Vec<RecordSpec> = match sweep.get("records") {
-            Some(toml::Value::Array(items)) => items
-                .iter()
-                .enumerate()
-                .map(|(i, v)| {
-                    v.clone()
-                        .try_into()
-                        .map_err(|e: toml::de::Error| sweep_err(&format!("sweep.records[{i}]"), e.to_string()))
-                })
-                .collect::<Result<_, _>>()?,
-            Some(_) => return Err(sweep_err("sweep.records", "must be a list of tables")),
-            None => vec![base_config.record_x()],
-        };
-        if let (Some(_), Some(r)) = (sweep.get("records"), &base_config.record) {
-            // [record]'s settings (its scale, say) would silently not apply
-            return Err(sweep_err(
-                "sweep.records",
-                format!(
-                    "the config has both [record] ({}) and sweep.records: a sweep runs the records of sweep.records \
-                      only, with their own settings; remove [record], or list it in sweep.records",
-                    r.file.display()
-                ),
-            ));
-        }
-        if specs.is_empty() {
-            return Err(sweep_err("sweep.records", "the list of records is empty"));
-        }
-        if let (true, Some(y)) = (sweep.contains_key("suite"), &base_config.record_y) {
-            return Err(sweep_err(
-                "sweep.suite",
-                format!(
-                    "the suite scales its records along the bridge to the target; [record_y] ({}) would stay \
-                     unscaled: remove it (suites of transverse records are not supported)",
-                    y.file.display()
-                ),
-            ));
-        }
-        if sweep.contains_key("suite") {
-            for (i, spec) in specs.iter().enumerate() {
-                if spec.scale != 1.0 || spec.target_pga_g.is_some() {
-                    return Err(sweep_err(
-                        &format!("sweep.records[{i}]"),
-                        format!(
-                            "{}: the suite scales its records to the target; remove `scale` and `target_pga_g`",
-                            spec.file.display()
-                        ),
-                    ));
-                }
-            }
-        }
+        let (periods, damping, modal) = axes_of(&sweep, &base_config, base_dir)?;
+        let history_periods = history_indices(&sweep, &periods, modal.as_ref())?;
+        let checkpoint_seconds = checkpoint_of(&sweep)?;
+        let specs = record_specs(&sweep, &base_config)?;
         let mut records = specs.into_iter().map(|s| SweepRecord::load(s, base_dir)).collect::<Result<Vec<_>, _>>()?;
         let suite = match sweep.get("suite") {
             Some(v) => {
@@ -457,101 +334,8 @@ impl Plan {
                 ));
             }
         }
-        // cases
-        let case_tables: Vec<toml::Table> = match sweep.get("cases") {
-            Some(toml::Value::Array(items)) => items
-                .iter()
-                .enumerate()
-                .map(|(i, v)| match v {
-                    toml::Value::Table(t) => Ok(t.clone()),
-                    _ => Err(sweep_err(&format!("sweep.cases[{i}]"), "must be a table")),
-                })
-                .collect::<Result<_, _>>()?,
-            Some(_) => return Err(sweep_err("sweep.cases", "must be a list of tables ([[sweep.cases]])")),
-            None => Vec::new(),
-        };
-        let mut cases = Vec::new();
-        if case_tables.is_empty() {
-            cases.push(Case { name: "base".to_string(), bodies: bodies_of(&base_config), config: base_config.clone() });
-        }
-        for (i, mut ct) in case_tables.into_iter().enumerate() {
-            let key = format!("sweep.cases[{i}]");
-            let name = match ct.remove("name") {
-                Some(toml::Value::String(s)) if !s.trim().is_empty() => s,
-                _ => return Err(sweep_err(&format!("{key}.name"), "every case needs a non-empty name")),
-            };
-            if cases.iter().any(|c: &Case| c.name == name) {
-                return Err(sweep_err(&format!("{key}.name"), format!("{name:?} is used twice")));
-            }
-            for k in ct.keys() {
-                if !["joint", "bridge", "simulation"].contains(&k.as_str()) {
-                    return Err(sweep_err(
-                        &format!("{key}.{k}"),
-                        format!("case {name:?}: a case may change joint, bridge and simulation parameters only"),
-                    ));
-                }
-            }
-            if let Some(toml::Value::Table(b)) = ct.get("bridge") {
-                if let Some(why) = refused_in_case(b, modal.is_some()) {
-                    return Err(sweep_err(&format!("{key}.bridge.{}", why.0), format!("case {name:?}: {}", why.1)));
-                }
-            }
-            let mut merged = table.clone();
-            merge(&mut merged, &ct);
-            let mut config: Config = toml::Value::Table(merged)
-                .try_into()
-                .map_err(|e: toml::de::Error| sweep_err(&key, format!("case {name:?}: {}", e.message())))?;
-            config.validate().map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
-            // the modes file the base config read (a case cannot change it)
-            if let Some(bridge) = base_config.bridge.modal.as_ref().and_then(|m| m.loaded.clone()) {
-                config.attach_modes(bridge).map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
-            }
-            let (a, b) = (&config.simulation, &base_config.simulation);
-            if (a.duration, a.extra_time) != (b.duration, b.extra_time) {
-                return Err(sweep_err(
-                    &format!("{key}.simulation"),
-                    format!(
-                        "case {name:?}: the cases of a sweep share its run window (simulation.duration and \
-                          extra_time): the spectrum without the joint is computed once per record over that window"
-                    ),
-                ));
-            }
-            cases.push(Case { name, bodies: bodies_of(&config), config });
-        }
-        // what can be checked before any job runs is bad input, not a failed
-        // job: every case's geometry, and every case's run length with
-        // every record
-        let named = sweep.contains_key("cases");
-        for case in &cases {
-            let name = &case.name;
-            let context = |e: ModelError| {
-                if named {
-                    sweep_err("sweep.cases", format!("case {name:?}: {e}"))
-                } else {
-                    SweepError::from(e)
-                }
-            };
-            // every joint's (a bridge given by its modes: each of [[joints]])
-            for place in quakejoint_model::placement::places(&case.config).map_err(context)? {
-                if place.config.joint.enabled {
-                    quakejoint_model::geometry::Geometry::new(&place.config)
-                        .map_err(|e| match e {
-                            ModelError::Geometry(g) if !place.prefix.is_empty() => {
-                                ModelError::Geometry(format!("joint {:?}: {g}", place.name))
-                            }
-                            other => other,
-                        })
-                        .map_err(context)?;
-                }
-            }
-            if let Some(m) = &modal {
-                // the modes the case keeps, at a swept scale
-                RunSpec::new(case.config.clone(), &m.overrides(0)).map_err(context)?;
-            }
-            for r in &records {
-                quakejoint_model::run::check_run_length(&case.config, &r.record).map_err(context)?;
-            }
-        }
+        let cases = cases_of(&sweep, &table, &base_config, modal.is_some())?;
+        check_cases(&cases, sweep.contains_key("cases"), modal.as_ref(), &records)?;
         let mut warnings = Vec::new();
         if let Some(suite) = &suite {
             warnings.extend(suite_warnings(suite));
@@ -560,19 +344,7 @@ impl Plan {
             warnings.extend(window_warning(&base_config, &r.record, &periods, &damping, modal.as_ref()));
         }
         warnings.extend(stripe_warnings);
-        let mut used = base_config.clone();
-        used.sweep = Some(sweep.clone());
-        // the config as resolved, defaults included, so that a change of a
-        // default between versions also tells a journal's jobs apart (as
-        // written, should it not serialise)
-        let mut resolved = toml::Table::try_from(&base_config).unwrap_or_else(|_| table.clone());
-        resolved.remove("sweep");
-        let mut canonical = toml::to_string(&without_run_settings(&resolved)).unwrap_or_default()
-            + &toml::to_string(&without_run_settings(&sweep)).unwrap_or_default();
-        if let Some(m) = &modal {
-            // the modes file's contents: a changed file is another sweep
-            canonical += &format!("\n# modes file sha256 {}\n", m.sha256);
-        }
+        let (config_used, config_sha256) = identity(&base_config, &table, &sweep, modal.as_ref());
         Ok(Self {
             cases,
             records,
@@ -585,10 +357,10 @@ impl Plan {
             modal,
             history_periods,
             checkpoint_seconds,
-            config_used: toml::to_string(&used).unwrap_or_default(),
+            config_used,
             warnings,
             config_text: config_text.to_string(),
-            config_sha256: sha256_hex(canonical.as_bytes()),
+            config_sha256,
         })
     }
 
@@ -647,4 +419,299 @@ impl Plan {
             period: index % nt,
         }
     }
+}
+
+/// The swept axes: the periods \[s\] (a bridge given by its modes: its
+/// longest kept period at each swept scale), the damping ratios and, for a
+/// bridge given by its modes, the period scales.
+fn axes_of(sweep: &toml::Table, base_config: &Config, base_dir: &Path) -> Result<Axes, SweepError> {
+    match &base_config.bridge.modal {
+        Some(m) => {
+            let modal = modal_axis(sweep, m, base_config, base_dir)?;
+            // each scale applied and checked as every job applies it:
+            // the bridge's longest kept period there
+            let periods = (0..modal.period_scales.len())
+                .map(|t| RunSpec::new(base_config.clone(), &modal.overrides(t)).map(|spec| spec.period))
+                .collect::<Result<Vec<f64>, ModelError>>()?;
+            Ok((periods, vec![base_config.bridge.damping], Some(modal)))
+        }
+        None => {
+            if sweep.contains_key("period_scales") {
+                return Err(sweep_err(
+                    "sweep.period_scales",
+                    "a factor on the periods of a bridge given by its modes ([bridge.modal]); this bridge is a \
+                     single-DOF deck: sweep its period with sweep.periods",
+                ));
+            }
+            let periods = grid_of(
+                sweep.get("periods").ok_or_else(|| sweep_err("sweep.periods", "missing"))?,
+                "sweep.periods",
+                "bridge.period",
+                "s",
+            )?;
+            let damping = match sweep.get("damping") {
+                Some(v) => list_of_f64(v, "sweep.damping")?,
+                None => vec![base_config.bridge.damping],
+            };
+            if damping.is_empty() {
+                return Err(sweep_err("sweep.damping", "no damping ratio"));
+            }
+            check_swept(&damping, "sweep.damping", "bridge.damping")?;
+            Ok((periods, damping, None))
+        }
+    }
+}
+
+/// The swept periods \[s\], damping ratios \[-\] and a modal bridge's
+/// period scales.
+type Axes = (Vec<f64>, Vec<f64>, Option<ModalSweep>);
+
+/// The indices of the swept periods (period scales) whose histories are
+/// kept: each requested one picks the nearest swept one, within 5 %.
+fn history_indices(sweep: &toml::Table, periods: &[f64], modal: Option<&ModalSweep>) -> Result<Vec<usize>, SweepError> {
+    // each requested period (a modal bridge: period scale) picks the
+    // nearest swept one (within 5 %)
+    let (axis, unit) = match modal {
+        Some(m) => (m.period_scales.as_slice(), ""),
+        None => (periods, " s"),
+    };
+    let what = if modal.is_some() { "period scale" } else { "period" };
+    let history_periods = match sweep.get("histories") {
+        Some(v) => {
+            let mut idx = Vec::new();
+            for t in list_of_f64(v, "sweep.histories")? {
+                let (i, p) = axis
+                    .iter()
+                    .enumerate()
+                    .min_by(|a, b| (a.1 - t).abs().total_cmp(&(b.1 - t).abs()))
+                    .expect("periods not empty");
+                // NaN fails the comparison and is refused too
+                if (p - t).abs().partial_cmp(&(0.05 * t.abs())) != Some(std::cmp::Ordering::Less) {
+                    return Err(sweep_err(
+                        "sweep.histories",
+                        format!("{t}{unit}: no swept {what} within 5 % (nearest {p}{unit})"),
+                    ));
+                }
+                if !idx.contains(&i) {
+                    idx.push(i);
+                }
+            }
+            idx
+        }
+        None => Vec::new(),
+    };
+    Ok(history_periods)
+}
+
+/// `sweep.checkpoint_seconds`, 60 s unless given.
+fn checkpoint_of(sweep: &toml::Table) -> Result<f64, SweepError> {
+    let checkpoint_seconds = match sweep.get("checkpoint_seconds") {
+        Some(v) => f64_of(v, "sweep.checkpoint_seconds")?,
+        None => 60.0,
+    };
+    if !(checkpoint_seconds.is_finite() && checkpoint_seconds > 0.0 && checkpoint_seconds <= MAX_INTERVAL) {
+        return Err(sweep_err(
+            "sweep.checkpoint_seconds",
+            format!("{checkpoint_seconds}: seconds between checkpoints, above 0 and at most {MAX_INTERVAL:e}"),
+        ));
+    }
+    Ok(checkpoint_seconds)
+}
+
+/// The records of `sweep.records` (the config's `[record]` without it),
+/// checked against the config's `[record]`, `[record_y]` and a suite.
+fn record_specs(sweep: &toml::Table, base_config: &Config) -> Result<Vec<RecordSpec>, SweepError> {
+    // records
+    let specs: Vec<RecordSpec> = match sweep.get("records") {
+        Some(toml::Value::Array(items)) => items
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                v.clone()
+                    .try_into()
+                    .map_err(|e: toml::de::Error| sweep_err(&format!("sweep.records[{i}]"), e.to_string()))
+            })
+            .collect::<Result<_, _>>()?,
+        Some(_) => return Err(sweep_err("sweep.records", "must be a list of tables")),
+        None => vec![base_config.record_x()],
+    };
+    if let (Some(_), Some(r)) = (sweep.get("records"), &base_config.record) {
+        // [record]'s settings (its scale, say) would silently not apply
+        return Err(sweep_err(
+            "sweep.records",
+            format!(
+                "the config has both [record] ({}) and sweep.records: a sweep runs the records of sweep.records \
+                  only, with their own settings; remove [record], or list it in sweep.records",
+                r.file.display()
+            ),
+        ));
+    }
+    if specs.is_empty() {
+        return Err(sweep_err("sweep.records", "the list of records is empty"));
+    }
+    if let (true, Some(y)) = (sweep.contains_key("suite"), &base_config.record_y) {
+        return Err(sweep_err(
+            "sweep.suite",
+            format!(
+                "the suite scales its records along the bridge to the target; [record_y] ({}) would stay \
+                 unscaled: remove it (suites of transverse records are not supported)",
+                y.file.display()
+            ),
+        ));
+    }
+    if sweep.contains_key("suite") {
+        for (i, spec) in specs.iter().enumerate() {
+            if spec.scale != 1.0 || spec.target_pga_g.is_some() {
+                return Err(sweep_err(
+                    &format!("sweep.records[{i}]"),
+                    format!(
+                        "{}: the suite scales its records to the target; remove `scale` and `target_pga_g`",
+                        spec.file.display()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(specs)
+}
+
+/// The sweep's cases: each `[[sweep.cases]]` merged into the config and
+/// checked, or the config alone as the case "base".
+fn cases_of(
+    sweep: &toml::Table,
+    table: &toml::Table,
+    base_config: &Config,
+    modal: bool,
+) -> Result<Vec<Case>, SweepError> {
+    // cases
+    let case_tables: Vec<toml::Table> = match sweep.get("cases") {
+        Some(toml::Value::Array(items)) => items
+            .iter()
+            .enumerate()
+            .map(|(i, v)| match v {
+                toml::Value::Table(t) => Ok(t.clone()),
+                _ => Err(sweep_err(&format!("sweep.cases[{i}]"), "must be a table")),
+            })
+            .collect::<Result<_, _>>()?,
+        Some(_) => return Err(sweep_err("sweep.cases", "must be a list of tables ([[sweep.cases]])")),
+        None => Vec::new(),
+    };
+    let mut cases = Vec::new();
+    if case_tables.is_empty() {
+        cases.push(Case { name: "base".to_string(), bodies: bodies_of(base_config), config: base_config.clone() });
+    }
+    for (i, mut ct) in case_tables.into_iter().enumerate() {
+        let key = format!("sweep.cases[{i}]");
+        let name = match ct.remove("name") {
+            Some(toml::Value::String(s)) if !s.trim().is_empty() => s,
+            _ => return Err(sweep_err(&format!("{key}.name"), "every case needs a non-empty name")),
+        };
+        if cases.iter().any(|c: &Case| c.name == name) {
+            return Err(sweep_err(&format!("{key}.name"), format!("{name:?} is used twice")));
+        }
+        for k in ct.keys() {
+            if !["joint", "bridge", "simulation"].contains(&k.as_str()) {
+                return Err(sweep_err(
+                    &format!("{key}.{k}"),
+                    format!("case {name:?}: a case may change joint, bridge and simulation parameters only"),
+                ));
+            }
+        }
+        if let Some(toml::Value::Table(b)) = ct.get("bridge") {
+            if let Some(why) = refused_in_case(b, modal) {
+                return Err(sweep_err(&format!("{key}.bridge.{}", why.0), format!("case {name:?}: {}", why.1)));
+            }
+        }
+        let mut merged = table.clone();
+        merge(&mut merged, &ct);
+        let mut config: Config = toml::Value::Table(merged)
+            .try_into()
+            .map_err(|e: toml::de::Error| sweep_err(&key, format!("case {name:?}: {}", e.message())))?;
+        config.validate().map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
+        // the modes file the base config read (a case cannot change it)
+        if let Some(bridge) = base_config.bridge.modal.as_ref().and_then(|m| m.loaded.clone()) {
+            config.attach_modes(bridge).map_err(|e| sweep_err(&key, format!("case {name:?}: {e}")))?;
+        }
+        let (a, b) = (&config.simulation, &base_config.simulation);
+        if (a.duration, a.extra_time) != (b.duration, b.extra_time) {
+            return Err(sweep_err(
+                &format!("{key}.simulation"),
+                format!(
+                    "case {name:?}: the cases of a sweep share its run window (simulation.duration and \
+                      extra_time): the spectrum without the joint is computed once per record over that window"
+                ),
+            ));
+        }
+        cases.push(Case { name, bodies: bodies_of(&config), config });
+    }
+    Ok(cases)
+}
+
+/// What can be checked before any job runs is bad input, not a failed
+/// job: every case's geometry, and every case's run length with every
+/// record.
+fn check_cases(
+    cases: &[Case],
+    named: bool,
+    modal: Option<&ModalSweep>,
+    records: &[SweepRecord],
+) -> Result<(), SweepError> {
+    for case in cases {
+        let name = &case.name;
+        let context = |e: ModelError| {
+            if named {
+                sweep_err("sweep.cases", format!("case {name:?}: {e}"))
+            } else {
+                SweepError::from(e)
+            }
+        };
+        // every joint's (a bridge given by its modes: each of [[joints]])
+        for place in quakejoint_model::placement::places(&case.config).map_err(context)? {
+            if place.config.joint.enabled {
+                quakejoint_model::geometry::Geometry::new(&place.config)
+                    .map_err(|e| match e {
+                        ModelError::Geometry(g) if !place.prefix.is_empty() => {
+                            ModelError::Geometry(format!("joint {:?}: {g}", place.name))
+                        }
+                        other => other,
+                    })
+                    .map_err(context)?;
+            }
+        }
+        if let Some(m) = modal {
+            // the modes the case keeps, at a swept scale
+            RunSpec::new(case.config.clone(), &m.overrides(0)).map_err(context)?;
+        }
+        for r in records {
+            quakejoint_model::run::check_run_length(&case.config, &r.record).map_err(context)?;
+        }
+    }
+    Ok(())
+}
+
+/// The config as a sweep file records it (`config_used`) and the sweep's
+/// identity, the SHA-256 of the config as resolved (defaults included, so
+/// that a change of a default between versions also tells a journal's jobs
+/// apart; as written, should it not serialise) with its `[sweep]` and, for
+/// a bridge given by its modes, the modes file's contents.
+fn identity(
+    base_config: &Config,
+    table: &toml::Table,
+    sweep: &toml::Table,
+    modal: Option<&ModalSweep>,
+) -> (String, String) {
+    let mut used = base_config.clone();
+    used.sweep = Some(sweep.clone());
+    // the config as resolved, defaults included, so that a change of a
+    // default between versions also tells a journal's jobs apart (as
+    // written, should it not serialise)
+    let mut resolved = toml::Table::try_from(base_config).unwrap_or_else(|_| table.clone());
+    resolved.remove("sweep");
+    let mut canonical = toml::to_string(&without_run_settings(&resolved)).unwrap_or_default()
+        + &toml::to_string(&without_run_settings(sweep)).unwrap_or_default();
+    if let Some(m) = modal {
+        // the modes file's contents: a changed file is another sweep
+        canonical += &format!("\n# modes file sha256 {}\n", m.sha256);
+    }
+    (toml::to_string(&used).unwrap_or_default(), sha256_hex(canonical.as_bytes()))
 }

@@ -235,59 +235,15 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
     let jpath = journal_path(output);
     let head = header(plan, opts.shard);
     let mut file = expected_file(plan, opts)?;
-    let (journal, done) = if jpath.exists() {
-        let c = Journal::continue_or_restart(&jpath, &head)?;
-        notices.extend(c.notices);
-        (c.journal, c.results)
-    } else if opts.resume {
-        return Err(SweepError::Journal {
-            path: jpath.display().to_string(),
-            message: "--resume: there is no journal to continue (run without --resume to start the sweep)".into(),
-        });
-    } else if output.exists() {
-        // appeared since the check before the lock
-        return Err(not_an_output(output));
-    } else {
-        (Journal::create(&jpath, &head)?, Vec::new())
-    };
+    let (journal, done) = open_journal(opts, &jpath, &head, &mut notices)?;
     for r in done {
         file.results.insert(r);
     }
     // the output on disk must agree with its journal, or it is rebuilt
-    let mut dirty = match output_state(output, &file) {
-        Ok(check::OutputState { behind, refit, memo }) => {
-            if let (Some(memo), Some(f)) = (memo, &mut file.fragility) {
-                f.memo = memo;
-            }
-            if refit {
-                notices.push(format!(
-                    "{}: the limit states or their fitting ([sweep.fragility]) changed: refitted from the journal, no \
-                     job runs again",
-                    output.display()
-                ));
-            }
-            behind || refit
-        }
-        Err(problem) => {
-            notices.push(format!(
-                "{}: {problem}; it is rebuilt from the journal {}",
-                output.display(),
-                jpath.display()
-            ));
-            true
-        }
-    };
+    let mut dirty = sync_output(output, &jpath, &mut file, &mut notices);
     let scope = scope(plan, opts.shard);
-    let mut retried = 0;
-    if opts.retry_failed {
-        for &j in &scope {
-            if !matches!(file.results.status[j], status::OK | status::NOT_RUN) {
-                file.results.clear(j);
-                retried += 1;
-                dirty = true;
-            }
-        }
-    }
+    let retried = if opts.retry_failed { retry_failed(&scope, &mut file.results) } else { 0 };
+    dirty |= retried > 0;
     let mut todo: Vec<usize> = scope.iter().copied().filter(|&j| file.results.status[j] == status::NOT_RUN).collect();
     // longest jobs first: the last jobs to finish are short ones
     todo.sort_by(|&a, &b| plan.cost(plan.job(b)).total_cmp(&plan.cost(plan.job(a))).then(a.cmp(&b)));
@@ -340,41 +296,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         for bar in &workers {
             let tx = tx.clone();
             let (todo, next, stop) = (&todo, &next, &stop);
-            s.spawn(move |_| loop {
-                if stop.load(Ordering::Relaxed) {
-                    break;
-                }
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                let Some(&index) = todo.get(i) else { break };
-                if i + 1 == todo.len() && crate::fault::hold(opts.shard, output, stop) {
-                    break;
-                }
-                let job = plan.job(index);
-                let label = match &plan.modal {
-                    Some(_) => format!(
-                        "{} / {} / {}",
-                        plan.cases[job.case].name,
-                        plan.records[job.record].record.name,
-                        plan.axis_label(job.period)
-                    ),
-                    None => format!(
-                        "{} / {} / z {} / T {:.4} s",
-                        plan.cases[job.case].name,
-                        plan.records[job.record].record.name,
-                        plan.damping[job.damping],
-                        plan.periods[job.period]
-                    ),
-                };
-                bar.set_message(format!("{label}: starting"));
-                let progress: quakejoint_model::run::ProgressFn = {
-                    let bar = bar.clone();
-                    Arc::new(move |t| bar.set_message(format!("{label}: t = {t:.1} s")))
-                };
-                let Some(result) = run_job(plan, index, Some(progress), Some(stop.clone())) else { break };
-                if tx.send(result).is_err() {
-                    break;
-                }
-            });
+            s.spawn(move |_| work(plan, Queue { todo, next }, bar, &tx, stop, opts));
         }
     });
     drop(tx);
@@ -389,39 +311,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         })?
         .map_err(|e| SweepError::Stopped { cause: Box::new(e), journal: jpath.display().to_string() })?;
     drop(lock);
-    let mut failed = Vec::new();
-    let mut flagged = Vec::new();
-    let mut not_run = 0;
-    let (mut pounded, mut peak_contact) = (0, None::<(f64, String, String, f64, f64)>);
-    let field = |name: &str| FIELDS.iter().position(|f| *f == name).unwrap_or(0);
-    let (impacts, peak) = (field("impacts"), field("peak_contact_force"));
-    for &j in &scope {
-        let st = file.results.status[j];
-        let job = plan.job(j);
-        let (case, record) = (plan.cases[job.case].name.clone(), plan.records[job.record].record.name.clone());
-        let (z, t) = (plan.damping[job.damping], plan.axis()[job.period]);
-        if st == status::NOT_RUN {
-            not_run += 1;
-        } else if st != status::OK {
-            failed.push((case.clone(), record.clone(), z, t, file.results.messages[j].clone()));
-        } else if quakejoint_model::validity::Flags(file.results.validity[j]).is_flagged() {
-            flagged.push((
-                case.clone(),
-                record.clone(),
-                z,
-                t,
-                file.results.validity[j],
-                file.results.findings[j].clone(),
-            ));
-        }
-        if st == status::OK && file.results.values[impacts][j] > 0.0 {
-            pounded += 1;
-            let f = file.results.values[peak][j];
-            if peak_contact.as_ref().is_none_or(|p| f > p.0) {
-                peak_contact = Some((f, case, record, z, t));
-            }
-        }
-    }
+    let Tally { failed, flagged, not_run, pounded, peak_contact } = tally(plan, &scope, &file.results);
     Ok(Summary {
         jobs: scope.len(),
         resumed: in_scope_done,
@@ -448,4 +338,171 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
             (f.clone(), crate::fragility::rows(f, &file.results, &label))
         }),
     })
+}
+
+/// Clears the failed jobs of `scope` so that they run again; how many.
+fn retry_failed(scope: &[usize], results: &mut Results) -> usize {
+    let mut retried = 0;
+    for &j in scope {
+        if !matches!(results.status[j], status::OK | status::NOT_RUN) {
+            results.clear(j);
+            retried += 1;
+        }
+    }
+    retried
+}
+
+/// The jobs a sweep runs now, in order, and the index of the next one to
+/// take (shared by the workers).
+#[derive(Clone, Copy)]
+struct Queue<'a> {
+    todo: &'a [usize],
+    next: &'a AtomicUsize,
+}
+
+/// One worker: takes the next job until none is left or the sweep stops,
+/// runs it with its progress on `bar` and sends its result to the writer.
+fn work(
+    plan: &Plan,
+    queue: Queue<'_>,
+    bar: &ProgressBar,
+    tx: &crossbeam_channel::Sender<JobResult>,
+    stop: &Arc<AtomicBool>,
+    opts: &SweepOptions,
+) {
+    loop {
+        if stop.load(Ordering::Relaxed) {
+            break;
+        }
+        let i = queue.next.fetch_add(1, Ordering::Relaxed);
+        let Some(&index) = queue.todo.get(i) else { break };
+        if i + 1 == queue.todo.len() && crate::fault::hold(opts.shard, &opts.output, stop) {
+            break;
+        }
+        let job = plan.job(index);
+        let label = job_label(plan, &job);
+        bar.set_message(format!("{label}: starting"));
+        let progress: quakejoint_model::run::ProgressFn = {
+            let bar = bar.clone();
+            Arc::new(move |t| bar.set_message(format!("{label}: t = {t:.1} s")))
+        };
+        let Some(result) = run_job(plan, index, Some(progress), Some(stop.clone())) else { break };
+        if tx.send(result).is_err() {
+            break;
+        }
+    }
+}
+
+/// The sweep's journal: continued (with the jobs it records), or created
+/// for a sweep that starts.
+fn open_journal(
+    opts: &SweepOptions,
+    jpath: &Path,
+    head: &Header,
+    notices: &mut Vec<String>,
+) -> Result<(Journal, Vec<JobResult>), SweepError> {
+    let output = &opts.output;
+    let opened = if jpath.exists() {
+        let c = Journal::continue_or_restart(jpath, head)?;
+        notices.extend(c.notices);
+        (c.journal, c.results)
+    } else if opts.resume {
+        return Err(SweepError::Journal {
+            path: jpath.display().to_string(),
+            message: "--resume: there is no journal to continue (run without --resume to start the sweep)".into(),
+        });
+    } else if output.exists() {
+        // appeared since the check before the lock
+        return Err(not_an_output(output));
+    } else {
+        (Journal::create(jpath, head)?, Vec::new())
+    };
+    Ok(opened)
+}
+
+/// Whether the output on disk is behind its journal (or must be refitted,
+/// or rebuilt: said in `notices`); a fragility memo it holds is kept.
+fn sync_output(output: &Path, jpath: &Path, file: &mut SweepFile, notices: &mut Vec<String>) -> bool {
+    match output_state(output, file) {
+        Ok(check::OutputState { behind, refit, memo }) => {
+            if let (Some(memo), Some(f)) = (memo, &mut file.fragility) {
+                f.memo = memo;
+            }
+            if refit {
+                notices.push(format!(
+                    "{}: the limit states or their fitting ([sweep.fragility]) changed: refitted from the journal, no \
+                     job runs again",
+                    output.display()
+                ));
+            }
+            behind || refit
+        }
+        Err(problem) => {
+            notices.push(format!(
+                "{}: {problem}; it is rebuilt from the journal {}",
+                output.display(),
+                jpath.display()
+            ));
+            true
+        }
+    }
+}
+
+/// A job in words, as the progress shows it.
+fn job_label(plan: &Plan, job: &crate::Job) -> String {
+    match &plan.modal {
+        Some(_) => format!(
+            "{} / {} / {}",
+            plan.cases[job.case].name,
+            plan.records[job.record].record.name,
+            plan.axis_label(job.period)
+        ),
+        None => format!(
+            "{} / {} / z {} / T {:.4} s",
+            plan.cases[job.case].name,
+            plan.records[job.record].record.name,
+            plan.damping[job.damping],
+            plan.periods[job.period]
+        ),
+    }
+}
+
+/// The jobs of a sweep's scope by outcome, for its summary.
+struct Tally {
+    failed: Vec<(String, String, f64, f64, String)>,
+    flagged: Vec<(String, String, f64, f64, u32, String)>,
+    not_run: usize,
+    pounded: usize,
+    peak_contact: Option<(f64, String, String, f64, f64)>,
+}
+
+/// Counts the outcomes of the jobs of `scope`.
+fn tally(plan: &Plan, scope: &[usize], results: &Results) -> Tally {
+    let mut failed = Vec::new();
+    let mut flagged = Vec::new();
+    let mut not_run = 0;
+    let (mut pounded, mut peak_contact) = (0, None::<(f64, String, String, f64, f64)>);
+    let field = |name: &str| FIELDS.iter().position(|f| *f == name).unwrap_or(0);
+    let (impacts, peak) = (field("impacts"), field("peak_contact_force"));
+    for &j in scope {
+        let st = results.status[j];
+        let job = plan.job(j);
+        let (case, record) = (plan.cases[job.case].name.clone(), plan.records[job.record].record.name.clone());
+        let (z, t) = (plan.damping[job.damping], plan.axis()[job.period]);
+        if st == status::NOT_RUN {
+            not_run += 1;
+        } else if st != status::OK {
+            failed.push((case.clone(), record.clone(), z, t, results.messages[j].clone()));
+        } else if quakejoint_model::validity::Flags(results.validity[j]).is_flagged() {
+            flagged.push((case.clone(), record.clone(), z, t, results.validity[j], results.findings[j].clone()));
+        }
+        if st == status::OK && results.values[impacts][j] > 0.0 {
+            pounded += 1;
+            let f = results.values[peak][j];
+            if peak_contact.as_ref().is_none_or(|p| f > p.0) {
+                peak_contact = Some((f, case, record, z, t));
+            }
+        }
+    }
+    Tally { failed, flagged, not_run, pounded, peak_contact }
 }
