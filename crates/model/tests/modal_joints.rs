@@ -200,3 +200,23 @@ fn a_mode_that_does_not_move_the_points_runs_and_changes_nothing_there() {
         assert!((a.sd / b.sd - 1.0).abs() < 1e-6 && (a.sa / b.sa - 1.0).abs() < 1e-6, "{}", a.name);
     }
 }
+
+/// A joint turned half a turn (`deck_side = "-x"`, the right abutment)
+/// reports its history in its own x: its deck point's motion opens it
+/// with `u > 0`, and the ground's acceleration `ag` beside it is turned
+/// too (-1 times the record's), so that `a_abs - ag` is its deck point's
+/// acceleration relative to the ground in the same axis.
+#[test]
+fn a_joint_turned_half_a_turn_reports_the_ground_in_its_own_x() {
+    let config = modal::two_joints_on_three_span(&root(), "small.toml", 0.3, "[simulation]\nduration = 1.0\n").unwrap();
+    let (x, _) = quakejoint_model::run::load_records(&config, &root()).unwrap();
+    let options = quakejoint_model::run::RunOptions { histories: true, ..Default::default() };
+    let r = quakejoint_model::run::simulate_records(&config, &x.record, None, &options).unwrap();
+    let left = r.histories.as_ref().unwrap();
+    let right = r.joints[0].histories.as_ref().unwrap();
+    assert_eq!(left.t, right.t);
+    assert!(left.ag.iter().any(|a| *a != 0.0));
+    for (a, b) in left.ag.iter().zip(&right.ag) {
+        assert_eq!(*b, -*a);
+    }
+}

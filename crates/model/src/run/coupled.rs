@@ -357,6 +357,8 @@ struct EarthquakeObserver {
     modal_acc: Vec<f64>,
     modal_forces: Vec<(usize, f64)>,
     ground: TimeSeries,
+    /// +1, or -1 for a joint turned half a turn: its own x is the bridge's -x.
+    sign: f64,
     /// The ground's acceleration across, if a record acts across.
     ground_y: Option<TimeSeries>,
     dt: f64,
@@ -447,6 +449,7 @@ impl EarthquakeObserver {
             modal_acc: Vec::new(),
             modal_forces: Vec::new(),
             ground,
+            sign: model.sign,
             ground_y: None,
             dt,
             outputs: grid(dt)?,
@@ -623,7 +626,8 @@ impl EarthquakeObserver {
         let Some(h) = &mut self.histories else { return };
         let [u, ud, a_abs, fj] = deck;
         h.t.push(t);
-        h.ag.push(self.ground.value(t));
+        // (in the joint's own x, as its deck point's motion)
+        h.ag.push(self.sign * self.ground.value(t));
         h.u.push(u);
         h.v.push(ud);
         h.a_abs.push(a_abs);
