@@ -397,7 +397,7 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
         base_dir(&a.config)
     };
     let spec = RunSpec::new(config, &overrides)?;
-    let config = &spec.config;
+    let config = spec.config();
     let (lx, ly) = load_records(config, &base)?;
     print_warnings(&[Some(&lx), ly.as_ref()].into_iter().flatten().collect::<Vec<_>>());
     let (rx, ry) = (&lx.record, ly.as_ref().map(|l| &l.record));

@@ -26,6 +26,7 @@ use crate::config::{Config, ContactLawConfig, HertzDampingConfig, LawConfig, Sup
 use crate::error::ModelError;
 use crate::geometry::Geometry;
 use crate::modal::{add_modes, EndSpec, ModalDeck};
+use crate::scenario::Scenario;
 
 /// How a bearing's sliding joint on its support beam is written
 /// (`docs/model.md`, "Constraints").
@@ -440,13 +441,23 @@ pub fn build_with(
     drive: Drive,
     bearing_joint: BearingJoint,
 ) -> Result<JointModel, ModelError> {
-    config.validate()?;
-    let modes = config.bridge.modal.as_ref().map(|m| crate::modal::kept_modes(m, config.bridge.damping)).transpose()?;
+    build_scenario(&Scenario::new(config.clone())?, omega, drive, bearing_joint)
+}
+
+/// The model of a resolved scenario (its config checked, its joints
+/// placed), with the bridge frequency `omega` [rad/s] (the config's unless
+/// given), the drive and the bearings' joint.
+pub fn build_scenario(
+    scenario: &Scenario,
+    omega: Option<f64>,
+    drive: Drive,
+    bearing_joint: BearingJoint,
+) -> Result<JointModel, ModelError> {
+    let (config, places, modes) = (&scenario.config, &scenario.places, &scenario.kept);
     let bridge = bridge_of(config, omega, modes.as_deref())?;
     let mut sys = System::new();
-    let places = crate::placement::places(config)?;
     let mut models = Vec::with_capacity(places.len());
-    for place in &places {
+    for place in places {
         let mut model = empty_model(place, bridge);
         if place.config.joint.enabled && !place.config.joint.is_link() {
             add_joint_bodies(&mut sys, &mut model, &place.config, bearing_joint, place.sign, &place.prefix)?;
@@ -460,14 +471,14 @@ pub fn build_with(
     };
     // the decks (and the abutment sides at in-span hinges)
     let (decks, hinges) = match &modes {
-        Some(kept) => add_modal_decks(&mut sys, config, kept, &places, &mut models)?,
+        Some(kept) => add_modal_decks(&mut sys, config, kept, places, &mut models)?,
         None => {
             let deck_coords: &[Coord] = if bridge.transverse.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
             (vec![sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords))], vec![None])
         }
     };
     let ends = Ends { decks: &decks, hinges: &hinges, abutment };
-    connect_joints(&mut sys, &mut models, &places, &ends, &drive)?;
+    connect_joints(&mut sys, &mut models, places, &ends, &drive)?;
     let deck = decks[0];
     let mut model = models.remove(0);
     model.others = models;

@@ -27,6 +27,7 @@ pub mod pounding;
 pub mod resources;
 pub mod run;
 pub mod runspec;
+pub mod scenario;
 pub mod service;
 pub mod validity;
 pub mod verification;

@@ -7,7 +7,7 @@ use crate::error::ModelError;
 use crate::modal::Direction;
 
 /// One joint of a run.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Place {
     /// Its name ("joint" for the one of `[joint]`).
     pub name: String,

@@ -13,8 +13,8 @@ use quakejoint_motion::{Peaks, Record, RecordSpec, SpectrumError, SpectrumOption
 
 use crate::config::Config;
 use crate::error::ModelError;
-use crate::modal::kept_modes;
-use crate::run::{run_duration, simulate_records, RunOptions, RunResult};
+use crate::run::{run_duration, simulate_scenario, RunOptions, RunResult};
+use crate::scenario::Scenario;
 
 /// A value a front end sets for one run, with the name it gives it
 /// (`--period`, `period`, `sweep.periods[3]`).
@@ -54,8 +54,9 @@ pub struct Overrides {
 /// A run: the config with every override applied and checked.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunSpec {
-    /// The config as the run uses it.
-    pub config: Config,
+    /// The config as the run uses it, resolved (checked once, its joints
+    /// placed).
+    pub scenario: Scenario,
     /// The bridge alone, exactly, instead of the coupled model.
     pub alone: bool,
     /// The bridge's natural period \[s\]: the override as given, else the
@@ -113,17 +114,22 @@ impl RunSpec {
         if overrides.alone {
             config.joint.enabled = false;
         }
-        config.validate()?;
-        let period = match &config.bridge.modal {
-            Some(m) => 2.0 * std::f64::consts::PI / kept_modes(m, config.bridge.damping)?[0].omega,
-            None => overrides.period.as_ref().map_or_else(|| config.bridge.natural_period(), |p| p.value),
+        let scenario = Scenario::new(config)?;
+        let period = match &scenario.kept {
+            Some(kept) => 2.0 * std::f64::consts::PI / kept[0].omega,
+            None => overrides.period.as_ref().map_or_else(|| scenario.config.bridge.natural_period(), |p| p.value),
         };
-        Ok(RunSpec { config, alone: overrides.alone, period })
+        Ok(RunSpec { scenario, alone: overrides.alone, period })
+    }
+
+    /// The config as the run uses it.
+    pub fn config(&self) -> &Config {
+        &self.scenario.config
     }
 
     /// The bridge's circular frequency \[rad/s\].
     pub fn omega(&self) -> f64 {
-        self.config.bridge.omega()
+        self.config().bridge.omega()
     }
 
     /// Runs it under `record_x` (and `record_y` across, if the deck moves
@@ -136,22 +142,18 @@ impl RunSpec {
         record_y: Option<&Record>,
         options: &RunOptions,
     ) -> Result<RunResult, ModelError> {
-        let reference = Reference::for_run(&self.config, record_x, record_x);
-        if let Some(m) = &self.config.bridge.modal {
+        let config = self.config();
+        let reference = Reference::for_run(config, record_x, record_x);
+        if let Some(m) = &config.bridge.modal {
             return self.run_modal(m, &reference, record_x, record_y, options);
         }
         let mut result = if self.alone {
-            crate::linear::linear_response(
-                reference.window(),
-                self.omega(),
-                self.config.bridge.damping,
-                options.histories,
-            )
+            crate::linear::linear_response(reference.window(), self.omega(), config.bridge.damping, options.histories)
         } else {
-            simulate_records(&self.config, record_x, record_y, options)?
+            simulate_scenario(&self.scenario, record_x, record_y, options)?
         };
         if let Some(h) = &mut result.histories {
-            h.a_abs_without_joint = reference.a_abs(self.period, self.config.bridge.damping, h.t.len());
+            h.a_abs_without_joint = reference.a_abs(self.period, config.bridge.damping, h.t.len());
         }
         Ok(result)
     }
@@ -168,12 +170,12 @@ impl RunSpec {
         record_y: Option<&Record>,
         options: &RunOptions,
     ) -> Result<RunResult, ModelError> {
-        let kept = kept_modes(m, self.config.bridge.damping)?;
+        let kept = self.scenario.kept.as_deref().unwrap_or_default();
         let bridge = crate::modal::loaded(m)?;
-        let places = crate::placement::places(&self.config)?;
+        let places = &self.scenario.places;
         // the first joint's deck point
         let point = places[0].deck_point;
-        let alone = crate::modal::alone(m, &kept, reference.window())?;
+        let alone = crate::modal::alone(m, kept, reference.window())?;
         let mut result = if self.alone {
             let h = alone.points[point].clone();
             let mut r = crate::linear::modal_result(reference.window(), kept[0].omega, h, options.histories);
@@ -197,7 +199,7 @@ impl RunSpec {
             r.base_shear = Some(alone.base_shear_peak());
             r
         } else {
-            simulate_records(&self.config, record_x, record_y, options)?
+            simulate_scenario(&self.scenario, record_x, record_y, options)?
         };
         for (p, peaks) in result.points.iter_mut().enumerate() {
             [peaks.sd_without, peaks.sa_without] = alone.peaks(p);
@@ -205,7 +207,7 @@ impl RunSpec {
         result.base_shear_without = Some(alone.base_shear_peak());
         let points: Vec<usize> =
             places.iter().flat_map(|p| std::iter::once(p.deck_point).chain(p.abutment_point)).collect();
-        let check = bridge.mode_check(&kept, &points);
+        let check = bridge.mode_check(kept, &points);
         let mut warnings = check.warnings(bridge, &points, m.corrected(), !self.alone);
         if !self.alone {
             warnings.extend(places.iter().filter_map(|p| bridge.across_warning(p.deck_point_y?)));

@@ -248,10 +248,10 @@ fn simulate(
     })?;
     let (lx, ly) = match record {
         Some(r) => {
-            let ly = spec.config.record_y.as_ref().map(|s| quakejoint_motion::load_record(s, &base)).transpose();
+            let ly = spec.config().record_y.as_ref().map(|s| quakejoint_motion::load_record(s, &base)).transpose();
             (r.loaded.clone(), ly.map_err(crate::input_error)?)
         }
-        None => load_records(&spec.config, &base).map_err(named)?,
+        None => load_records(spec.config(), &base).map_err(named)?,
     };
     let cancel = Arc::new(AtomicBool::new(false));
     let options = RunOptions { histories: history, cancel: Some(cancel.clone()), ..Default::default() };

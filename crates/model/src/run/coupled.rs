@@ -16,8 +16,9 @@ use super::{
 };
 use crate::config::Config;
 use crate::error::ModelError;
-use crate::generator::{build_with, Bridge, Drive, JointModel};
+use crate::generator::{build_scenario, Bridge, Drive, JointModel};
 use crate::pounding::{ContactWatch, Pounding};
+use crate::scenario::Scenario;
 use crate::validity::Monitor;
 use crate::watch::Gaps;
 
@@ -28,17 +29,29 @@ pub fn simulate_records(
     record_y: Option<&Record>,
     options: &RunOptions,
 ) -> Result<RunResult, ModelError> {
+    simulate_scenario(&Scenario::new(config.clone())?, record_x, record_y, options)
+}
+
+/// Runs the coupled model of a resolved scenario under given records.
+pub fn simulate_scenario(
+    scenario: &Scenario,
+    record_x: &Record,
+    record_y: Option<&Record>,
+    options: &RunOptions,
+) -> Result<RunResult, ModelError> {
+    let config = &scenario.config;
     check_run_length(config, record_x)?;
     let gx = series(record_x)?;
     let gy = record_y.map(series).transpose()?;
-    let model = build_with(config, None, Drive::Earthquake { x: gx.clone(), y: gy.clone() }, options.bearing_joint)?;
+    let drive = Drive::Earthquake { x: gx.clone(), y: gy.clone() };
+    let model = build_scenario(scenario, None, drive, options.bearing_joint)?;
     let duration = run_duration(config, record_x);
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
     let start = Clock::now();
     let cpu = crate::resources::CpuClock::start();
     let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
     let ground = Ground { x: gx, y: gy, dt: record_x.dt };
-    let mut obs = Observers::new(config, &model, &asm, &sim, &ground, options)?;
+    let mut obs = Observers::new(scenario, &model, &asm, &sim, &ground, options)?;
     obs.joints[0].deadline = config.simulation.max_wall_time.map(|s| (start, s));
     if !sim.run(duration, &mut obs)? {
         return Err(match obs.joints[0].deadline {
@@ -60,7 +73,7 @@ pub fn simulate_records(
         validity.findings.extend(j.validity.findings.iter().map(|f| format!("{}: {f}", j.name)));
     }
     let w = model.bridge.omega;
-    let without = Without { config, record_x, record_y };
+    let without = Without { config, kept: scenario.kept.as_deref(), record_x, record_y };
     let transverse = transverse_result(&model, &obs, &without);
     let far = model.bridge.far.map(|(_, wf, zeta)| {
         let [sa, sd, f, rel] = obs.far_peaks;
@@ -176,6 +189,7 @@ fn joint_results(
 /// segment): the exact linear response over the run's window.
 struct Without<'a> {
     config: &'a Config,
+    kept: Option<&'a [crate::modal::KeptMode]>,
     record_x: &'a Record,
     record_y: Option<&'a Record>,
 }
@@ -192,11 +206,8 @@ impl Without<'_> {
     /// without it).
     fn modal_sa_across(&self, py: usize) -> f64 {
         self.record_y.map_or(0.0, |r| {
-            let config = self.config;
-            let kept =
-                config.bridge.modal.as_ref().and_then(|c| crate::modal::kept_modes(c, config.bridge.damping).ok());
-            let window = crate::runspec::Reference::for_run(config, self.record_x, r);
-            let h = crate::linear::modal_history_in(window.window(), &kept.unwrap_or_default(), py, 1);
+            let window = crate::runspec::Reference::for_run(self.config, self.record_x, r);
+            let h = crate::linear::modal_history_in(window.window(), self.kept.unwrap_or_default(), py, 1);
             h.a_abs.iter().fold(0.0f64, |m, a| m.max(a.abs()))
         })
     }
@@ -257,14 +268,14 @@ struct Observers {
 impl Observers {
     /// One observer per joint of `model`, each sampled at the start.
     fn new(
-        config: &Config,
+        scenario: &Scenario,
         model: &JointModel,
         asm: &Assembly,
         sim: &Radau5,
         ground: &Ground,
         options: &RunOptions,
     ) -> Result<Self, ModelError> {
-        let places = crate::placement::places(config)?;
+        let (config, places) = (&scenario.config, &scenario.places);
         let mut joints = Vec::with_capacity(places.len());
         let point_names: Vec<String> = config
             .bridge
@@ -274,7 +285,7 @@ impl Observers {
             .transpose()?
             .map(|b| b.points.iter().map(|p| p.name.clone()).collect())
             .unwrap_or_default();
-        for (k, (jm, place)) in model.joints().zip(&places).enumerate() {
+        for (k, (jm, place)) in model.joints().zip(places).enumerate() {
             let mut obs = EarthquakeObserver::new(jm, asm, ground.x.clone(), ground.dt, options.histories)?;
             obs.monitor = Monitor::new(jm, asm, &place.config)?;
             obs.ground_y = ground.y.clone();

@@ -53,7 +53,7 @@ mod coupled;
 mod result;
 
 pub(crate) use coupled::DENSE_OUTPUT;
-pub use coupled::{simulate_records, CHECK_INTERVAL};
+pub use coupled::{simulate_records, simulate_scenario, CHECK_INTERVAL};
 pub use result::{FarSegment, PlacedJointResult, RunResult, Transverse};
 
 /// Loads the records of a config (x, and y if given), with their hashes

@@ -334,9 +334,9 @@ fn no_joint_equals_exact(root: &Path) -> Result<Outcome, String> {
     base.joint.enabled = false;
     let overrides = Overrides { period: Some(Named::new(1.0, "period")), ..Overrides::default() };
     let spec = RunSpec::new(base, &overrides).map_err(|e| e.to_string())?;
-    let (x, _) = crate::run::load_records(&spec.config, &root.join("configs")).map_err(|e| e.to_string())?;
+    let (x, _) = crate::run::load_records(spec.config(), &root.join("configs")).map_err(|e| e.to_string())?;
     let computed = spec.run(&x.record, None, &RunOptions::default()).map_err(|e| e.to_string())?.sa;
-    let reference = Reference::for_run(&spec.config, &x.record, &x.record).peaks(1.0, spec.config.bridge.damping).sa;
+    let reference = Reference::for_run(spec.config(), &x.record, &x.record).peaks(1.0, spec.config().bridge.damping).sa;
     Ok(Outcome { computed, reference })
 }
 

@@ -67,7 +67,7 @@ pub(super) fn window_warning(
         Some(m) => {
             let at = |t: usize, r: &Record| {
                 RunSpec::new(config.clone(), &m.overrides(t))
-                    .and_then(|spec| modal_alone(&spec.config, r))
+                    .and_then(|spec| modal_alone(spec.config(), r))
                     .map_or(f64::NAN, |alone| alone.sa)
             };
             let n = m.period_scales.len();

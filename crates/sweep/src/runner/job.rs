@@ -27,7 +27,7 @@ pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepErro
                 let reference = Reference::for_run(&case.config, &rec.record, &rec.record);
                 for t in 0..nt {
                     let spec = RunSpec::new(case.config.clone(), &m.overrides(t))?;
-                    let alone = crate::plan::modal_alone(&spec.config, reference.window())?;
+                    let alone = crate::plan::modal_alone(spec.config(), reference.window())?;
                     let at = ((c * nr + r) * nz) * nt + t;
                     for (k, v) in [alone.sa, alone.psa, alone.sd, alone.sv].into_iter().enumerate() {
                         results.without[k][at] = v;
