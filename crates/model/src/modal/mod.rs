@@ -45,6 +45,14 @@ pub const MIN_RIGID_SUM: f64 = -0.2;
 /// See [`MIN_RIGID_SUM`].
 pub const MAX_RIGID_SUM: f64 = 2.5;
 
+/// The share of `total_mass_x` [-] from which a file holds every mode of
+/// its model (to its digits): then `sum_i Gamma_i phi_i(p)` is 1 at every
+/// point along x, within [`COMPLETE_SUM_TOLERANCE`], whatever the masses
+/// (the modes of a model span its motions, the ground's rigid one too).
+pub const COMPLETE_MASS_RATIO: f64 = 0.99999;
+/// See [`COMPLETE_MASS_RATIO`] [-].
+pub const COMPLETE_SUM_TOLERANCE: f64 = 0.02;
+
 /// A direction of a point's motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -291,6 +299,21 @@ impl ModalBridge {
                          close: near -1 the participations have the opposite sign convention to the shapes (negate \
                          every participation), near a^2 the shapes are not mass-normalised (times a); \
                          docs/bridge.md, \"What the numbers are\""
+                    ),
+                ));
+            }
+            let complete = self.total_mass_x.is_some_and(|total| effective / total >= COMPLETE_MASS_RATIO);
+            if complete && point.direction == Direction::X && (sum - 1.0).abs() > COMPLETE_SUM_TOLERANCE {
+                return Err(bad(
+                    &format!("point[{p}]"),
+                    format!("\"{}\"", point.name),
+                    format!(
+                        "sum over the modes of participation_x times shape there is {sum:.4}; the modes hold \
+                         {:.2} % of total_mass_x, every mode of the model, and then the sum is 1 at every point \
+                         (within {COMPLETE_SUM_TOLERANCE}): the shapes or the participations are scaled (shapes \
+                         not mass-normalised, times a, give a or a^2; negated participations -1); docs/bridge.md, \
+                         \"What the numbers are\"",
+                        100.0 * effective / self.total_mass_x.unwrap_or(f64::NAN)
                     ),
                 ));
             }
@@ -850,6 +873,18 @@ impl ModeCheck {
                  motion excites the rest",
                 r * 100.0
             ));
+        }
+        for &p in points {
+            let point = &bridge.points[p];
+            let sum: f64 = bridge.modes.iter().map(|m| m.participation_x * m.shape[p]).sum();
+            if point.direction == Direction::X && !(0.6..=1.6).contains(&sum) {
+                out.push(format!(
+                    "at \"{}\" the file's modes give sum(participation_x shape) = {sum:.3}: 1 with every mode, 0.6 to \
+                     1.6 with the lower ones; check that the shapes are mass-normalised and the participations \
+                     follow them (docs/bridge.md, \"What the numbers are\")",
+                    point.name
+                ));
+            }
         }
         if !joints_act {
             return out;
