@@ -33,17 +33,15 @@ from plotlib import NOT_CHECKED, text, tomllib  # noqa: E402
 
 
 def joints(f):
-    """(name, history group, validity label, validity bits) of every joint, the first first."""
+    """(name, history group, validity label, validity bits) of every joint (`/joints/<k>`, k from 0; the
+    first joint's history is the run's `/history`)."""
     config = tomllib.loads(text(f.attrs["config"])) if "config" in f.attrs else {}
-    placed = config.get("joints", [])
-    first = placed[0]["name"] if placed else "joint"
-    out = [(first, f["history"], text(f.attrs.get("validity_label", "")), int(f.attrs.get("validity", 0)))]
-    if "joints" in f:
-        for k in sorted(f["joints"], key=int):
-            g = f["joints"][k]
-            bits = int(g["validity"][()])
-            label = text(g.attrs.get("validity_label", "flagged"))
-            out.append((text(g.attrs["name"]), g["history"], label, bits))
+    out = []
+    for k in sorted(f["joints"], key=int) if "joints" in f else []:
+        g = f["joints"][k]
+        bits = int(g["validity"][()])
+        label = text(g.attrs.get("validity_label", "flagged"))
+        out.append((text(g.attrs["name"]), g["history"] if "history" in g else f["history"], label, bits))
     return out, config
 
 

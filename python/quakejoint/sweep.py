@@ -45,9 +45,10 @@ class Sweep:
     the last dimension is the period scale, `periods` the bridge's longest
     kept period at each scale [s], `without_joint[name]` has the shape of
     the results with the joint (each case's bridge alone: a case may keep
-    other modes), and `joints[name]` holds each joint after the first's
-    values by field (`sa`, `peak_joint_force`, `max_subgap`, ...,
-    `validity`), each of the results' shape.
+    other modes), and `joints[name]` holds every joint's values by field
+    (`sa`, `peak_joint_force`, `friction_energy`, `max_subgap`, ...,
+    `validity`), each of the results' shape (a file written before schema
+    13 holds the joints after the first only).
     """
 
     path: str

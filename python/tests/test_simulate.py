@@ -154,17 +154,23 @@ def test_two_joints_on_a_modal_bridge_in_the_cli_python_and_the_run_file(cli, tw
     config, path = two_joints
     out = cli_json(cli, "simulate", config)
     assert out["bridge_model"] == "modal" and out["joint_name"] == "left abutment"
-    assert [j["name"] for j in out["joints"]] == ["right abutment"]
+    assert [j["name"] for j in out["joints"]] == ["left abutment", "right abutment"]
     assert [p["name"] for p in out["points"]] == ["left end", "right end", "pier 1 top", "pier 2 top"]
     r = qj.simulate(qj.Config.from_file(config))
     assert r.sa == out["sa"] and r.base_shear == out["base_shear"]
-    assert r.joints[0]["name"] == "right abutment"
-    assert r.joints[0]["peak_joint_force"] == out["joints"][0]["peak_joint_force"]
-    assert r.joints[0]["impacts"] == out["joints"][0]["impacts"]
+    assert r.joints[1]["name"] == "right abutment"
+    assert r.joints[1]["peak_joint_force"] == out["joints"][1]["peak_joint_force"]
+    assert r.joints[1]["impacts"] == out["joints"][1]["impacts"]
+    # every joint alike: the first's own values are the run's where they are its own
+    assert r.joints[0]["max_subgap"] == out["max_subgap"] and r.joints[0]["history"] is None
+    assert out["joints"][0]["friction_energy"] + out["joints"][1]["friction_energy"] == pytest.approx(
+        out["friction_energy"], rel=1e-12
+    )
     assert [p["sd"] for p in r.points] == [p["sd"] for p in out["points"]]
     with h5py.File(path) as f:
         assert f["joints/1"].attrs["name"].decode() == "right abutment"
-        assert f["joints/1/peak_joint_force"][()] == out["joints"][0]["peak_joint_force"]
+        assert f["joints/1/peak_joint_force"][()] == out["joints"][1]["peak_joint_force"]
+        assert f["joints/0"].attrs["name"].decode() == "left abutment"
         assert f["points/sa_without_joint"][()].tolist() == [p["sa_without_joint"] for p in out["points"]]
         assert f["result/sa"][()] == out["sa"]
     # the joints pound at this strength, and every output says so

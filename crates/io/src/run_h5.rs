@@ -167,15 +167,16 @@ fn write_points(file: &hdf5::File, r: &RunResult) -> hdf5::Result<()> {
     Ok(())
 }
 
-/// The joints after the first of `[[joints]]` (`/joints/<k>`, k from 1):
-/// name, peaks, validity and histories.
+/// Every joint of the run (`/joints/<k>`, k from 0 in the order of
+/// `[[joints]]`): name, peaks, validity and histories (the first joint's
+/// are the run's `/history`).
 fn write_joints(file: &hdf5::File, r: &RunResult) -> hdf5::Result<()> {
     if r.joints.is_empty() {
         return Ok(());
     }
     let all = file.create_group("joints")?;
     for (k, j) in r.joints.iter().enumerate() {
-        let g = all.create_group(&(k + 1).to_string())?;
+        let g = all.create_group(&k.to_string())?;
         attr_str(&g, "name", &j.name)?;
         for (name, value, units) in j.scalars() {
             scalar(&g, name, value, units)?;

@@ -19,7 +19,7 @@
 use quakejoint_solver::{
     Body, BodyId, Bushing, ConstraintId, Contact, ContactLaw, Coord, CoordinateSpring, Driver, Excitation,
     ForceElement, Friction, FrictionLaw, HertzDamping, PointOnLine, Prismatic, Revolute, SmoothTriangle, System,
-    TimeFunction, TimeSeries, Weld,
+    TimeFunction, TimeSeries, Weld, NO_GROUP,
 };
 
 use crate::config::{Config, ContactLawConfig, HertzDampingConfig, LawConfig, SupportKind};
@@ -457,10 +457,15 @@ pub fn build_scenario(
     let bridge = bridge_of(config, omega, modes.as_deref())?;
     let mut sys = System::new();
     let mut models = Vec::with_capacity(places.len());
-    for place in places {
+    // (several joints: each one's bodies in its own group, whose friction
+    // energy and peak forces the run reports apart)
+    let grouped = places.len() > 1;
+    for (k, place) in places.iter().enumerate() {
         let mut model = empty_model(place, bridge);
         if place.config.joint.enabled && !place.config.joint.is_link() {
+            sys.add_to_group(if grouped { k as u32 } else { NO_GROUP });
             add_joint_bodies(&mut sys, &mut model, &place.config, bearing_joint, place.sign, &place.prefix)?;
+            sys.add_to_group(NO_GROUP);
         }
         models.push(model);
     }
@@ -641,6 +646,7 @@ fn connect_joints(
     drive: &Drive,
 ) -> Result<(), ModelError> {
     let (decks, hinges) = (ends.decks, ends.hinges);
+    let models_grouped = places.len() > 1;
     let mut contacts = 0;
     for (k, (model, place)) in models.iter_mut().zip(places).enumerate() {
         let lagged = match drive {
@@ -658,7 +664,10 @@ fn connect_joints(
         model.deck = decks[k];
         let j = &place.config.joint;
         if j.enabled && j.is_link() {
-            let mut link = crate::link::add_link(sys, j, decks[k], abutment, place.sign, &place.prefix)?;
+            sys.add_to_group(if models_grouped { k as u32 } else { NO_GROUP });
+            let link = crate::link::add_link(sys, j, decks[k], abutment, place.sign, &place.prefix);
+            sys.add_to_group(NO_GROUP);
+            let mut link = link?;
             if j.contact.enabled {
                 link.contact = Some(contacts);
                 contacts += 1;

@@ -159,7 +159,7 @@ fn a_corrected_run_of_two_joints_closes_its_energy_balance_and_does_not_warn() {
         eprintln!(
             "3 modes, correction {corrected}: joint forces {:.2} and {:.2} MN, energy balance {:.1e}",
             r.peak_joint_force / 1e6,
-            r.joints.first().map_or(f64::NAN, |j| j.peak_joint_force) / 1e6,
+            r.joints.last().map_or(f64::NAN, |j| j.peak_joint_force) / 1e6,
             r.energy_error
         );
         assert!(r.energy_error < 1e-5, "energy balance {:e}", r.energy_error);

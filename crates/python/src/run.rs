@@ -90,10 +90,13 @@ pub struct PyRunResult {
     /// sd_without_joint, sa_without_joint; empty on a single-DOF deck.
     #[pyo3(get)]
     points: Py<PyList>,
-    /// The joints after the first of `[[joints]]`: a list of dicts with
-    /// name, the deck point's sa, sd, sv, the joint's demands
-    /// (peak_joint_force, min/max_subgap, impacts, ...), validity and
-    /// history (a dict of arrays, or None).
+    /// Every joint of the run, in the order of `[[joints]]` (the one of
+    /// `[joint]` alone; none for the bridge alone): a list of dicts with
+    /// name, the deck point's sa, sd, sv, the joint's own demands
+    /// (peak_joint_force, peak_abutment_force, peak_bushing_force,
+    /// peak_friction_force, friction_energy, min/max_subgap, impacts, ...),
+    /// validity and history (a dict of arrays; None for the first joint,
+    /// whose series are the run's `history`).
     #[pyo3(get)]
     joints: Py<PyList>,
 }
@@ -290,20 +293,8 @@ fn simulate(
     for j in &result.joints {
         let d = PyDict::new(py);
         d.set_item("name", &j.name)?;
-        let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
-        for (k, v) in [
-            ("sa", j.sa),
-            ("t_sa", j.t_sa),
-            ("sd", j.sd),
-            ("sv", j.sv),
-            ("peak_joint_force", j.peak_joint_force),
-            ("min_subgap", opt(j.min_subgap)),
-            ("max_subgap", opt(j.max_subgap)),
-            ("max_subgap_deviation", opt(j.max_subgap_deviation)),
-            ("peak_contact_force", j.pounding.peak_contact_force),
-            ("peak_deck_contact_force", j.pounding.peak_deck_contact_force),
-            ("max_penetration", j.pounding.max_penetration),
-        ] {
+        // (its scalars from the one list of them, JointResult::scalars)
+        for (k, v, _) in j.scalars() {
             d.set_item(k, v)?;
         }
         d.set_item("impacts", j.pounding.impacts)?;

@@ -40,7 +40,7 @@ fn attr_value<'py>(py: Python<'py>, v: &AttrValue) -> PyResult<Bound<'py, PyAny>
 }
 
 /// The results' arrays: with and without the joint, status, validity,
-/// messages, findings, reduction, the joints after the first, the
+/// messages, findings, reduction, every joint of a modal bridge, the
 /// statistics over the records.
 fn results<'py>(py: Python<'py>, r: &Results, d: &Bound<'py, PyDict>) -> PyResult<()> {
     let dims = r.dims;

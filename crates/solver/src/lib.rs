@@ -72,5 +72,5 @@ pub use model::force::{
     AppliedLoad, BodyState, Bushing, Contact, ContactLaw, CoordinateSpring, CustomElement, CustomForce, Excitation,
     ForceElement, ForceId, Friction, FrictionLaw, HertzDamping, SpringDamper, MIN_APPROACH_SPEED,
 };
-pub use model::system::System;
+pub use model::system::{System, NO_GROUP};
 pub use timefn::{LaggedGround, SmoothTriangle, TimeFunction, TimeSeries};

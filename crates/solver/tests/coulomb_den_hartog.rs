@@ -98,3 +98,41 @@ fn prismatic_slider_with_local_friction_solve_follows_den_hartog() {
     }
     assert_eq!(failed[0], 0, "failed Newton attempts with the local solve (without: {})", failed[1]);
 }
+
+/// Two friction oscillators in one system, each in its own group of bodies
+/// (`System::set_group`): each group's friction energy must be what its own
+/// oscillator lost, `k x0^2 / 2 - (k x^2 + m v^2) / 2` at the end (each
+/// conserves energy apart from its friction: a balance per oscillator, not
+/// the integrator's own sum), and the groups' energies must add up to the
+/// system's friction energy to round-off.
+#[test]
+fn friction_energy_per_group_is_each_oscillators_own() {
+    let (m, k) = (1.0, 100.0);
+    let a = FrictionOscillator {
+        mass: m,
+        stiffness: k,
+        friction_force: 1.0,
+        v_eps: 1e-3,
+        law: FrictionLaw::Linear,
+        x0: 0.105,
+    };
+    let b = FrictionOscillator { friction_force: 0.4, x0: -0.06, ..a };
+    let mut sys = System::new();
+    let (ba, bb) = (a.add_on_coordinate(&mut sys), b.add_on_coordinate(&mut sys));
+    sys.set_group(ba, 0);
+    sys.set_group(bb, 1);
+    let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
+    assert_eq!(asm.group_count(), 2);
+    let mut sim = Radau5::new(asm.clone(), IntegratorOptions::default().scaled_tolerances(1e-2)).unwrap();
+    sim.run(2.0, &mut NoObserver).unwrap();
+    let groups = sim.group_friction_energy().to_vec();
+    for (osc, body, got) in [(&a, ba, groups[0]), (&b, bb, groups[1])] {
+        let c = asm.coordinate(body, Coord::X).unwrap();
+        let (x, v) = (sim.positions()[c], sim.velocities()[c]);
+        let lost = 0.5 * k * osc.x0 * osc.x0 - 0.5 * (k * x * x + m * v * v);
+        eprintln!("group: friction energy {got:.9} J, energy lost {lost:.9} J");
+        assert!((got - lost).abs() < 1e-5 * lost, "{got} against {lost}");
+    }
+    let total = sim.energy().friction;
+    assert!((groups[0] + groups[1] - total).abs() <= 1e-12 * total, "{groups:?} against {total}");
+}

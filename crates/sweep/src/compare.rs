@@ -181,7 +181,7 @@ pub fn differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
         per_field(name, differ(&|j| ra.values[k][j].to_bits() != rb.values[k][j].to_bits()));
     }
     per_field("histories", differ(&|j| !histories_equal(ra.histories.get(&(j as u32)), rb.histories.get(&(j as u32)))));
-    // the joints after the first (the grids' check made their names equal)
+    // every joint (the grids' check made their names equal)
     for (ja, jb) in ra.joints.iter().zip(&rb.joints) {
         for (k, (name, _)) in JOINT_FIELDS.iter().enumerate() {
             let what = format!("joint {:?}: {name}", ja.name);

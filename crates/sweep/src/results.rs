@@ -18,16 +18,12 @@ pub static UNITS: LazyLock<Vec<&'static str>> = LazyLock::new(|| per_job().map(|
 pub static MACHINE_DEPENDENT: LazyLock<Vec<&'static str>> =
     LazyLock::new(|| per_job().filter(|f| f.machine_dependent).map(|f| f.name).collect());
 
-/// Per-job values of every joint after the first of `[[joints]]` (a
-/// bridge given by its modes), stored in `/joints/<k>/<name>`, in this
-/// order: name and units ([`quakejoint_model::run::PlacedJointResult::scalars`]),
+/// Per-job values of every joint of a bridge given by its modes, stored in
+/// `/joints/<k>/<name>` (k from 0, in the order of `[[joints]]`), in this
+/// order: name and units ([`quakejoint_model::run::JointResult::scalars`]),
 /// with the joint's validity bits beside them.
 pub static JOINT_FIELDS: LazyLock<Vec<(&'static str, &'static str)>> = LazyLock::new(|| {
-    quakejoint_model::run::PlacedJointResult::default()
-        .scalars()
-        .iter()
-        .map(|&(name, _, units)| (name, units))
-        .collect()
+    quakejoint_model::run::JointResult::default().scalars().iter().map(|&(name, _, units)| (name, units)).collect()
 });
 
 fn per_job() -> impl Iterator<Item = &'static quakejoint_model::fields::Field> {
@@ -68,7 +64,7 @@ pub struct JobResult {
     /// Histories, if requested for this period.
     /// (the series of [`Histories::for_sweep`]).
     pub history: Option<Histories>,
-    /// The joints after the first of `[[joints]]`, in their order (empty
+    /// Every joint of a bridge given by its modes, in their order (empty
     /// when the job failed, or with one joint).
     pub joints: Vec<JointJobResult>,
 }
@@ -82,7 +78,7 @@ pub struct JointJobResult {
     pub validity: u32,
 }
 
-/// The arrays of one joint after the first.
+/// The arrays of one joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointResults {
     /// Its name (`[[joints]]`).
@@ -152,7 +148,7 @@ pub struct Results {
     /// by its modes: a case may keep other modes, or place its joint
     /// elsewhere), so that `without` has a case axis.
     pub without_per_case: bool,
-    /// The joints after the first of `[[joints]]`.
+    /// Every joint of a bridge given by its modes.
     pub joints: Vec<JointResults>,
 }
 

@@ -19,8 +19,10 @@ use quakejoint_io::OutputError;
 /// its modes; 11: `/fragility`, and the per-job fields
 /// `peak_abutment_force` and `max_impact_speed`; 12: attribute text
 /// fixed-length, under the metadata checksums, and each fragility curve's
-/// bootstrap key and counts).
-pub const SCHEMA_VERSION: u32 = 12;
+/// bootstrap key and counts; 13: `/joints/<k>` holds every joint of a
+/// bridge given by its modes, k from 0, each with its own peak bushing,
+/// friction and abutment forces and friction energy).
+pub const SCHEMA_VERSION: u32 = 13;
 
 /// What a sweep over a bridge given by its modes stores beside the grid.
 #[derive(Debug, Clone, PartialEq)]
@@ -243,13 +245,13 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
     })
 }
 
-/// The joints after the first, as a run's `/joints/<k>` (k from 1).
+/// Every joint of a bridge given by its modes, as a run's `/joints/<k>`
+/// (k from 0).
 fn write_joints(file: &hdf5::File, r: &Results, axes: &Axes) -> hdf5::Result<()> {
     if !r.joints.is_empty() {
-        // the joints after the first, as a run's /joints/<k> (k from 1)
         let joints = file.create_group("joints")?;
         for (k, joint) in r.joints.iter().enumerate() {
-            let g = joints.create_group(&(k + 1).to_string())?;
+            let g = joints.create_group(&k.to_string())?;
             attr_str(&g, "name", &joint.name)?;
             for (values, (name, units)) in joint.values.iter().zip(JOINT_FIELDS.iter()) {
                 let ds = axes.ds4(&g, name, values)?;

@@ -71,7 +71,7 @@ fn read_provenance(file: &hdf5::File) -> hdf5::Result<Provenance> {
 }
 
 /// The results with the joint and without it (`joints`: a bridge given by
-/// its modes, with the names of its joints after the first; `None`: a
+/// its modes, with the names of its joints; `None`: a
 /// single-DOF bridge).
 fn read_results(spec: &Group, dims: [usize; 4], joints: Option<&[String]>) -> hdf5::Result<Results> {
     let mut results = match joints {
@@ -148,14 +148,24 @@ fn check_derived(spec: &Group, results: &Results, schema: u32) -> hdf5::Result<(
     Ok(())
 }
 
-/// The names of the joints after the first in `/joints/<k>` (k from 1).
-fn joint_names(file: &hdf5::File) -> hdf5::Result<Vec<String>> {
+/// The schema from which `/joints/<k>` holds every joint, k from 0 (before:
+/// the joints after the first, k from 1).
+const EVERY_JOINT_SINCE: u32 = 13;
+
+/// The first `k` of `/joints/<k>` in a file of `schema`.
+fn first_joint(schema: u32) -> usize {
+    usize::from(schema < EVERY_JOINT_SINCE)
+}
+
+/// The names of the joints in `/joints/<k>`.
+fn joint_names(file: &hdf5::File, schema: u32) -> hdf5::Result<Vec<String>> {
     if !file.link_exists("joints") {
         return Ok(Vec::new());
     }
     let g = group(file, "joints")?;
     let count = g.member_names()?.len();
-    (1..=count)
+    let first = first_joint(schema);
+    (first..first + count)
         .map(|k| {
             let joint: Group = group(&g, &k.to_string())?;
             attr(&joint, "name")
@@ -163,21 +173,32 @@ fn joint_names(file: &hdf5::File) -> hdf5::Result<Vec<String>> {
         .collect()
 }
 
-/// The arrays of the joints after the first (`/joints/<k>`), into `results`.
-fn read_joints(file: &hdf5::File, results: &mut Results) -> hdf5::Result<()> {
+/// The arrays of the joints (`/joints/<k>`), into `results`; a file
+/// written before schema 13 lacks each joint's own peak bushing, friction
+/// and abutment forces and friction energy (NaN).
+fn read_joints(file: &hdf5::File, results: &mut Results, schema: u32) -> hdf5::Result<()> {
     let n = results.status.len();
+    let first = first_joint(schema);
     for (k, joint) in results.joints.iter_mut().enumerate() {
-        let g = group(file, &format!("joints/{}", k + 1))?;
+        let at = format!("joints/{}", k + first);
+        let g = group(file, &at)?;
         for (values, (name, _)) in joint.values.iter_mut().zip(JOINT_FIELDS.iter()) {
-            *values = quakejoint_io::read::values(&g, name)?;
+            *values = match (schema < EVERY_JOINT_SINCE && !g.link_exists(name), JOINT_FIELDS_SINCE_13.contains(name)) {
+                (true, true) => vec![f64::NAN; n],
+                _ => quakejoint_io::read::values(&g, name)?,
+            };
         }
         joint.validity = quakejoint_io::read::values(&g, "validity")?;
         if joint.validity.len() != n || joint.values.iter().any(|v| v.len() != n) {
-            return Err(hdf5::Error::from(format!("/joints/{} does not match the grid", k + 1)));
+            return Err(hdf5::Error::from(format!("/{at} does not match the grid")));
         }
     }
     Ok(())
 }
+
+/// Each joint's values that files written before schema 13 lack.
+const JOINT_FIELDS_SINCE_13: [&str; 4] =
+    ["peak_abutment_force", "peak_bushing_force", "peak_friction_force", "friction_energy"];
 
 /// The records stored in `/records`, each checked against its own PGA.
 fn read_records(file: &hdf5::File, names: &[String]) -> hdf5::Result<Vec<StoredRecord>> {
@@ -318,17 +339,18 @@ pub fn read_sweep(path: &Path) -> Result<SweepFile, OutputError> {
         let cases = text(&spec, "case")?;
         let scope: Vec<u32> = values(&spec, "scope")?;
         let dims = [cases.len(), record_names.len(), damping.len(), periods.len()];
-        let joints = joint_names(&file)?;
+        let schema = attr_number::<u32>(&file, "schema_version")?;
+        let joints = joint_names(&file, schema)?;
         let mut results = read_results(&spec, dims, modal.is_some().then_some(&joints[..]))?;
         if modal.is_none() && !joints.is_empty() {
-            return Err(hdf5::Error::from("/joints: joints after the first belong to a bridge given by its modes"));
+            return Err(hdf5::Error::from("/joints: the joints of a sweep belong to a bridge given by its modes"));
         }
-        read_joints(&file, &mut results)?;
+        read_joints(&file, &mut results, schema)?;
         let n = results.status.len();
         if let Some(&j) = scope.iter().find(|&&j| j as usize >= n) {
             return Err(hdf5::Error::from(format!("/spectrum/scope names job {j}, beyond the sweep's jobs")));
         }
-        check_derived(&spec, &results, attr_number::<u32>(&file, "schema_version")?)?;
+        check_derived(&spec, &results, schema)?;
         let records = read_records(&file, &record_names)?;
         let provenance = read_provenance(&file)?;
         check_inputs(&provenance, &records)?;

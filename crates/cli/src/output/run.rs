@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use quakejoint_model::run::{PlacedJointResult, RunResult};
+use quakejoint_model::run::{JointResult, RunResult};
 use quakejoint_model::Config;
 use quakejoint_motion::LoadedRecord;
 use serde_json::json;
@@ -42,31 +42,6 @@ fn joint_model_lines(config: &Config, name: &str) {
     if let Some(lag) = placed.and_then(|p| p.abutment_lag).filter(|&l| l > 0.0) {
         out!("  its abutment reached {lag} s after the bridge's other supports (abutment_lag: wave passage)");
     }
-}
-
-/// The lines of one more joint of `[[joints]]`.
-fn placed_joint_lines(config: &Config, j: &PlacedJointResult) {
-    out!("joint \"{}\"", j.name);
-    joint_model_lines(config, &j.name);
-    out!("  its deck point: Sa {:.5} m/s^2 at t = {:.3} s, Sd {:.6} m, Sv {:.5} m/s", j.sa, j.t_sa, j.sd, j.sv);
-    out!("  peak joint force on the deck  {:>12.1} N", j.peak_joint_force);
-    if let (Some(lo), Some(hi), Some(dev)) = (j.min_subgap, j.max_subgap, j.max_subgap_deviation) {
-        out!(
-            "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm)",
-            lo * 1e3,
-            hi * 1e3,
-            dev * 1e3
-        );
-    }
-    let p = &j.pounding;
-    if p.impacts == 0 {
-        out!("  pounding                      none (no sub-gap closed)");
-    } else {
-        out!("  impacts                       {:>12} (beam ends)", p.impacts);
-        out!("  peak contact force            {:>12.1} N at t = {:.3} s", p.peak_contact_force, p.peak_contact_time);
-        out!("  closed joint on the deck      {:>12.1} N", p.peak_deck_contact_force);
-    }
-    out!("  validity: {}", j.validity.flags.label());
 }
 
 /// A modal bridge's points and base shear, with the joints and without.
@@ -139,26 +114,24 @@ fn bridge_lines(config: &Config, r: &RunResult) {
     }
 }
 
-/// One more joint of `[[joints]]` as JSON.
-fn placed_joint_json(j: &PlacedJointResult) -> serde_json::Value {
-    json!({
-        "name": j.name,
-        "sa": j.sa,
-        "t_sa": j.t_sa,
-        "sd": j.sd,
-        "sv": j.sv,
-        "peak_joint_force": j.peak_joint_force,
-        "min_subgap": j.min_subgap,
-        "max_subgap": j.max_subgap,
-        "max_subgap_deviation": j.max_subgap_deviation,
-        "impacts": j.pounding.impacts,
-        "peak_contact_force": j.pounding.peak_contact_force,
-        "peak_deck_contact_force": j.pounding.peak_deck_contact_force,
-        "max_penetration": j.pounding.max_penetration,
-        "validity": j.validity.flags.0,
-        "validity_label": j.validity.flags.label(),
-        "findings": j.validity.findings,
-    })
+/// One joint of a run as JSON, every joint alike: its scalars
+/// ([`JointResult::scalars`]; NaN as null, counts whole), validity and
+/// findings.
+fn joint_json(j: &JointResult) -> serde_json::Value {
+    let mut map = serde_json::Map::new();
+    map.insert("name".into(), json!(j.name));
+    for (name, value, _) in j.scalars() {
+        let v = match (value.is_finite(), name == "impacts") {
+            (false, _) => serde_json::Value::Null,
+            (true, true) => json!(value as u64),
+            (true, false) => json!(value),
+        };
+        map.insert(name.into(), v);
+    }
+    map.insert("validity".into(), json!(j.validity.flags.0));
+    map.insert("validity_label".into(), json!(j.validity.flags.label()));
+    map.insert("findings".into(), json!(j.validity.findings));
+    serde_json::Value::Object(map)
 }
 
 /// `quakejoint simulate`. Quantities not computed (the joint's, without
@@ -178,8 +151,8 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
     }
     let mode = match (r.exact_linear, r.joints.len()) {
         (true, _) => "bridge alone (exact linear solution)".to_string(),
-        (false, 0) => "bridge with joint".to_string(),
-        (false, n) => format!("bridge with {} joints", n + 1),
+        (false, 1) => "bridge with joint".to_string(),
+        (false, n) => format!("bridge with {n} joints"),
     };
     out!("{} under {}: {mode}", path.display(), record.name);
     out!("  {}", record_line(loaded));
@@ -207,13 +180,13 @@ pub fn run_result(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Co
         return;
     }
     side_lines(r);
-    first_joint_lines(config, r);
+    let several = r.joints.len() > 1;
     for j in &r.joints {
-        placed_joint_lines(config, j);
+        joint_lines(config, j, several);
     }
     bridge_lines(config, r);
-    if !r.joints.is_empty() {
-        out!("  (bushing and friction peaks, friction and contact energy: all joints together)");
+    if several {
+        system_lines(r);
     }
     validity_lines(v);
     quality_lines(r);
@@ -243,7 +216,7 @@ fn run_json(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Config, 
         "modes_file": modal.map(|m| m.modes.clone()),
         "joint_point": point,
         "joint_name": config.joints.first().map(|j| j.name.clone()),
-        "joints": r.joints.iter().map(placed_joint_json).collect::<Vec<_>>(),
+        "joints": r.joints.iter().map(joint_json).collect::<Vec<_>>(),
         "points": r.points.iter().map(|p| json!({
             "name": p.name, "sd": p.sd, "t_sd": p.t_sd, "sa": p.sa, "t_sa": p.t_sa,
             "sd_without_joint": p.sd_without, "sa_without_joint": p.sa_without,
@@ -292,16 +265,25 @@ fn side_lines(r: &RunResult) {
     }
 }
 
-/// The first joint's demands, with the whole system's peaks and energies.
-fn first_joint_lines(config: &Config, r: &RunResult) {
-    let first = config.joints.first().map_or_else(|| "joint demands".to_string(), |j| format!("joint \"{}\"", j.name));
-    out!("{first}");
-    joint_model_lines(config, config.joints.first().map_or("", |j| j.name.as_str()));
-    out!("  peak joint force on the deck  {:>12.1} N", r.peak_joint_force);
-    out!("  peak bushing force            {:>12.1} N", r.peak_bushing_force);
-    out!("  peak friction force           {:>12.1} N", r.peak_friction_force);
-    out!("  friction energy               {:>12.1} J", r.friction_energy);
-    if let (Some(lo), Some(hi), Some(dev)) = (r.min_subgap, r.max_subgap, r.max_subgap_deviation) {
+/// One joint's demands, every joint alike: its own peaks, energy, cells,
+/// pounding and (in a run of several joints) its deck point and validity.
+fn joint_lines(config: &Config, j: &JointResult, several: bool) {
+    match config.joints.is_empty() {
+        true => out!("joint demands"),
+        false => out!("joint \"{}\"", j.name),
+    }
+    joint_model_lines(config, &j.name);
+    if several {
+        out!("  its deck point: Sa {:.5} m/s^2 at t = {:.3} s, Sd {:.6} m, Sv {:.5} m/s", j.sa, j.t_sa, j.sd, j.sv);
+    }
+    out!("  peak joint force on the deck  {:>12.1} N", j.peak_joint_force);
+    if j.peak_abutment_force.is_finite() {
+        out!("  peak force on its abutment    {:>12.1} N", j.peak_abutment_force);
+    }
+    out!("  peak bushing force            {:>12.1} N", j.peak_bushing_force);
+    out!("  peak friction force           {:>12.1} N", j.peak_friction_force);
+    out!("  friction energy               {:>12.1} J", j.friction_energy);
+    if let (Some(lo), Some(hi), Some(dev)) = (j.min_subgap, j.max_subgap, j.max_subgap_deviation) {
         out!(
             "  sub-gaps                      {:>9.2} .. {:.2} mm (deviation from equal {:.2} mm)",
             lo * 1e3,
@@ -309,7 +291,7 @@ fn first_joint_lines(config: &Config, r: &RunResult) {
             dev * 1e3
         );
     }
-    let p = &r.pounding;
+    let p = &j.pounding;
     if p.impacts == 0 {
         out!("  pounding                      none (no sub-gap closed)");
     } else {
@@ -322,9 +304,23 @@ fn first_joint_lines(config: &Config, r: &RunResult) {
             "  closed joint on the deck      {:>12.1} N (peak, through the deck's edge beam)",
             p.peak_deck_contact_force
         );
-        out!("  contact energy                {:>12.1} J (dissipated by the impacts)", p.contact_energy);
+        if !several {
+            out!("  contact energy                {:>12.1} J (dissipated by the impacts)", p.contact_energy);
+        }
         out!("  deepest penetration           {:>12.3} mm", p.max_penetration * 1e3);
     }
+    if several {
+        out!("  validity: {}", j.validity.flags.label());
+    }
+}
+
+/// The whole system's peaks and energies, in a run of several joints.
+fn system_lines(r: &RunResult) {
+    out!("the whole system (all joints)");
+    out!("  peak bushing force            {:>12.1} N", r.peak_bushing_force);
+    out!("  peak friction force           {:>12.1} N", r.peak_friction_force);
+    out!("  friction energy               {:>12.1} J", r.friction_energy);
+    out!("  contact energy                {:>12.1} J (dissipated by the impacts)", r.pounding.contact_energy);
 }
 
 /// The run's quality: energy balance, constraint residuals, solver

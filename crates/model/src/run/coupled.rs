@@ -11,7 +11,7 @@ use quakejoint_solver::{
 };
 
 use super::{
-    check_run_length, integrator_options, run_duration, series, FarSegment, Histories, PlacedJointResult, ProgressFn,
+    check_run_length, integrator_options, run_duration, series, FarSegment, Histories, JointResult, ProgressFn,
     RunOptions, RunResult, Transverse,
 };
 use crate::config::Config;
@@ -66,9 +66,16 @@ pub fn simulate_scenario(
     let e = sim.energy();
     let energy_error = e.error_relative_to_input();
     let point_names = std::mem::take(&mut obs.point_names);
-    let (first, obs, others) = joint_results(obs.joints, &model, e.contact, energy_error);
+    // each joint's friction: its group's, or the system's for one joint
+    let friction = match sim.group_friction_energy() {
+        [] => vec![e.friction],
+        groups => groups.to_vec(),
+    };
+    let energies = Energies { contact: e.contact, error: energy_error, friction: &friction };
+    let (obs, joints) = joint_results(obs.joints, &model, energies);
+    let first = &joints[0];
     let mut validity = first.validity.clone();
-    for j in &others {
+    for j in &joints[1..] {
         validity.flags = crate::validity::Flags(validity.flags.0 | j.validity.flags.0);
         validity.findings.extend(j.validity.findings.iter().map(|f| format!("{}: {f}", j.name)));
     }
@@ -125,7 +132,7 @@ pub fn simulate_scenario(
         base_shear_without: None,
         mode_check: None,
         histories: obs.histories,
-        joints: others,
+        joints,
     })
 }
 
@@ -137,14 +144,14 @@ struct Ground {
     dt: f64,
 }
 
-/// Each joint's results from its observer, with the first joint's observer
-/// (which also watched the bridge) and the first joint's results apart.
+/// Each joint's results from its observer, and the first joint's observer
+/// (which also watched the bridge).
 fn joint_results(
     observers: Vec<EarthquakeObserver>,
     model: &JointModel,
-    contact_energy: f64,
-    energy_error: f64,
-) -> (PlacedJointResult, EarthquakeObserver, Vec<PlacedJointResult>) {
+    energy: Energies<'_>,
+) -> (EarthquakeObserver, Vec<JointResult>) {
+    let Energies { contact: contact_energy, error: energy_error, friction } = energy;
     let mut results = observers.into_iter().zip(model.joints()).enumerate().map(|(k, (mut obs, jm))| {
         let mut validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
         let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
@@ -156,13 +163,18 @@ fn joint_results(
         if let (Some(h), Some(log)) = (&mut obs.histories, obs.contacts.as_mut().and_then(|c| c.log.take())) {
             h.impacts = log;
         }
-        let joint = PlacedJointResult {
+        let joint = JointResult {
             name: jm.name.clone(),
             sa: obs.sa.value,
             t_sa: obs.sa.time,
             sd: obs.sd.value,
             sv: obs.sv.value,
             peak_joint_force: obs.joint_force.value,
+            peak_abutment_force: if obs.abutment_links.is_empty() { f64::NAN } else { obs.abutment_force.value },
+            peak_bushing_force: if obs.group.is_some() { obs.own.bushing } else { obs.bushing },
+            peak_friction_force: if obs.group.is_some() { obs.own.friction } else { obs.friction },
+            // (a joint without bodies of its own, disabled: none)
+            friction_energy: friction.get(k).copied().unwrap_or(0.0),
             min_subgap: obs.gaps.as_ref().map(|g| g.min).or(obs.link.as_ref().map(|l| l.cells()[0])),
             max_subgap: obs.gaps.as_ref().map(|g| g.max).or(obs.link.as_ref().map(|l| l.cells()[1])),
             // (a link's cells open alike)
@@ -180,8 +192,16 @@ fn joint_results(
         (joint, obs)
     });
     let (first, obs) = results.next().expect("a run has a joint");
-    let others = results.map(|(joint, _)| joint).collect();
-    (first, obs, others)
+    let joints = std::iter::once(first).chain(results.map(|(joint, _)| joint)).collect();
+    (obs, joints)
+}
+
+/// The energies a run's joints share out: the contacts' (the whole
+/// system's) \[J\], the balance error [-] and each joint's friction \[J\].
+struct Energies<'a> {
+    contact: f64,
+    error: f64,
+    friction: &'a [f64],
 }
 
 /// What a run's bridge does without its joints, for the parts of the
@@ -289,6 +309,10 @@ impl Observers {
             let mut obs = EarthquakeObserver::new(jm, asm, ground.x.clone(), ground.dt, options.histories)?;
             obs.monitor = Monitor::new(jm, asm, &place.config)?;
             obs.ground_y = ground.y.clone();
+            if places.len() > 1 && k < asm.group_count() {
+                obs.group = Some(k);
+                obs.group_extremes = vec![Default::default(); asm.group_count()];
+            }
             if k == 0 {
                 obs.points = vec![[Peak::default(); 2]; point_names.len()];
             }
@@ -390,6 +414,12 @@ struct EarthquakeObserver {
     far_peaks: [Peak; 4],
     bushing: f64,
     friction: f64,
+    /// Its own group of bodies when a run has several joints (its peak
+    /// forces and friction energy apart from the others'), with scratch
+    /// for every group's peak forces, and its own peaks.
+    group: Option<usize>,
+    group_extremes: Vec<quakejoint_solver::ForceExtremes>,
+    own: quakejoint_solver::ForceExtremes,
     gaps: Option<Gaps>,
     contacts: Option<ContactWatch>,
     /// The link element, its node's and abutment's x coordinates, and what
@@ -474,6 +504,9 @@ impl EarthquakeObserver {
             far_peaks: [Peak::default(); 4],
             bushing: 0.0,
             friction: 0.0,
+            group: None,
+            group_extremes: Vec::new(),
+            own: Default::default(),
             gaps,
             contacts,
             link: LinkObserver::new(model, asm),
@@ -581,14 +614,36 @@ impl EarthquakeObserver {
         self.joint_force.update(fj, t);
         self.check(t, q);
         if self.gaps.is_some() || self.link.is_some() {
-            let x = asm.force_extremes(ws, q, v);
-            self.bushing = self.bushing.max(x.bushing);
-            self.friction = self.friction.max(x.friction);
+            self.force_peaks(asm, ws, q, v);
         }
         if self.histories.is_some() {
             let at = Instant { t, q, v, lam };
             self.record(at, [u, ud, a_abs, fj], across, asm, ws);
         }
+    }
+
+    /// The peak bushing and friction forces: the whole system's and, in a
+    /// run of several joints, this joint's group's (every bushing and
+    /// bearing is some joint's, so the system's are the groups' largest).
+    fn force_peaks(&mut self, asm: &Assembly, ws: &mut quakejoint_solver::Workspace, q: &[f64], v: &[f64]) {
+        let x = match self.group {
+            None => asm.force_extremes(ws, q, v),
+            Some(g) => {
+                self.group_extremes.iter_mut().for_each(|x| *x = Default::default());
+                asm.force_extremes_by_group(ws, q, v, &mut self.group_extremes);
+                let own = self.group_extremes[g];
+                self.own.bushing = self.own.bushing.max(own.bushing);
+                self.own.friction = self.own.friction.max(own.friction);
+                self.group_extremes.iter().fold(Default::default(), |m: quakejoint_solver::ForceExtremes, x| {
+                    quakejoint_solver::ForceExtremes {
+                        bushing: m.bushing.max(x.bushing),
+                        friction: m.friction.max(x.friction),
+                    }
+                })
+            }
+        };
+        self.bushing = self.bushing.max(x.bushing);
+        self.friction = self.friction.max(x.friction);
     }
 
     /// A modal deck end's absolute acceleration along and across (in the

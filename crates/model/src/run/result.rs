@@ -132,15 +132,18 @@ pub struct RunResult {
     /// How much of a modal bridge the kept modes hold, and the warnings
     /// where they hold too little at the joints' points.
     pub mode_check: Option<(crate::modal::ModeCheck, Vec<String>)>,
-    /// The other joints of `[[joints]]` (the values above are the first
-    /// one's, its deck point's and the whole system's; `validity` holds
-    /// every joint's flags).
-    pub joints: Vec<PlacedJointResult>,
+    /// Every joint's results, in the order of `[[joints]]` (the one of
+    /// `[joint]` alone; none for the bridge alone). The deck's values above
+    /// are at the first joint's deck point; the sub-gaps and the pounding
+    /// above are the first joint's (as a sweep stores them per job); the
+    /// peak forces and energies above are the whole system's; `validity`
+    /// holds every joint's flags.
+    pub joints: Vec<JointResult>,
 }
 
-/// The results of one more joint of `[[joints]]` (SI units).
+/// The results of one joint of a run (SI units).
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct PlacedJointResult {
+pub struct JointResult {
     /// Its name.
     pub name: String,
     /// Peak absolute acceleration of its deck point [m/s^2].
@@ -153,6 +156,14 @@ pub struct PlacedJointResult {
     pub sv: f64,
     /// Peak force of the joint on the deck \[N\].
     pub peak_joint_force: f64,
+    /// Peak force of the joint on its abutment \[N\] (NaN for a link).
+    pub peak_abutment_force: f64,
+    /// Its largest bushing force \[N\].
+    pub peak_bushing_force: f64,
+    /// Its largest friction force of one bearing \[N\].
+    pub peak_friction_force: f64,
+    /// The energy its friction dissipated \[J\].
+    pub friction_energy: f64,
     /// Smallest clear sub-gap \[m\].
     pub min_subgap: Option<f64>,
     /// Largest clear sub-gap \[m\].
@@ -164,15 +175,16 @@ pub struct PlacedJointResult {
     /// Whether it stayed inside what the model can stand behind.
     pub validity: Validity,
     /// Its time histories (its deck point's motion in its own x, its force
-    /// on the deck, its cells), if requested.
+    /// on the deck, its cells), if requested; the first joint's are the
+    /// run's ([`RunResult::histories`]).
     pub histories: Option<Histories>,
 }
 
-impl PlacedJointResult {
+impl JointResult {
     /// Its peak values: name, value (NaN where not computed) and unit, as
     /// a run's `/joints/<k>` and a sweep's `/joints/<k>` store them (its
     /// validity bits apart).
-    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 12] {
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 16] {
         let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
         let p = &self.pounding;
         [
@@ -181,6 +193,10 @@ impl PlacedJointResult {
             ("sd", self.sd, "m"),
             ("sv", self.sv, "m/s"),
             ("peak_joint_force", self.peak_joint_force, "N"),
+            ("peak_abutment_force", self.peak_abutment_force, "N"),
+            ("peak_bushing_force", self.peak_bushing_force, "N"),
+            ("peak_friction_force", self.peak_friction_force, "N"),
+            ("friction_energy", self.friction_energy, "J"),
             ("min_subgap", opt(self.min_subgap), "m"),
             ("max_subgap", opt(self.max_subgap), "m"),
             ("max_subgap_deviation", opt(self.max_subgap_deviation), "m"),

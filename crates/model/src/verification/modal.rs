@@ -137,8 +137,10 @@ pub fn mirrored_joints(root: &Path) -> Result<Outcome, String> {
     let extra = "[simulation]\nduration = 8.0\n";
     let forward = run(root, &two_joints_on_three_span(root, "small.toml", 0.6, extra)?)?;
     let reversed = run(root, &two_joints_on_three_span(root, "small.toml", -0.6, extra)?)?;
-    let right = reversed.joints.first().ok_or("no second joint")?;
-    Ok(Outcome { computed: forward.peak_joint_force, reference: right.peak_joint_force })
+    let (Some(left), Some(right)) = (forward.joints.first(), reversed.joints.get(1)) else {
+        return Err("not two joints".to_string());
+    };
+    Ok(Outcome { computed: left.peak_joint_force, reference: right.peak_joint_force })
 }
 
 /// Springs from the left and right deck ends of the three-span bridge to

@@ -227,6 +227,8 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         coord_tolerance_scale: layout.coord_body.iter().map(|&(b, _)| bodies[b as usize].tolerance_scale).collect(),
         mass_pos: (0..layout.n).map(|c| layout.entry(layout.unknown_of_coord[c], layout.unknown_of_coord[c])).collect(),
         elements: ForceElements::default(),
+        body_group: system.groups().to_vec(),
+        groups: system.groups().iter().filter(|&&g| g != crate::NO_GROUP).map(|&g| g as usize + 1).max().unwrap_or(0),
         contact_bodies: Vec::new(),
         prims: Primitives::default(),
         linear: Vec::new(),

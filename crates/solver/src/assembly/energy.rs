@@ -44,6 +44,40 @@ impl Assembly {
         )
     }
 
+    /// The power friction dissipates \[W\] in each group of bodies
+    /// ([`crate::System::set_group`]) at `(t, q, v)`, added into `out` (one
+    /// entry per group; an element in no group is left out).
+    pub fn friction_powers_by_group(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], out: &mut [f64]) {
+        self.load_kin(ws, q, v);
+        let at = At { v: &v[..self.layout.n], ..At::new(&ws.kin, t, &ws.closed, &ws.v0) };
+        for (i, (k, map)) in self.elements.frictions.iter().enumerate() {
+            if let Some(slot) = out.get_mut(self.group_of(k.a, k.b)) {
+                if k.acts(&at, i) {
+                    k.add_power(&at, i, map, slot);
+                }
+            }
+        }
+    }
+
+    /// The number of groups of bodies ([`crate::System::set_group`]).
+    pub fn group_count(&self) -> usize {
+        self.groups
+    }
+
+    /// The group of an element between bodies `a` and `b`: `a`'s, else
+    /// `b`'s ([`crate::NO_GROUP`] as an index past every group).
+    pub(crate) fn group_of(&self, a: u32, b: u32) -> usize {
+        let g = match self.body_group[a as usize] {
+            crate::NO_GROUP => self.body_group[b as usize],
+            g => g,
+        };
+        if g == crate::NO_GROUP {
+            usize::MAX
+        } else {
+            g as usize
+        }
+    }
+
     /// [`Self::powers`], compiled into each version of [`crate::isa::run`].
     #[inline(always)]
     fn powers_impl(&self, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], lam: &[f64]) -> Powers {

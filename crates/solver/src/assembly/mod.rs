@@ -68,6 +68,10 @@ pub struct Assembly {
     pub(crate) mass_pos: Vec<u32>,
     /// The force elements, one list per kind.
     pub(crate) elements: ForceElements,
+    /// Each body's group ([`crate::System::set_group`]).
+    pub(crate) body_group: Vec<u32>,
+    /// The number of groups (one more than the largest group of a body).
+    pub(crate) groups: usize,
     /// The bodies the contacts touch (not the ground), for evaluating the
     /// contacts alone.
     pub(crate) contact_bodies: Vec<usize>,

@@ -63,6 +63,28 @@ impl Assembly {
         )
     }
 
+    /// [`Self::force_extremes`] per group of bodies
+    /// ([`crate::System::set_group`]): each group's largest bushing and
+    /// friction force at `(q, v)`, raised into `out` (one entry per group).
+    pub fn force_extremes_by_group(&self, ws: &mut Workspace, q: &[f64], v: &[f64], out: &mut [ForceExtremes]) {
+        self.load_kin(ws, q, v);
+        let at = At::new(&ws.kin, 0.0, &ws.closed, &ws.v0);
+        for (i, (k, _)) in self.elements.bushings.iter().enumerate() {
+            if let Some(x) = out.get_mut(self.group_of(k.a, k.b)) {
+                if k.acts(&at, i) {
+                    x.bushing = x.bushing.max(k.reaction_squared(&at, i).sqrt());
+                }
+            }
+        }
+        for (i, (k, _)) in self.elements.frictions.iter().enumerate() {
+            if let Some(x) = out.get_mut(self.group_of(k.a, k.b)) {
+                if k.acts(&at, i) {
+                    x.friction = x.friction.max(k.reaction_squared(&at, i).sqrt());
+                }
+            }
+        }
+    }
+
     /// [`Self::force_extremes`], compiled into each version of [`crate::isa::run`].
     #[inline(always)]
     fn force_extremes_impl(&self, ws: &mut Workspace, q: &[f64], v: &[f64]) -> ForceExtremes {

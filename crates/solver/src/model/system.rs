@@ -15,7 +15,14 @@ pub struct System {
     forces: Vec<(String, ForceElement)>,
     constraints: Vec<(String, Constraint)>,
     excitation: Excitation,
+    /// Each body's group ([`System::set_group`]), [`NO_GROUP`] if none.
+    groups: Vec<u32>,
+    /// The group bodies join as they are added ([`System::add_to_group`]).
+    adding_to: u32,
 }
+
+/// The group of a body in none ([`System::set_group`]).
+pub const NO_GROUP: u32 = u32::MAX;
 
 impl Default for System {
     fn default() -> Self {
@@ -36,13 +43,44 @@ impl System {
             tolerance_scale: 1.0,
             base_mass: None,
         };
-        Self { bodies: vec![ground], forces: Vec::new(), constraints: Vec::new(), excitation: Excitation::default() }
+        Self {
+            bodies: vec![ground],
+            forces: Vec::new(),
+            constraints: Vec::new(),
+            excitation: Excitation::default(),
+            groups: vec![NO_GROUP],
+            adding_to: NO_GROUP,
+        }
     }
 
     /// Adds a body.
     pub fn add_body(&mut self, body: Body) -> BodyId {
         self.bodies.push(body);
+        self.groups.push(self.adding_to);
         BodyId((self.bodies.len() - 1) as u32)
+    }
+
+    /// Puts `body` in `group` (a small number: 0, 1, ...): the friction an
+    /// element dissipates and its peak forces are also reported per group,
+    /// the group of its first body, else of its second
+    /// ([`crate::Radau5::group_friction_energy`],
+    /// [`crate::Assembly::force_extremes_by_group`]). A body is in no group
+    /// unless put in one.
+    pub fn set_group(&mut self, body: BodyId, group: u32) {
+        if let Some(g) = self.groups.get_mut(body.index()) {
+            *g = group;
+        }
+    }
+
+    /// Puts the bodies added from now on in `group` (none: [`NO_GROUP`]),
+    /// as [`System::set_group`] does one by one.
+    pub fn add_to_group(&mut self, group: u32) {
+        self.adding_to = group;
+    }
+
+    /// Each body's group, [`NO_GROUP`] if none (the ground first).
+    pub fn groups(&self) -> &[u32] {
+        &self.groups
     }
 
     /// Adds a force element named after its type and index.

@@ -76,9 +76,16 @@ impl FrictionOscillator {
     /// The mass as a body restricted to its x coordinate.
     pub fn on_coordinate(&self) -> (System, BodyId) {
         let mut sys = System::new();
-        let body = sys.add_body(Body::new("mass", self.mass, 1.0, [self.x0, 0.0, 0.0]).only(&[Coord::X]));
-        self.add_spring_and_friction(&mut sys, body);
+        let body = self.add_on_coordinate(&mut sys);
         (sys, body)
+    }
+
+    /// [`Self::on_coordinate`] added to `sys` beside what it holds (several
+    /// oscillators in one system move independently).
+    pub fn add_on_coordinate(&self, sys: &mut System) -> BodyId {
+        let body = sys.add_body(Body::new("mass", self.mass, 1.0, [self.x0, 0.0, 0.0]).only(&[Coord::X]));
+        self.add_spring_and_friction(sys, body);
+        body
     }
 
     /// The mass as a free planar body held on the x axis by a prismatic

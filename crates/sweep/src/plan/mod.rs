@@ -108,7 +108,7 @@ pub struct Plan {
     /// period at each of `modal.period_scales`, which are the swept axis).
     pub periods: Vec<f64>,
     /// A bridge given by its modes: the swept period scales, the modes
-    /// file and the joints after the first.
+    /// file and its joints.
     pub modal: Option<ModalSweep>,
     /// Indices into `periods` whose histories are stored.
     pub history_periods: Vec<usize>,

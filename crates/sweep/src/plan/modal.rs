@@ -16,7 +16,7 @@ use crate::error::SweepError;
 
 /// What a sweep over a bridge given by its modes (`[bridge.modal]`) adds
 /// to its plan: the swept factors on the modes' periods, the modes file
-/// and the joints after the first.
+/// and its joints.
 #[derive(Debug, Clone)]
 pub struct ModalSweep {
     /// The swept factors on every period of the modes [-]
@@ -33,7 +33,7 @@ pub struct ModalSweep {
     /// SHA-256 of its bytes (hex), part of the config's hash: a changed
     /// modes file is another sweep.
     pub sha256: String,
-    /// The names of the joints after the first of `[[joints]]` (their
+    /// The names of every joint of the run, in the order of `[[joints]]` (their
     /// values are stored per joint).
     pub joints: Vec<String>,
 }
@@ -116,6 +116,6 @@ pub(super) fn modal_axis(
         file: m.modes.clone(),
         path: base_dir.join(&m.modes),
         sha256: quakejoint_model::modal::loaded(m)?.sha256.clone(),
-        joints: config.joints.iter().skip(1).map(|j| j.name.clone()).collect(),
+        joints: quakejoint_model::placement::places(config)?.into_iter().map(|p| p.name).collect(),
     })
 }

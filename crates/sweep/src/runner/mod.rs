@@ -44,8 +44,9 @@ use writer::Writer;
 /// sub-gap histories, `not_checked` for failed jobs; 5: pounding demands
 /// and contact-force histories; 6: each job's CPU time; 11: the joints
 /// after the first of a bridge given by its modes, and the modes file's
-/// hash in the config's).
-pub(crate) const JOURNAL_SCHEMA: u32 = 11;
+/// hash in the config's; 12: every joint of a bridge given by its modes,
+/// with its own peak forces and friction energy).
+pub(crate) const JOURNAL_SCHEMA: u32 = 12;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]

@@ -26,6 +26,14 @@ impl Radau5 {
             add_into(&mut self.bl, &self.lam, &self.zl[i]);
             let ti = self.stage_time(i, h);
             *p = self.asm.powers(&mut self.ws, ti, &self.bq, &self.bv, &self.bl);
+            if !self.group_friction.is_empty() {
+                self.group_power.iter_mut().for_each(|x| *x = 0.0);
+                self.asm.friction_powers_by_group(&mut self.ws, ti, &self.bq, &self.bv, &mut self.group_power);
+                let w = h * A[2][i];
+                for (e, p) in self.group_friction.iter_mut().zip(&self.group_power) {
+                    *e += w * p;
+                }
+            }
         }
         for (i, p) in pw.iter().enumerate() {
             let w = h * A[2][i];

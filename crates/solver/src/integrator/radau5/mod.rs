@@ -207,6 +207,11 @@ pub struct Radau5 {
     reject: bool,
     stats: Stats,
     energy: EnergyBalance,
+    /// The energy friction dissipated so far in each group of bodies
+    /// ([`crate::System::set_group`]) \[J\], and scratch for one stage's
+    /// powers.
+    group_friction: Vec<f64>,
+    group_power: Vec<f64>,
     potential0: f64,
     /// Largest residuals over the run by kind (position and angle,
     /// velocity and angular velocity).
@@ -310,6 +315,8 @@ impl Radau5 {
             reject: false,
             stats: Stats::default(),
             energy: EnergyBalance::default(),
+            group_friction: vec![0.0; asm.group_count()],
+            group_power: vec![0.0; asm.group_count()],
             potential0: 0.0,
             max_residual: ConstraintResiduals::default(),
             local,
@@ -358,6 +365,14 @@ impl Radau5 {
     /// Energy balance so far.
     pub fn energy(&self) -> &EnergyBalance {
         &self.energy
+    }
+
+    /// The energy friction dissipated so far in each group of bodies
+    /// ([`crate::System::set_group`]) \[J\], by the same quadrature as
+    /// [`EnergyBalance::friction`] (whose sum they are, to round-off, when
+    /// every friction element is in a group).
+    pub fn group_friction_energy(&self) -> &[f64] {
+        &self.group_friction
     }
 
     /// Largest |g| and |G v + g_t| over all accepted states so far, every
