@@ -157,7 +157,9 @@ def test_a_missing_extra_is_named(quick_sweep, monkeypatch):
 def test_a_modal_sweep_reads_with_its_period_scales_and_joints(modal_sweep):
     """A bridge given by its modes is swept by a factor on its periods: the
     last axis is the factor (not a period), each case has its own bridge
-    alone, and the joints after the first are read by name."""
+    alone, and every joint is read by name, the first one's own values
+    beside the run's (its sub-gaps are the per-job ones; the friction
+    energies of the two joints add up to the system's)."""
     s = qj.read_sweep(modal_sweep)
     assert s.dims == ("case", "record", "damping", "period_scale")
     np.testing.assert_array_equal(s.period_scales, [0.8, 1.25])
@@ -165,7 +167,11 @@ def test_a_modal_sweep_reads_with_its_period_scales_and_joints(modal_sweep):
     assert s["sa"].shape == s.without_joint["sa"].shape == (2, 1, 1, 2)
     assert not np.array_equal(s.without_joint["sa"][0], s.without_joint["sa"][1]), "3 modes against all"
     np.testing.assert_array_equal(s.reduction, 1 - s["sa"] / s.without_joint["sa"])
-    assert list(s.joints) == ["right"]
+    assert list(s.joints) == ["left", "right"]
+    np.testing.assert_array_equal(s.joints["left"]["max_subgap"], s["max_subgap"])
+    np.testing.assert_allclose(
+        s.joints["left"]["friction_energy"] + s.joints["right"]["friction_energy"], s["friction_energy"], rtol=1e-12
+    )
     assert s.joints["right"]["max_subgap"].shape == (2, 1, 1, 2) and (s.joints["right"]["validity"] == 0).all()
     with h5py.File(modal_sweep) as f:
         assert "period" not in f["spectrum"]
