@@ -51,7 +51,11 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 stage "cargo test --workspace"
 # the tests that need h5py and matplotlib fail here if they are missing,
 # rather than skip as they do in a plain `cargo test` without them
+rm -f target/tmp/simd_paths.skipped
 QJ_REQUIRE_PYTHON=1 cargo test --workspace
+if [ -f target/tmp/simd_paths.skipped ]; then
+  echo "NOT RUN: the AVX2 against portable kernels test (crates/cli/tests/simd_paths.rs): $(cat target/tmp/simd_paths.skipped)"
+fi
 
 stage "the Python package (builds the engine in release) and openseespy"
 python_package
