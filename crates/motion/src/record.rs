@@ -339,21 +339,17 @@ pub fn load_record_from_samples(spec: &RecordSpec, dt: f64, values: Vec<f64>) ->
     from_raw(spec, Format::Sequence, raw, sha256_hex(&bytes))
 }
 
-/// Unit conversion, scaling and warnings for a parsed record.
-fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -> Result<LoadedRecord, RecordError> {
-    let file = spec.file.display().to_string();
-    // the channels of one file named apart (`CICLC.ch2`) unless named
-    let name = match &raw.channel {
-        Some(c) if c.of > 1 && spec.name.is_none() => format!("{}.ch{}", spec.label(), c.number),
-        _ => spec.label(),
-    };
-    let mut warnings = Vec::new();
-    let units = units_of(spec, format, &raw, &mut warnings)?;
-    warnings.extend(raw.warnings.iter().cloned());
+/// Refuses a vertical channel unless `allow_vertical` (then warns).
+fn check_vertical(
+    spec: &RecordSpec,
+    raw: &RawRecord,
+    file: &str,
+    warnings: &mut Vec<String>,
+) -> Result<(), RecordError> {
     if let Some(c) = raw.channel.as_ref().filter(|c| c.orientation.is_vertical()) {
         if !spec.allow_vertical {
             return Err(RecordError::Spec {
-                file,
+                file: file.to_string(),
                 field: "allow_vertical",
                 message: format!(
                     "{} is a vertical component, but the joint model's excitation is horizontal (along or across \
@@ -366,6 +362,21 @@ fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -
         }
         warnings.push(format!("{file}: {} is a vertical component, read as asked (`allow_vertical`)", c.describe()));
     }
+    Ok(())
+}
+
+/// Unit conversion, scaling and warnings for a parsed record.
+fn from_raw(spec: &RecordSpec, format: Format, raw: RawRecord, sha256: String) -> Result<LoadedRecord, RecordError> {
+    let file = spec.file.display().to_string();
+    // the channels of one file named apart (`CICLC.ch2`) unless named
+    let name = match &raw.channel {
+        Some(c) if c.of > 1 && spec.name.is_none() => format!("{}.ch{}", spec.label(), c.number),
+        _ => spec.label(),
+    };
+    let mut warnings = Vec::new();
+    let units = units_of(spec, format, &raw, &mut warnings)?;
+    warnings.extend(raw.warnings.iter().cloned());
+    check_vertical(spec, &raw, &file, &mut warnings)?;
     if let Some(t0) = raw.first_time {
         if t0.abs() > 0.5 * raw.dt {
             warnings.push(format!(

@@ -191,6 +191,63 @@ fn sta_chan(line: &str) -> Option<(u32, Orientation)> {
     Some((number, Orientation::from_label(&label)))
 }
 
+/// A channel's units: integer-header value 3 (`header_code`) and the data
+/// line's `units=cm/sec2 (04)` (line `data_line_number`), which must agree;
+/// with the data line's unit text.
+fn units_of_channel<'a>(
+    r: &Reader,
+    data_line_number: usize,
+    data_line: &'a str,
+    header_code: Option<i64>,
+) -> Result<(HeaderUnits, &'a str), RecordError> {
+    let data_lower = data_line.to_ascii_lowercase();
+    let segment = data_lower.find("units=").map(|p| data_line[p + 6..].split(',').next().unwrap_or("").trim());
+    let (unit_text, line_code) = match segment.map(|s| s.split_once('(').unwrap_or((s, ""))) {
+        Some((u, c)) => (u.trim(), c.trim_end_matches(')').trim().parse::<i64>().ok()),
+        None => ("", None),
+    };
+    if let (Some(h), Some(l)) = (header_code, line_code) {
+        if h != l {
+            return Err(r.err(
+                data_line_number,
+                format!("the data line's units code {l} (`{unit_text}`) differs from integer-header value 3 ({h})"),
+            ));
+        }
+    }
+    let header_units = match header_code.or(line_code) {
+        Some(code) => match (units_of_code(code), Units::from_header(unit_text)) {
+            (Some(u), Some(t)) if u != t => {
+                return Err(r.err(
+                    data_line_number,
+                    format!("units code {code} means {} but the data line says `{unit_text}`", u.name()),
+                ))
+            }
+            (Some(u), _) => HeaderUnits::Stated(u),
+            (None, _) => HeaderUnits::Unrecognised(format!("code {code} ({})", excerpt(unit_text, 20))),
+        },
+        None => match Units::from_header(unit_text) {
+            Some(u) => HeaderUnits::Stated(u),
+            None if unit_text.is_empty() => HeaderUnits::Missing,
+            None => HeaderUnits::Unrecognised(excerpt(unit_text, 40)),
+        },
+    };
+    Ok((header_units, unit_text))
+}
+
+/// The values that stand for "unknown" in the integer and real headers
+/// (text line 13, `... unknown: -999, -999.0`), -999 if not stated.
+fn unknown_values(r: &Reader, first: usize, n_text: usize) -> (f64, f64) {
+    r.lines
+        .get(first + 12)
+        .filter(|l| n_text >= 13 && l.to_ascii_lowercase().contains("unknown"))
+        .and_then(|l| l.split_once(':'))
+        .and_then(|(_, v)| {
+            let mut it = v.split(',').map(|t| parse_number(t.trim()));
+            Some((it.next()?.ok()?, it.next()?.ok()?))
+        })
+        .unwrap_or((-999.0, -999.0))
+}
+
 /// The channel whose `(Format v...` line is `first`, and its orientation
 /// code (integer-header value 54), if stated.
 fn parse_channel(r: &Reader, first: usize) -> Result<(RawRecord, Option<f64>), RecordError> {
@@ -226,16 +283,7 @@ fn parse_channel(r: &Reader, first: usize) -> Result<(RawRecord, Option<f64>), R
             format!("line {} announces {n_text} text lines but the file ends before the headers", first + 1),
         ));
     }
-    let (unknown_int, unknown_real) = r
-        .lines
-        .get(first + 12)
-        .filter(|l| n_text >= 13 && l.to_ascii_lowercase().contains("unknown"))
-        .and_then(|l| l.split_once(':'))
-        .and_then(|(_, v)| {
-            let mut it = v.split(',').map(|t| parse_number(t.trim()));
-            Some((it.next()?.ok()?, it.next()?.ok()?))
-        })
-        .unwrap_or((-999.0, -999.0));
+    let (unknown_int, unknown_real) = unknown_values(r, first, n_text);
     let known_int = |v: f64| v != unknown_int;
     let known_real = |v: f64| (v - unknown_real).abs() > 1e-6 * unknown_real.abs().max(1.0);
 
@@ -267,7 +315,6 @@ fn parse_channel(r: &Reader, first: usize) -> Result<(RawRecord, Option<f64>), R
         ));
     }
     let dt = dt_ms / 1000.0;
-    let data_lower = data_line.to_ascii_lowercase();
     if data_line.split_whitespace().nth(1).is_none_or(|w| !w.eq_ignore_ascii_case("acceleration")) {
         return Err(r.err(data.line, format!("`{}`: not acceleration data", excerpt(data_line.trim(), 60))));
     }
@@ -280,37 +327,8 @@ fn parse_channel(r: &Reader, first: usize) -> Result<(RawRecord, Option<f64>), R
     }
 
     // units: integer 3 and the data line's `units=cm/sec2 (04)`
-    let segment = data_lower.find("units=").map(|p| data_line[p + 6..].split(',').next().unwrap_or("").trim());
-    let (unit_text, line_code) = match segment.map(|s| s.split_once('(').unwrap_or((s, ""))) {
-        Some((u, c)) => (u.trim(), c.trim_end_matches(')').trim().parse::<i64>().ok()),
-        None => ("", None),
-    };
     let header_code = ints.get(2).copied().filter(|v| known_int(*v)).map(|v| v as i64);
-    if let (Some(h), Some(l)) = (header_code, line_code) {
-        if h != l {
-            return Err(r.err(
-                data.line,
-                format!("the data line's units code {l} (`{unit_text}`) differs from integer-header value 3 ({h})"),
-            ));
-        }
-    }
-    let header_units = match header_code.or(line_code) {
-        Some(code) => match (units_of_code(code), Units::from_header(unit_text)) {
-            (Some(u), Some(t)) if u != t => {
-                return Err(r.err(
-                    data.line,
-                    format!("units code {code} means {} but the data line says `{unit_text}`", u.name()),
-                ))
-            }
-            (Some(u), _) => HeaderUnits::Stated(u),
-            (None, _) => HeaderUnits::Unrecognised(format!("code {code} ({})", excerpt(unit_text, 20))),
-        },
-        None => match Units::from_header(unit_text) {
-            Some(u) => HeaderUnits::Stated(u),
-            None if unit_text.is_empty() => HeaderUnits::Missing,
-            None => HeaderUnits::Unrecognised(excerpt(unit_text, 40)),
-        },
-    };
+    let (header_units, unit_text) = units_of_channel(r, data.line, data_line, header_code)?;
 
     let (values, _, _) = r.numbers(&data)?;
     if values.is_empty() {

@@ -66,27 +66,7 @@ pub fn parse_esm(text: &str, file: &str) -> Result<RawRecord, RecordError> {
     let get = |key: &str| entries.iter().find(|e| e.key == key && !e.value.is_empty());
     let last_header_line = entries.last().map_or(1, |e| e.line);
 
-    match get("DATA_TYPE") {
-        Some(e) if e.value.eq_ignore_ascii_case("ACCELERATION") => {}
-        Some(e) => {
-            return Err(header_err(
-                e.line,
-                format!(
-                    "DATA_TYPE is `{}`: not an acceleration record (ESM files of DATA_TYPE `ACCELERATION` are read; \
-                     velocity, displacement and response-spectrum files are not)",
-                    excerpt(e.value, 60)
-                ),
-            ))
-        }
-        None => {
-            return Err(header_err(
-                last_header_line,
-                "the header has no `DATA_TYPE:` line, so the file may not be an acceleration record (an ESM file of \
-                 DATA_TYPE `ACCELERATION` is read)"
-                    .into(),
-            ))
-        }
-    }
+    check_data_type(get("DATA_TYPE"), last_header_line, file)?;
     let Some(dt_entry) = get("SAMPLING_INTERVAL_S") else {
         return Err(header_err(
             last_header_line,
@@ -114,7 +94,61 @@ pub fn parse_esm(text: &str, file: &str) -> Result<RawRecord, RecordError> {
         None => HeaderUnits::Missing,
     };
 
-    let mut values = Vec::with_capacity(ndata.map_or(0, |(_, n)| n.min(text.len() / 2 + 1)));
+    let values = read_values(&lines, data_start, ndata, file)?;
+
+    let mut warnings = Vec::new();
+    if let (Some(e), HeaderUnits::Stated(u)) = (get("PGA_CM/S^2"), &header_units) {
+        if let Ok(pga) = parse_number(e.value) {
+            let data = peak(&values) * u.to_si() * 100.0;
+            warnings.extend(peak_warning(file, "PGA_CM/S^2", pga, data, "cm/s²"));
+        }
+    }
+    // the stream's last letter is its component (SEED: Z vertical, N
+    // north, E east)
+    let orientation = match get("STREAM").map(|e| e.value.trim()) {
+        Some(s) if s.ends_with(['Z', 'z']) => Orientation::Vertical { label: excerpt(s, 20) },
+        Some(s) if s.ends_with(['N', 'n']) => Orientation::Azimuth { degrees: 0.0 },
+        Some(s) if s.ends_with(['E', 'e']) => Orientation::Azimuth { degrees: 90.0 },
+        _ => Orientation::Unknown,
+    };
+    let channel = Some(Channel { number: 1, of: 1, orientation });
+    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings, channel })
+}
+
+/// Refuses a file whose `DATA_TYPE` (`entry`) is not `ACCELERATION` or
+/// missing (the header ends on `last_header_line`).
+fn check_data_type(entry: Option<&Entry<'_>>, last_header_line: usize, file: &str) -> Result<(), RecordError> {
+    let header_err = |line: usize, message: String| RecordError::Header { file: file.into(), line, message };
+    match entry {
+        Some(e) if e.value.eq_ignore_ascii_case("ACCELERATION") => Ok(()),
+        Some(e) => Err(header_err(
+            e.line,
+            format!(
+                "DATA_TYPE is `{}`: not an acceleration record (ESM files of DATA_TYPE `ACCELERATION` are read; \
+                     velocity, displacement and response-spectrum files are not)",
+                excerpt(e.value, 60)
+            ),
+        )),
+        None => Err(header_err(
+            last_header_line,
+            "the header has no `DATA_TYPE:` line, so the file may not be an acceleration record (an ESM file of \
+                 DATA_TYPE `ACCELERATION` is read)"
+                .into(),
+        )),
+    }
+}
+
+/// The values from line `data_start` on, as many as `NDATA` says (its line
+/// and number) when it is given.
+fn read_values(
+    lines: &[&str],
+    data_start: usize,
+    ndata: Option<(usize, usize)>,
+    file: &str,
+) -> Result<Vec<f64>, RecordError> {
+    let header_err = |line: usize, message: String| RecordError::Header { file: file.into(), line, message };
+    let text_len: usize = lines.iter().map(|l| l.len() + 1).sum();
+    let mut values = Vec::with_capacity(ndata.map_or(0, |(_, n)| n.min(text_len / 2 + 1)));
     let mut last_line = data_start + 1;
     for (i, raw) in lines.iter().enumerate().skip(data_start) {
         for token in raw.split_whitespace() {
@@ -138,23 +172,7 @@ pub fn parse_esm(text: &str, file: &str) -> Result<RawRecord, RecordError> {
         }
     }
 
-    let mut warnings = Vec::new();
-    if let (Some(e), HeaderUnits::Stated(u)) = (get("PGA_CM/S^2"), &header_units) {
-        if let Ok(pga) = parse_number(e.value) {
-            let data = peak(&values) * u.to_si() * 100.0;
-            warnings.extend(peak_warning(file, "PGA_CM/S^2", pga, data, "cm/s²"));
-        }
-    }
-    // the stream's last letter is its component (SEED: Z vertical, N
-    // north, E east)
-    let orientation = match get("STREAM").map(|e| e.value.trim()) {
-        Some(s) if s.ends_with(['Z', 'z']) => Orientation::Vertical { label: excerpt(s, 20) },
-        Some(s) if s.ends_with(['N', 'n']) => Orientation::Azimuth { degrees: 0.0 },
-        Some(s) if s.ends_with(['E', 'e']) => Orientation::Azimuth { degrees: 90.0 },
-        _ => Orientation::Unknown,
-    };
-    let channel = Some(Channel { number: 1, of: 1, orientation });
-    Ok(RawRecord { dt, values, header, first_time: None, header_units, warnings, channel })
+    Ok(values)
 }
 
 #[cfg(test)]

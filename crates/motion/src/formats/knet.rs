@@ -62,47 +62,9 @@ pub fn parse_knet(text: &str, file: &str) -> Result<RawRecord, RecordError> {
         return Err(header_err(freq_line, format!("sampling frequency `{}` must be > 0", excerpt(freq, 40))));
     }
 
-    let Some((scale_line, scale)) = field(head, "Scale Factor") else {
-        return Err(header_err(memo + 1, "the header has no `Scale Factor` line: counts cannot be converted".into()));
-    };
-    let bad_scale = || {
-        header_err(scale_line, format!("scale factor `{}` is not of the form `3920(gal)/6182761`", excerpt(scale, 40)))
-    };
-    let (numerator, denominator) = scale.rsplit_once('/').ok_or_else(bad_scale)?;
-    let (value, unit) = numerator.split_once('(').ok_or_else(bad_scale)?;
-    let unit = unit.trim().trim_end_matches(')').trim();
-    if !unit.eq_ignore_ascii_case("gal") {
-        return Err(header_err(
-            scale_line,
-            format!(
-                "the scale factor `{}` is in `{}` per count, not gal: only a factor in gal per count is read",
-                excerpt(scale, 40),
-                excerpt(unit, 20)
-            ),
-        ));
-    }
-    let (num, den) = (parse_number(value.trim()), parse_number(denominator.trim()));
-    let factor = match (num, den) {
-        (Ok(a), Ok(b)) if a > 0.0 && b > 0.0 && (a / b).is_finite() && a / b > 0.0 => a / b,
-        _ => return Err(bad_scale()),
-    };
+    let factor = scale_factor(head, memo, file)?;
 
-    let mut counts: Vec<f64> = Vec::new();
-    for (i, raw) in lines.iter().enumerate().skip(memo + 1) {
-        for token in raw.split_whitespace() {
-            let c = number_at(token, file, i + 1)?;
-            if c.fract() != 0.0 {
-                return Err(header_err(
-                    i + 1,
-                    format!("`{}` is not a whole number: K-NET/KiK-net data are integer counts", excerpt(token, 40)),
-                ));
-            }
-            if !(c * factor).is_finite() {
-                return Err(header_err(i + 1, format!("count `{}` × the scale factor overflows", excerpt(token, 40))));
-            }
-            counts.push(c);
-        }
-    }
+    let counts = counts(&lines, memo, factor, file)?;
     if counts.is_empty() {
         return Err(RecordError::TooShort { file: file.into(), message: "no counts after the `Memo.` line".into() });
     }
@@ -136,6 +98,74 @@ pub fn parse_knet(text: &str, file: &str) -> Result<RawRecord, RecordError> {
             }
         }
     }
+    let orientation = orientation(head, file, &mut warnings);
+    let header = lines[..=memo].iter().map(|l| l.trim_end().to_string()).collect();
+    Ok(RawRecord {
+        dt,
+        values,
+        header,
+        first_time: None,
+        header_units: HeaderUnits::Stated(Units::CentimetersPerSecond2),
+        warnings,
+        channel: Some(Channel { number: 1, of: 1, orientation }),
+    })
+}
+
+/// The header's `Scale Factor` in gal per count (`3920(gal)/6182761`).
+fn scale_factor(head: &[&str], memo: usize, file: &str) -> Result<f64, RecordError> {
+    let header_err = |line: usize, message: String| RecordError::Header { file: file.into(), line, message };
+    let Some((scale_line, scale)) = field(head, "Scale Factor") else {
+        return Err(header_err(memo + 1, "the header has no `Scale Factor` line: counts cannot be converted".into()));
+    };
+    let bad_scale = || {
+        header_err(scale_line, format!("scale factor `{}` is not of the form `3920(gal)/6182761`", excerpt(scale, 40)))
+    };
+    let (numerator, denominator) = scale.rsplit_once('/').ok_or_else(bad_scale)?;
+    let (value, unit) = numerator.split_once('(').ok_or_else(bad_scale)?;
+    let unit = unit.trim().trim_end_matches(')').trim();
+    if !unit.eq_ignore_ascii_case("gal") {
+        return Err(header_err(
+            scale_line,
+            format!(
+                "the scale factor `{}` is in `{}` per count, not gal: only a factor in gal per count is read",
+                excerpt(scale, 40),
+                excerpt(unit, 20)
+            ),
+        ));
+    }
+    let (num, den) = (parse_number(value.trim()), parse_number(denominator.trim()));
+    match (num, den) {
+        (Ok(a), Ok(b)) if a > 0.0 && b > 0.0 && (a / b).is_finite() && a / b > 0.0 => Ok(a / b),
+        _ => Err(bad_scale()),
+    }
+}
+
+/// The whole-number counts after the `Memo.` line, each finite once
+/// scaled by `factor`.
+fn counts(lines: &[&str], memo: usize, factor: f64, file: &str) -> Result<Vec<f64>, RecordError> {
+    let header_err = |line: usize, message: String| RecordError::Header { file: file.into(), line, message };
+    let mut counts: Vec<f64> = Vec::new();
+    for (i, raw) in lines.iter().enumerate().skip(memo + 1) {
+        for token in raw.split_whitespace() {
+            let c = number_at(token, file, i + 1)?;
+            if c.fract() != 0.0 {
+                return Err(header_err(
+                    i + 1,
+                    format!("`{}` is not a whole number: K-NET/KiK-net data are integer counts", excerpt(token, 40)),
+                ));
+            }
+            if !(c * factor).is_finite() {
+                return Err(header_err(i + 1, format!("count `{}` × the scale factor overflows", excerpt(token, 40))));
+            }
+            counts.push(c);
+        }
+    }
+    Ok(counts)
+}
+
+/// The channel's direction from the header's `Dir.`, warning of a KiK-net
+/// borehole sensor.
+fn orientation(head: &[&str], file: &str, warnings: &mut Vec<String>) -> Orientation {
     let mut orientation = Orientation::Unknown;
     if let Some((_, dir)) = field(head, "Dir.") {
         let d = dir.to_ascii_uppercase();
@@ -152,16 +182,7 @@ pub fn parse_knet(text: &str, file: &str) -> Result<RawRecord, RecordError> {
             ));
         }
     }
-    let header = lines[..=memo].iter().map(|l| l.trim_end().to_string()).collect();
-    Ok(RawRecord {
-        dt,
-        values,
-        header,
-        first_time: None,
-        header_units: HeaderUnits::Stated(Units::CentimetersPerSecond2),
-        warnings,
-        channel: Some(Channel { number: 1, of: 1, orientation }),
-    })
+    orientation
 }
 
 #[cfg(test)]

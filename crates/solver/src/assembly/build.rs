@@ -80,12 +80,74 @@ fn unit(d: [f64; 2]) -> V2 {
 pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Assembly, BuildError> {
     system.validate()?;
     let bodies = system.bodies();
-    let nb = bodies.len();
     let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
     let free: Vec<[bool; 3]> = bodies.iter().map(|b| b.free).collect();
-    let pose = |b: usize| bodies[b].pose;
 
-    // Constraint primitives and equation specs.
+    let (prims, linears) = constraint_primitives(system);
+    let Equations { specs: equations, bodies: eq_bodies, constraint: eq_constraint } =
+        equations(system, &prims, &linears);
+    let couplings: Vec<(u32, u32)> = system
+        .forces()
+        .iter()
+        .map(|(_, f)| {
+            let (a, b) = f.bodies();
+            (a.index() as u32, b.index() as u32)
+        })
+        .collect();
+    let layout = Layout::new(&free, &names, &equations, &eq_bodies, &couplings, options.ordering)?;
+    let n = layout.n as u32;
+    let sink = layout.sink();
+
+    let body_static: Vec<BodyStatic> = (0..bodies.len())
+        .map(|b| BodyStatic { coord: layout.body_coord[b], pose0: bodies[b].pose, rot0: Rot::new(bodies[b].pose[2]) })
+        .collect();
+    let maps = Maps { layout: &layout, n, sink };
+    let mut asm = Assembly {
+        bodies: body_static,
+        coord_mass: layout.coord_body.iter().map(|&(b, s)| bodies[b as usize].slot_mass(s as usize)).collect(),
+        coord_tolerance_scale: layout.coord_body.iter().map(|&(b, _)| bodies[b as usize].tolerance_scale).collect(),
+        mass_pos: (0..layout.n).map(|c| layout.entry(layout.unknown_of_coord[c], layout.unknown_of_coord[c])).collect(),
+        elements: ForceElements::default(),
+        body_group: system.groups().to_vec(),
+        groups: system.groups().iter().filter(|&&g| g != crate::NO_GROUP).map(|&g| g as usize + 1).max().unwrap_or(0),
+        contact_bodies: Vec::new(),
+        prims: Primitives::default(),
+        linear: Vec::new(),
+        g_entries: Vec::new(),
+        eq_mref: Vec::new(),
+        eq_angular: vec![false; layout.eq_coord.len()],
+        constraint_names: system.constraints().iter().map(|(n, _)| n.clone()).collect(),
+        constraint_prims: vec![Vec::new(); system.constraints().len()],
+        eq_constraint,
+        gravity: V2::from(system.excitation().gravity),
+        ground: [system.excitation().ground_x.clone(), system.excitation().ground_y.clone()],
+        translational: [Vec::new(), Vec::new()],
+        structural_nnz: 0,
+        d_row_ptr: Vec::new(),
+        d_cols: Vec::new(),
+        initial: (Vec::new(), Vec::new()),
+        layout: layout.clone(),
+    };
+    asm.eq_mref = layout.eq_coord.iter().map(|&c| asm.coord_mass[c as usize]).collect();
+
+    compile_forces(&mut asm, system, &maps);
+    let first_linear = compile_primitives(&mut asm, prims, &maps);
+    for (eq, (ci, l)) in (first_linear..).zip(linears) {
+        compile_linear(&mut asm, &layout, bodies, ci, l, eq);
+    }
+    finish(&mut asm, &layout, bodies);
+    Ok(asm)
+}
+
+/// The primitives of the constraints (each with its constraint's index)
+/// and the linear constraints.
+type ConstraintPrimitives<'a> = (Vec<(usize, Prim)>, Vec<(usize, &'a Linear)>);
+
+/// The constraints' primitives in the system's order, each with its
+/// constraint's index, and the linear constraints apart.
+fn constraint_primitives(system: &System) -> ConstraintPrimitives<'_> {
+    let bodies = system.bodies();
+    let pose = |b: usize| bodies[b].pose;
     let mut prims: Vec<(usize, Prim)> = Vec::new();
     let mut linears: Vec<(usize, &Linear)> = Vec::new();
     for (ci, (_, c)) in system.constraints().iter().enumerate() {
@@ -138,7 +200,22 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
             Constraint::Linear(l) => linears.push((ci, l)),
         }
     }
-    // Preference: bodies touched by fewer constraints take the equations.
+    (prims, linears)
+}
+
+/// The equations: what each may be solved for, its bodies and its
+/// constraint.
+struct Equations {
+    specs: Vec<EquationSpec>,
+    bodies: Vec<Vec<u32>>,
+    constraint: Vec<u32>,
+}
+
+/// The equations of the primitives, then of the linear constraints (see
+/// `compile_linear`); bodies touched by fewer constraints take the
+/// equations.
+fn equations(system: &System, prims: &[(usize, Prim)], linears: &[(usize, &Linear)]) -> Equations {
+    let nb = system.bodies().len();
     let mut touches = vec![0usize; nb];
     for (_, c) in system.constraints() {
         for b in c.bodies() {
@@ -148,7 +225,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
     let mut equations = Vec::new();
     let mut eq_bodies = Vec::new();
     let mut eq_constraint = Vec::new();
-    for (ci, p) in &prims {
+    for (ci, p) in prims {
         let (a, b) = p.bodies();
         let mut order = vec![a, b];
         order.sort_by_key(|&x| touches[x as usize]);
@@ -171,7 +248,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         }
     }
     // (the linear equations after the primitives': see `compile_linear`)
-    for &(ci, l) in &linears {
+    for &(ci, l) in linears {
         // (in the terms' order: the first term's coordinate takes the
         // equation when it is free; see `Linear::terms`)
         let candidates: Vec<(u32, u8)> = l.terms.iter().map(|&(b, c, _)| (b.index() as u32, c.slot() as u8)).collect();
@@ -179,22 +256,23 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         eq_bodies.push(system.constraints()[ci].1.bodies().iter().map(|b| b.index() as u32).collect());
         eq_constraint.push(ci as u32);
     }
-    let couplings: Vec<(u32, u32)> = system
-        .forces()
-        .iter()
-        .map(|(_, f)| {
-            let (a, b) = f.bodies();
-            (a.index() as u32, b.index() as u32)
-        })
-        .collect();
-    let layout = Layout::new(&free, &names, &equations, &eq_bodies, &couplings, options.ordering)?;
-    let n = layout.n as u32;
-    let sink = layout.sink();
+    Equations { specs: equations, bodies: eq_bodies, constraint: eq_constraint }
+}
 
-    let body_static: Vec<BodyStatic> = (0..nb)
-        .map(|b| BodyStatic { coord: layout.body_coord[b], pose0: bodies[b].pose, rot0: Rot::new(bodies[b].pose[2]) })
-        .collect();
-    let slots_of = |a: u32, b: u32| -> [u32; 6] {
+/// Where an element's or a primitive's values go: the coordinates of its
+/// two bodies' slots and the iteration matrix's entries between them.
+struct Maps<'a> {
+    layout: &'a Layout,
+    /// The number of coordinates (a slot without one maps to it).
+    n: u32,
+    /// The entry that takes what no matrix entry holds.
+    sink: u32,
+}
+
+impl Maps<'_> {
+    /// The coordinates of bodies `a`'s and `b`'s slots (`n`: none).
+    fn slots(&self, a: u32, b: u32) -> [u32; 6] {
+        let (layout, n) = (self.layout, self.n);
         let mut f = [n; 6];
         for s in 0..3 {
             let ca = layout.body_coord[a as usize][s];
@@ -203,9 +281,12 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
             f[3 + s] = if cb == NONE { n } else { cb };
         }
         f
-    };
-    let jac_of = |f: &[u32; 6]| -> [u32; 36] {
-        let mut jac = [sink; 36];
+    }
+
+    /// The matrix entries between the coordinates `f`.
+    fn jac(&self, f: &[u32; 6]) -> [u32; 36] {
+        let (layout, n) = (self.layout, self.n);
+        let mut jac = [self.sink; 36];
         for i in 0..6 {
             for j in 0..6 {
                 if f[i] < n && f[j] < n {
@@ -215,40 +296,20 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
             }
         }
         jac
-    };
-    let pair = |a: u32, b: u32| {
-        let f = slots_of(a, b);
-        PairMap { f, jac: jac_of(&f) }
-    };
+    }
 
-    let mut asm = Assembly {
-        bodies: body_static,
-        coord_mass: layout.coord_body.iter().map(|&(b, s)| bodies[b as usize].slot_mass(s as usize)).collect(),
-        coord_tolerance_scale: layout.coord_body.iter().map(|&(b, _)| bodies[b as usize].tolerance_scale).collect(),
-        mass_pos: (0..layout.n).map(|c| layout.entry(layout.unknown_of_coord[c], layout.unknown_of_coord[c])).collect(),
-        elements: ForceElements::default(),
-        body_group: system.groups().to_vec(),
-        groups: system.groups().iter().filter(|&&g| g != crate::NO_GROUP).map(|&g| g as usize + 1).max().unwrap_or(0),
-        contact_bodies: Vec::new(),
-        prims: Primitives::default(),
-        linear: Vec::new(),
-        g_entries: Vec::new(),
-        eq_mref: Vec::new(),
-        eq_angular: vec![false; layout.eq_coord.len()],
-        constraint_names: system.constraints().iter().map(|(n, _)| n.clone()).collect(),
-        constraint_prims: vec![Vec::new(); system.constraints().len()],
-        eq_constraint,
-        gravity: V2::from(system.excitation().gravity),
-        ground: [system.excitation().ground_x.clone(), system.excitation().ground_y.clone()],
-        translational: [Vec::new(), Vec::new()],
-        structural_nnz: 0,
-        d_row_ptr: Vec::new(),
-        d_cols: Vec::new(),
-        initial: (Vec::new(), Vec::new()),
-        layout: layout.clone(),
-    };
-    asm.eq_mref = layout.eq_coord.iter().map(|&c| asm.coord_mass[c as usize]).collect();
+    /// The map of an element between bodies `a` and `b`.
+    fn pair(&self, a: u32, b: u32) -> PairMap {
+        let f = self.slots(a, b);
+        PairMap { f, jac: self.jac(&f) }
+    }
+}
 
+/// The force elements, each into its kind's list in the system's order,
+/// and the bodies the contacts touch.
+fn compile_forces(asm: &mut Assembly, system: &System, maps: &Maps<'_>) {
+    let (bodies, layout) = (system.bodies(), maps.layout);
+    let pair = |a: u32, b: u32| maps.pair(a, b);
     for (_, f) in system.forces() {
         let (a, b) = f.bodies();
         let (a, b) = (a.index() as u32, b.index() as u32);
@@ -324,11 +385,16 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
     let touched: BTreeSet<usize> =
         asm.elements.contacts.iter().flat_map(|(k, _)| [k.a as usize, k.b as usize]).filter(|&b| b != 0).collect();
     asm.contact_bodies = touched.into_iter().collect();
+}
 
+/// The constraint primitives with their maps and gradient entries, in
+/// order; the number of their equations.
+fn compile_primitives(asm: &mut Assembly, prims: Vec<(usize, Prim)>, maps: &Maps<'_>) -> u32 {
+    let (layout, n) = (maps.layout, maps.n);
     let mut eq = 0u32;
     for (ci, p) in prims {
         let (a, b) = p.bodies();
-        let f = slots_of(a, b);
+        let f = maps.slots(a, b);
         let g_start = asm.g_entries.len() as u32;
         for row in 0..p.rows() {
             let e = eq + row as u32;
@@ -352,7 +418,7 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
             eq,
             rows: p.rows() as u8,
             f,
-            h: jac_of(&f),
+            h: maps.jac(&f),
             g_start,
             g_count: (asm.g_entries.len() as u32 - g_start) as u8,
         };
@@ -383,11 +449,12 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         asm.constraint_prims[ci].push(r);
     }
 
-    for (ci, l) in linears {
-        compile_linear(&mut asm, &layout, bodies, ci, l, eq);
-        eq += 1;
-    }
+    eq
+}
 
+/// The bodies' masses under the ground's motion, the initial state and
+/// the damping matrix's structure.
+fn finish(asm: &mut Assembly, layout: &Layout, bodies: &[Body]) {
     for (b, body) in bodies.iter().enumerate().skip(1) {
         for dir in 0..2 {
             // the ground's direction `dir` on the body's x and y (without a
@@ -412,13 +479,12 @@ pub(super) fn compile(system: &System, options: &AssemblyOptions) -> Result<Asse
         v0[c] = bodies[b as usize].velocity[s as usize];
     }
     asm.initial = (q0, v0);
-    asm.structural_nnz = structural_nnz(&asm);
+    asm.structural_nnz = structural_nnz(asm);
     // (sorted by position; the stable sort keeps that order within a row)
-    let mut by_row = damping_entries(&asm);
+    let mut by_row = damping_entries(asm);
     by_row.sort_by_key(|&(r, _, _)| r);
     asm.d_row_ptr = (0..=layout.n as u32).map(|r| by_row.partition_point(|&(row, _, _)| row < r) as u32).collect();
     asm.d_cols = by_row.iter().map(|&(_, c, p)| (c, p)).collect();
-    Ok(asm)
 }
 
 /// Compiles the linear constraint `l` (user constraint `ci`) as equation

@@ -83,99 +83,120 @@ impl Radau5 {
             // step-size proposal (RADAU5)
             let nit = self.opt.max_newton as f64;
             let fac = SAFE.min(SAFE * (1.0 + 2.0 * nit) / (iterations as f64 + 2.0 * nit));
-            let mut quot = FACR.max(FACL.min(err.powf(0.25) / fac));
-            let mut h_new = h / quot;
-            if err < 1.0 && !self.events.is_empty() {
-                let asm = Arc::clone(&self.asm);
-                let start = State { t: self.t, q: &self.q, v: &self.v };
-                let trial = Trial { start, h, zq: &self.zq, zv: &self.zv };
-                let located = self.events.locate(&asm, &mut self.ws, &trial);
-                if let Some((te, contacts)) = located {
-                    self.stats.event_retries += 1;
-                    if te - self.t <= 1e-9 * h {
-                        // the change is due now: at the start of the step
-                        let at = State { t: self.t, q: &self.q, v: &self.v };
-                        let (n, so_far) = self.events.change_now(&asm, &mut self.ws, at, contacts, &mut self.energy);
-                        self.after_contact_change(n);
-                        // each contact changes at most twice at one time
-                        if so_far > 2 * asm.contact_count() {
-                            return Err(SolverError::StepFailed {
-                                time: self.t,
-                                h,
-                                attempts: so_far as u32,
-                                cause: StepFailure::Chattering,
-                            });
-                        }
-                    } else {
-                        self.events.set_pending(te, contacts);
-                    }
-                    continue;
-                }
+            let quot = FACR.max(FACL.min(err.powf(0.25) / fac));
+            let h_new = h / quot;
+            if err < 1.0 && !self.events.is_empty() && self.locate_event(h)? {
+                continue;
             }
             if err < 1.0 {
-                if !self.first {
-                    let facgus = (self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / SAFE;
-                    let facgus = FACR.max(FACL.min(facgus));
-                    quot = quot.max(facgus);
-                    h_new = h / quot;
-                }
-                self.h_acc = h;
-                self.err_acc = err.max(1e-2);
-                self.accept(h)?;
-                let asm = Arc::clone(&self.asm);
-                let changed = if self.events.is_empty() {
-                    0
-                } else {
-                    let at = State { t: self.t, q: &self.q, v: &self.v };
-                    self.events.apply_pending(&asm, &mut self.ws, at, &mut self.energy)
-                };
-                if changed > 0 {
-                    self.after_contact_change(changed);
-                    self.jac_fresh = false;
-                    return Ok(());
-                }
-                let h_new = h_new.min(self.opt.h_max);
-                let h_new = if self.reject { h_new.min(h) } else { h_new };
-                self.first = false;
-                self.reject = false;
-                let qt = h_new / h;
-                if self.theta <= self.opt.jacobian_reuse && (QUOT1..=QUOT2).contains(&qt) {
-                    // keep h and the factorisation
-                    self.h = h.max(self.h);
-                } else {
-                    self.h = h_new;
-                    if self.theta > self.opt.jacobian_reuse {
-                        self.need_jac = true;
-                    }
-                }
-                self.jac_fresh = false;
-                return Ok(());
+                return self.accept_step(h, Proposal { quot, h_new, err });
             }
-            // rejected by the error test
-            self.stats.rejected += 1;
-            failures += 1;
-            if failures >= self.opt.max_failures {
-                return Err(SolverError::StepFailed {
-                    time: self.t,
-                    h,
-                    attempts: failures,
-                    cause: StepFailure::ErrorTest { error: err },
-                });
+            self.reject_step(h, h_new, err, &mut failures)?;
+        }
+    }
+
+    /// Locates a contact's change of mode inside the trial step of size
+    /// `h`: changes one due now at the start (then the step is tried again)
+    /// or makes it the step's end; whether one was found.
+    fn locate_event(&mut self, h: f64) -> Result<bool, SolverError> {
+        let asm = Arc::clone(&self.asm);
+        let start = State { t: self.t, q: &self.q, v: &self.v };
+        let trial = Trial { start, h, zq: &self.zq, zv: &self.zv };
+        let located = self.events.locate(&asm, &mut self.ws, &trial);
+        if let Some((te, contacts)) = located {
+            self.stats.event_retries += 1;
+            if te - self.t <= 1e-9 * h {
+                // the change is due now: at the start of the step
+                let at = State { t: self.t, q: &self.q, v: &self.v };
+                let (n, so_far) = self.events.change_now(&asm, &mut self.ws, at, contacts, &mut self.energy);
+                self.after_contact_change(n);
+                // each contact changes at most twice at one time
+                if so_far > 2 * asm.contact_count() {
+                    return Err(SolverError::StepFailed {
+                        time: self.t,
+                        h,
+                        attempts: so_far as u32,
+                        cause: StepFailure::Chattering,
+                    });
+                }
+            } else {
+                self.events.set_pending(te, contacts);
             }
-            self.h = if self.first { h * 0.1 } else { h_new };
-            self.reject = true;
-            if !self.jac_fresh {
+            return Ok(true);
+        }
+        Ok(false)
+    }
+
+    /// Accepts the step of size `h` that passed the error test, with the
+    /// step-size proposal, and proposes the next.
+    fn accept_step(&mut self, h: f64, proposal: Proposal) -> Result<(), SolverError> {
+        let Proposal { mut quot, mut h_new, err } = proposal;
+        if !self.first {
+            let facgus = (self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / SAFE;
+            let facgus = FACR.max(FACL.min(facgus));
+            quot = quot.max(facgus);
+            h_new = h / quot;
+        }
+        self.h_acc = h;
+        self.err_acc = err.max(1e-2);
+        self.accept(h)?;
+        let asm = Arc::clone(&self.asm);
+        let changed = if self.events.is_empty() {
+            0
+        } else {
+            let at = State { t: self.t, q: &self.q, v: &self.v };
+            self.events.apply_pending(&asm, &mut self.ws, at, &mut self.energy)
+        };
+        if changed > 0 {
+            self.after_contact_change(changed);
+            self.jac_fresh = false;
+            return Ok(());
+        }
+        let h_new = h_new.min(self.opt.h_max);
+        let h_new = if self.reject { h_new.min(h) } else { h_new };
+        self.first = false;
+        self.reject = false;
+        let qt = h_new / h;
+        if self.theta <= self.opt.jacobian_reuse && (QUOT1..=QUOT2).contains(&qt) {
+            // keep h and the factorisation
+            self.h = h.max(self.h);
+        } else {
+            self.h = h_new;
+            if self.theta > self.opt.jacobian_reuse {
                 self.need_jac = true;
             }
-            if self.h < self.opt.h_min {
-                return Err(SolverError::StepFailed {
-                    time: self.t,
-                    h: self.h,
-                    attempts: failures,
-                    cause: StepFailure::StepTooSmall { h: self.h, h_min: self.opt.h_min },
-                });
-            }
         }
+        self.jac_fresh = false;
+        Ok(())
+    }
+
+    /// A step of size `h` rejected by the error test `err`: the next try
+    /// at `h_new` (a tenth of `h` at the first step), or the failure.
+    fn reject_step(&mut self, h: f64, h_new: f64, err: f64, failures: &mut u32) -> Result<(), SolverError> {
+        self.stats.rejected += 1;
+        *failures += 1;
+        if *failures >= self.opt.max_failures {
+            return Err(SolverError::StepFailed {
+                time: self.t,
+                h,
+                attempts: *failures,
+                cause: StepFailure::ErrorTest { error: err },
+            });
+        }
+        self.h = if self.first { h * 0.1 } else { h_new };
+        self.reject = true;
+        if !self.jac_fresh {
+            self.need_jac = true;
+        }
+        if self.h < self.opt.h_min {
+            return Err(SolverError::StepFailed {
+                time: self.t,
+                h: self.h,
+                attempts: *failures,
+                cause: StepFailure::StepTooSmall { h: self.h, h_min: self.opt.h_min },
+            });
+        }
+        Ok(())
     }
 
     /// After contacts changed mode at the current state: the start-of-step
@@ -194,4 +215,13 @@ impl Radau5 {
         self.have_cont = false;
         self.h = self.h.min(CONTACT_STEP);
     }
+}
+
+/// The step-size controller's proposal after a step's error test: the
+/// quotient `h / h_new`, the new size and the scaled error.
+#[derive(Clone, Copy)]
+struct Proposal {
+    quot: f64,
+    h_new: f64,
+    err: f64,
 }

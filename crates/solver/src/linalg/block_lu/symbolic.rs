@@ -78,44 +78,9 @@ impl BlockSymbolic {
     /// `edges` between blocks (the diagonal is implied).
     pub fn analyse(sizes: &[u32], edges: &[(u32, u32)], ordering: BlockOrdering) -> Self {
         let nb = sizes.len();
-        let mut adj: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); nb];
-        let mut original: BTreeSet<(u32, u32)> = BTreeSet::new();
-        for &(a, b) in edges {
-            if a != b {
-                adj[a as usize].insert(b);
-                adj[b as usize].insert(a);
-                original.insert((a.min(b), a.max(b)));
-            }
-        }
+        let (adj, original) = adjacency(nb, edges);
         // Elimination (simulated): order and later-neighbour sets.
-        let mut eliminated = vec![false; nb];
-        let mut order = Vec::with_capacity(nb);
-        let mut later_sets: Vec<Vec<u32>> = vec![Vec::new(); nb];
-        let weight = |adj: &BTreeSet<u32>| -> u64 { adj.iter().map(|&u| sizes[u as usize] as u64).sum() };
-        let mut wdeg: Vec<u64> = adj.iter().map(weight).collect();
-        for step in 0..nb {
-            let v = match ordering {
-                BlockOrdering::Natural => step,
-                BlockOrdering::MinimumDegree => {
-                    (0..nb).filter(|&v| !eliminated[v]).min_by_key(|&v| (wdeg[v], v)).expect("a block remains")
-                }
-            };
-            eliminated[v] = true;
-            order.push(v as u32);
-            let nbrs: Vec<u32> = adj[v].iter().copied().collect();
-            for &u in &nbrs {
-                let au = &mut adj[u as usize];
-                au.remove(&(v as u32));
-                for &w in &nbrs {
-                    if w != u {
-                        au.insert(w);
-                    }
-                }
-                wdeg[u as usize] = weight(&adj[u as usize]);
-            }
-            later_sets[v] = nbrs;
-            adj[v].clear();
-        }
+        let (order, later_sets) = eliminate(sizes, adj, ordering);
         let mut position = vec![0u32; nb];
         for (p, &b) in order.iter().enumerate() {
             position[b as usize] = p as u32;
@@ -127,35 +92,8 @@ impl BlockSymbolic {
             starts.push(n);
             n += s;
         }
-        // Filled pattern by position.
-        let mut rows: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); nb];
-        let mut later_p: Vec<Vec<u32>> = vec![Vec::new(); nb];
-        for (b, set) in later_sets.iter().enumerate() {
-            let k = position[b];
-            rows[k as usize].insert(k);
-            let mut l: Vec<u32> = set.iter().map(|&u| position[u as usize]).collect();
-            l.sort_unstable();
-            for &j in &l {
-                rows[k as usize].insert(j);
-                rows[j as usize].insert(k);
-            }
-            later_p[k as usize] = l;
-        }
-        let mut row_ptr = vec![0u32];
-        let mut cols = Vec::new();
-        let mut offs = Vec::new();
-        let mut fill = Vec::new();
-        let mut nnz = 0u32;
-        for (i, r) in rows.iter().enumerate() {
-            for &j in r {
-                cols.push(j);
-                offs.push(nnz);
-                let (bi, bj) = (order[i], order[j as usize]);
-                fill.push(i as u32 != j && !original.contains(&(bi.min(bj), bi.max(bj))));
-                nnz += sizes_p[i] * sizes_p[j as usize];
-            }
-            row_ptr.push(cols.len() as u32);
-        }
+        let Pattern { row_ptr, cols, offs, fill, nnz, later: later_p } =
+            Pattern::filled(&order, &position, &sizes_p, &later_sets, &original);
         let mut sym = Self {
             order,
             position,
@@ -178,12 +116,20 @@ impl BlockSymbolic {
             shapes: Vec::new(),
         };
         sym.diag = (0..nb).map(|k| sym.block_offset(k, k).expect("diagonal")).collect();
-        sym.shapes = later_p
+        sym.schedule(&later_p);
+        sym
+    }
+
+    /// Each block's shape, and the elimination's schedule: each block's
+    /// later blocks with their offsets, the updates they receive, and the
+    /// flops (`later_p`: each block's later blocks by position).
+    fn schedule(&mut self, later_p: &[Vec<u32>]) {
+        self.shapes = later_p
             .iter()
             .enumerate()
             .map(|(k, l)| {
-                let fixed = |j: &u32| matches!(sym.sizes[*j as usize], 3 | 5 | 6);
-                if sym.sizes[k] == 3 && l.iter().all(fixed) {
+                let fixed = |j: &u32| matches!(self.sizes[*j as usize], 3 | 5 | 6);
+                if self.sizes[k] == 3 && l.iter().all(fixed) {
                     Shape::Three
                 } else {
                     Shape::General
@@ -191,24 +137,23 @@ impl BlockSymbolic {
             })
             .collect();
         for (k, l) in later_p.iter().enumerate() {
-            let nk = sym.sizes[k] as u64;
-            sym.flops += nk * nk * nk;
+            let nk = self.sizes[k] as u64;
+            self.flops += nk * nk * nk;
             for &j in l {
-                sym.later_pos.push(j);
-                sym.off_kj.push(sym.block_offset(k, j as usize).expect("filled"));
-                sym.off_jk.push(sym.block_offset(j as usize, k).expect("filled"));
-                sym.flops += nk * nk * sym.sizes[j as usize] as u64;
+                self.later_pos.push(j);
+                self.off_kj.push(self.block_offset(k, j as usize).expect("filled"));
+                self.off_jk.push(self.block_offset(j as usize, k).expect("filled"));
+                self.flops += nk * nk * self.sizes[j as usize] as u64;
             }
-            sym.later_ptr.push(sym.later_pos.len() as u32);
+            self.later_ptr.push(self.later_pos.len() as u32);
             for &i in l {
                 for &j in l {
-                    sym.update_off.push(sym.block_offset(i as usize, j as usize).expect("filled"));
-                    sym.flops += sym.sizes[i as usize] as u64 * nk * sym.sizes[j as usize] as u64;
+                    self.update_off.push(self.block_offset(i as usize, j as usize).expect("filled"));
+                    self.flops += self.sizes[i as usize] as u64 * nk * self.sizes[j as usize] as u64;
                 }
             }
-            sym.update_ptr.push(sym.update_off.len() as u32);
+            self.update_ptr.push(self.update_off.len() as u32);
         }
-        sym
     }
 
     /// Number of unknowns.
@@ -280,5 +225,111 @@ pub fn block_matvec<T: Scalar>(sym: &BlockSymbolic, values: &[T], x: &[T], y: &m
             }
             y[si + r] += s;
         }
+    }
+}
+
+/// The blocks' undirected adjacency (without the diagonal), and the
+/// coupled pairs as given (lower block first).
+fn adjacency(nb: usize, edges: &[(u32, u32)]) -> (Vec<BTreeSet<u32>>, BTreeSet<(u32, u32)>) {
+    let mut adj: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); nb];
+    let mut original: BTreeSet<(u32, u32)> = BTreeSet::new();
+    for &(a, b) in edges {
+        if a != b {
+            adj[a as usize].insert(b);
+            adj[b as usize].insert(a);
+            original.insert((a.min(b), a.max(b)));
+        }
+    }
+    (adj, original)
+}
+
+/// Simulates the elimination: the order of the blocks and each block's
+/// neighbours when it is eliminated (its later blocks).
+fn eliminate(sizes: &[u32], mut adj: Vec<BTreeSet<u32>>, ordering: BlockOrdering) -> (Vec<u32>, Vec<Vec<u32>>) {
+    let nb = sizes.len();
+    let mut eliminated = vec![false; nb];
+    let mut order = Vec::with_capacity(nb);
+    let mut later_sets: Vec<Vec<u32>> = vec![Vec::new(); nb];
+    let weight = |adj: &BTreeSet<u32>| -> u64 { adj.iter().map(|&u| sizes[u as usize] as u64).sum() };
+    let mut wdeg: Vec<u64> = adj.iter().map(weight).collect();
+    for step in 0..nb {
+        let v = match ordering {
+            BlockOrdering::Natural => step,
+            BlockOrdering::MinimumDegree => {
+                (0..nb).filter(|&v| !eliminated[v]).min_by_key(|&v| (wdeg[v], v)).expect("a block remains")
+            }
+        };
+        eliminated[v] = true;
+        order.push(v as u32);
+        let nbrs: Vec<u32> = adj[v].iter().copied().collect();
+        for &u in &nbrs {
+            let au = &mut adj[u as usize];
+            au.remove(&(v as u32));
+            for &w in &nbrs {
+                if w != u {
+                    au.insert(w);
+                }
+            }
+            wdeg[u as usize] = weight(&adj[u as usize]);
+        }
+        later_sets[v] = nbrs;
+        adj[v].clear();
+    }
+    (order, later_sets)
+}
+
+/// The filled block pattern by position: rows, columns, each block's
+/// offset, whether it is fill, the number of entries and each block's later
+/// blocks.
+struct Pattern {
+    row_ptr: Vec<u32>,
+    cols: Vec<u32>,
+    offs: Vec<u32>,
+    fill: Vec<bool>,
+    nnz: u32,
+    later: Vec<Vec<u32>>,
+}
+
+impl Pattern {
+    /// The pattern of the blocks eliminated in `order` (each at its
+    /// `position`, of `sizes_p` there) with their later blocks, fill being
+    /// what `original` lacks.
+    fn filled(
+        order: &[u32],
+        position: &[u32],
+        sizes_p: &[u32],
+        later_sets: &[Vec<u32>],
+        original: &BTreeSet<(u32, u32)>,
+    ) -> Self {
+        let nb = order.len();
+        let mut rows: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); nb];
+        let mut later_p: Vec<Vec<u32>> = vec![Vec::new(); nb];
+        for (b, set) in later_sets.iter().enumerate() {
+            let k = position[b];
+            rows[k as usize].insert(k);
+            let mut l: Vec<u32> = set.iter().map(|&u| position[u as usize]).collect();
+            l.sort_unstable();
+            for &j in &l {
+                rows[k as usize].insert(j);
+                rows[j as usize].insert(k);
+            }
+            later_p[k as usize] = l;
+        }
+        let mut row_ptr = vec![0u32];
+        let mut cols = Vec::new();
+        let mut offs = Vec::new();
+        let mut fill = Vec::new();
+        let mut nnz = 0u32;
+        for (i, r) in rows.iter().enumerate() {
+            for &j in r {
+                cols.push(j);
+                offs.push(nnz);
+                let (bi, bj) = (order[i], order[j as usize]);
+                fill.push(i as u32 != j && !original.contains(&(bi.min(bj), bi.max(bj))));
+                nnz += sizes_p[i] * sizes_p[j as usize];
+            }
+            row_ptr.push(cols.len() as u32);
+        }
+        Pattern { row_ptr, cols, offs, fill, nnz, later: later_p }
     }
 }
