@@ -45,6 +45,11 @@ impl Field {
     }
 }
 
+/// The deck's spectral values and their units, in the order every output
+/// keeps them: the bridge alone's (a sweep's `/spectrum/without_joint`)
+/// and the measures of a `deck` limit state.
+pub const SPECTRAL: [(&str, &str); 4] = [("sa", "m/s^2"), ("psa", "m/s^2"), ("sd", "m"), ("sv", "m/s")];
+
 const TAU: f64 = 2.0 * std::f64::consts::PI;
 
 fn opt(x: Option<f64>) -> f64 {

@@ -53,9 +53,7 @@ fn results<'py>(py: Python<'py>, r: &Results, d: &Bound<'py, PyDict>) -> PyResul
     }
     let without = PyDict::new(py);
     let shape: Vec<usize> = if r.without_per_case { dims.to_vec() } else { dims[1..].to_vec() };
-    for ((name, unit), values) in
-        quakejoint_sweep::fragility::DECK_MEASURES.iter().zip(["m/s^2", "m/s^2", "m", "m/s"]).zip(&r.without)
-    {
+    for ((name, unit), values) in quakejoint_model::fields::SPECTRAL.iter().zip(&r.without) {
         without.set_item(name, array(py, values, &shape)?)?;
         units.set_item(name, unit)?;
     }

@@ -131,7 +131,7 @@ pub fn sweep_differences(a: &SweepFile, b: &SweepFile) -> Vec<String> {
         (None, None) => {}
         _ => out.push("one file is a multiple-stripe sweep (/fragility), the other is not".to_string()),
     }
-    for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
+    for (k, (name, _)) in quakejoint_model::fields::SPECTRAL.iter().enumerate() {
         if !bits_equal(&a.results.without[k], &b.results.without[k]) {
             out.push(format!("the spectrum without the joint ({name}) differs"));
         }

@@ -201,13 +201,13 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         let axes = Axes { dims: r.dims, labels: ["case", "record", "damping", axis] };
 
         let without = spec.create_group("without_joint")?;
-        for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
+        for (k, (name, units)) in quakejoint_model::fields::SPECTRAL.iter().enumerate() {
             let ds = if r.without_per_case {
                 axes.ds4(&without, name, &r.without[k])?
             } else {
                 axes.ds3(&without, name, &r.without[k])?
             };
-            attr_str(&ds, "units", ["m/s^2", "m/s^2", "m", "m/s"][k])?;
+            attr_str(&ds, "units", units)?;
         }
         let with = spec.create_group("with_joint")?;
         for (k, name) in FIELDS.iter().enumerate() {

@@ -92,7 +92,7 @@ fn read_results(spec: &Group, dims: [usize; 4], joints: Option<&[String]>) -> hd
     results.validity = values(&with, "validity")?;
     results.findings = text(&with, "findings")?;
     let without = group(spec, "without_joint")?;
-    for (k, name) in ["sa", "psa", "sd", "sv"].iter().enumerate() {
+    for (k, (name, _)) in quakejoint_model::fields::SPECTRAL.iter().enumerate() {
         results.without[k] = values(&without, name)?;
     }
     let n = dims.iter().product::<usize>();

@@ -33,7 +33,10 @@ pub const KINDS: [&str; 8] =
 
 /// The deck's own measures a `deck` limit state may take (the arrays with
 /// and without the joint hold them alike).
-pub const DECK_MEASURES: [&str; 4] = ["sa", "psa", "sd", "sv"];
+pub const DECK_MEASURES: [&str; 4] = {
+    let s = quakejoint_model::fields::SPECTRAL;
+    [s[0].0, s[1].0, s[2].0, s[3].0]
+};
 
 /// What a limit state tests in a run's results.
 #[derive(Debug, Clone, PartialEq)]
@@ -381,8 +384,8 @@ impl Entry<'_> {
             }
         };
         let measure = DECK_MEASURES.iter().position(|&x| x == m).expect("checked");
-        let threshold = self.required("above", ["m/s^2", "m/s^2", "m", "m/s"][measure])?;
-        let units = ["m/s^2", "m/s^2", "m", "m/s"][measure];
+        let units = quakejoint_model::fields::SPECTRAL[measure].1;
+        let threshold = self.required("above", units)?;
         let base =
             self.name.clone().unwrap_or(format!("deck {m} above {} {units}", quakejoint_motion::number(threshold)));
         let words = format!("the deck's {m} above {} {units}", quakejoint_motion::number(threshold));
