@@ -150,13 +150,11 @@ fn write_points(file: &hdf5::File, r: &RunResult) -> hdf5::Result<()> {
     let g = file.create_group("points")?;
     let names: Vec<String> = r.points.iter().map(|p| p.name.clone()).collect();
     strings_1d(&g, "name", &names)?;
-    let col = |f: fn(&quakejoint_model::modal::PointPeaks) -> f64| r.points.iter().map(f).collect::<Vec<_>>();
-    dataset_1d(&g, "sd", &col(|p| p.sd), "m")?;
-    dataset_1d(&g, "t_sd", &col(|p| p.t_sd), "s")?;
-    dataset_1d(&g, "sa", &col(|p| p.sa), "m/s^2")?;
-    dataset_1d(&g, "t_sa", &col(|p| p.t_sa), "s")?;
-    dataset_1d(&g, "sd_without_joint", &col(|p| p.sd_without), "m")?;
-    dataset_1d(&g, "sa_without_joint", &col(|p| p.sa_without), "m/s^2")?;
+    // (a column per peak, in PointPeaks::scalars' order)
+    for (k, (name, _, units)) in quakejoint_model::modal::PointPeaks::default().scalars().into_iter().enumerate() {
+        let column: Vec<f64> = r.points.iter().map(|p| p.scalars()[k].1).collect();
+        dataset_1d(&g, name, &column, units)?;
+    }
     scalar(&g, "base_shear", r.base_shear.unwrap_or(f64::NAN), "N")?;
     if let Some((check, warnings)) = &r.mode_check {
         dataset_1d(&g, "flexibility_captured", &check.flexibility, "1")?;

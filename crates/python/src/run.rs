@@ -277,14 +277,7 @@ fn simulate(
     for p in &result.points {
         let d = PyDict::new(py);
         d.set_item("name", &p.name)?;
-        for (k, v) in [
-            ("sd", p.sd),
-            ("t_sd", p.t_sd),
-            ("sa", p.sa),
-            ("t_sa", p.t_sa),
-            ("sd_without_joint", p.sd_without),
-            ("sa_without_joint", p.sa_without),
-        ] {
+        for (k, v, _) in p.scalars() {
             d.set_item(k, v)?;
         }
         points.append(d)?;

@@ -134,6 +134,17 @@ fn joint_json(j: &JointResult) -> serde_json::Value {
     serde_json::Value::Object(map)
 }
 
+/// One point of a modal bridge as JSON: its name and peaks
+/// ([`quakejoint_model::modal::PointPeaks::scalars`], NaN as null).
+fn point_json(p: &quakejoint_model::modal::PointPeaks) -> serde_json::Value {
+    let mut map = serde_json::Map::new();
+    map.insert("name".into(), json!(p.name));
+    for (name, value, _) in p.scalars() {
+        map.insert(name.into(), json!(value));
+    }
+    serde_json::Value::Object(map)
+}
+
 /// `quakejoint simulate`. Quantities not computed (the joint's, without
 /// it) are `null` in JSON and left out of the table.
 /// With `modal`, the deck's values are those of the joint's point of the
@@ -217,10 +228,7 @@ fn run_json(path: &Path, loaded: &LoadedRecord, r: &RunResult, config: &Config, 
         "joint_point": point,
         "joint_name": config.joints.first().map(|j| j.name.clone()),
         "joints": r.joints.iter().map(joint_json).collect::<Vec<_>>(),
-        "points": r.points.iter().map(|p| json!({
-            "name": p.name, "sd": p.sd, "t_sd": p.t_sd, "sa": p.sa, "t_sa": p.t_sa,
-            "sd_without_joint": p.sd_without, "sa_without_joint": p.sa_without,
-        })).collect::<Vec<_>>(),
+        "points": r.points.iter().map(point_json).collect::<Vec<_>>(),
         "base_shear": r.base_shear,
         "mass_ratio": r.mode_check.as_ref().and_then(|(c, _)| c.mass_ratio),
         "flexibility_captured": r.mode_check.as_ref().map(|(c, _)| c.flexibility.clone()),

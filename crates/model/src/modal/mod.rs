@@ -728,6 +728,21 @@ pub struct PointPeaks {
     pub sa_without: f64,
 }
 
+impl PointPeaks {
+    /// Its peaks: name, value and unit, as every output lists a point's
+    /// (a run file's `/points/<name>`, JSON, Python).
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 6] {
+        [
+            ("sd", self.sd, "m"),
+            ("t_sd", self.t_sd, "s"),
+            ("sa", self.sa, "m/s^2"),
+            ("t_sa", self.t_sa, "s"),
+            ("sd_without_joint", self.sd_without, "m"),
+            ("sa_without_joint", self.sa_without, "m/s^2"),
+        ]
+    }
+}
+
 impl ModalParts {
     /// The base shear along the bridge \[N\]: the kept modes' elastic and
     /// damping forces summed over the supports,
