@@ -193,33 +193,16 @@ fn write_joints(file: &hdf5::File, r: &RunResult) -> hdf5::Result<()> {
 /// not compute (empty) are left out. A run's `/history` and a sweep's
 /// `/histories/job_<j>` are written by it.
 pub fn write_history(g: &hdf5::Group, h: &Histories) -> hdf5::Result<()> {
-    let series: [(&str, &[f64], &str); 11] = [
-        ("t", &h.t, "s"),
-        ("ag", &h.ag, "m/s^2"),
-        ("u", &h.u, "m"),
-        ("v", &h.v, "m/s"),
-        ("a_abs", &h.a_abs, "m/s^2"),
-        ("a_abs_without_joint", &h.a_abs_without_joint, "m/s^2"),
-        ("joint_force", &h.joint_force, "N"),
-        ("friction_power", &h.friction_power, "W"),
-        ("uy", &h.uy, "m"),
-        ("a_abs_y", &h.a_abs_y, "m/s^2"),
-        ("joint_force_y", &h.joint_force_y, "N"),
-    ];
-    for (name, data, units) in series {
+    for s in quakejoint_model::history::SERIES {
+        let data = (s.of)(h);
         if !data.is_empty() {
-            dataset_1d(g, name, data, units)?;
+            dataset_1d(g, s.name, data, s.units)?;
         }
     }
-    let tables: [(&str, &[Vec<f64>], &str); 4] = [
-        ("center_beam_dx", &h.center_beam_dx, "m"),
-        ("subgaps", &h.subgaps, "m"),
-        ("subgaps_wide", &h.subgaps_wide, "m"),
-        ("contact_force", &h.contact_force, "N"),
-    ];
-    for (name, rows, units) in tables {
+    for table in quakejoint_model::history::TABLES {
+        let rows = (table.of)(h);
         if !rows.is_empty() {
-            dataset_2d(g, name, rows, units)?;
+            dataset_2d(g, table.name, rows, table.units)?;
         }
     }
     Ok(())
@@ -235,24 +218,14 @@ pub fn read_history(g: &hdf5::Group) -> hdf5::Result<Histories> {
             Ok(Vec::new())
         }
     };
-    Ok(Histories {
-        t: series("t")?,
-        ag: series("ag")?,
-        u: series("u")?,
-        v: series("v")?,
-        a_abs: series("a_abs")?,
-        a_abs_without_joint: series("a_abs_without_joint")?,
-        joint_force: series("joint_force")?,
-        friction_power: series("friction_power")?,
-        center_beam_dx: rows(g, "center_beam_dx")?,
-        subgaps: rows(g, "subgaps")?,
-        subgaps_wide: rows(g, "subgaps_wide")?,
-        contact_force: rows(g, "contact_force")?,
-        impacts: Vec::new(),
-        uy: series("uy")?,
-        a_abs_y: series("a_abs_y")?,
-        joint_force_y: series("joint_force_y")?,
-    })
+    let mut h = Histories::default();
+    for s in quakejoint_model::history::SERIES {
+        *(s.of_mut)(&mut h) = series(s.name)?;
+    }
+    for table in quakejoint_model::history::TABLES {
+        *(table.of_mut)(&mut h) = rows(g, table.name)?;
+    }
+    Ok(h)
 }
 
 /// Writes the hysteresis loop of a service run (`quakejoint service --output`).

@@ -52,6 +52,64 @@ pub struct Histories {
     pub joint_force_y: Vec<f64>,
 }
 
+/// One series of [`Histories`] over the output times: its name in every
+/// output, its units, and where it is.
+#[derive(Debug, Clone, Copy)]
+pub struct Series {
+    /// Its name.
+    pub name: &'static str,
+    /// Its units.
+    pub units: &'static str,
+    /// The series in a run's histories.
+    pub of: fn(&Histories) -> &Vec<f64>,
+    /// The same, to fill.
+    pub of_mut: fn(&mut Histories) -> &mut Vec<f64>,
+}
+
+/// One table of [`Histories`]: a series per beam or sub-gap (rows) over
+/// the output times.
+#[derive(Debug, Clone, Copy)]
+pub struct Table {
+    /// Its name.
+    pub name: &'static str,
+    /// Its units.
+    pub units: &'static str,
+    /// The rows in a run's histories.
+    pub of: fn(&Histories) -> &Vec<Vec<f64>>,
+    /// The same, to fill.
+    pub of_mut: fn(&mut Histories) -> &mut Vec<Vec<f64>>,
+}
+
+macro_rules! series {
+    ($kind:ident, $field:ident, $units:literal) => {
+        $kind { name: stringify!($field), units: $units, of: |h| &h.$field, of_mut: |h| &mut h.$field }
+    };
+}
+
+/// Every series of a run's histories, in the order outputs list them (a
+/// run's `/history`, a sweep's `/histories/job_<j>`).
+pub const SERIES: [Series; 11] = [
+    series!(Series, t, "s"),
+    series!(Series, ag, "m/s^2"),
+    series!(Series, u, "m"),
+    series!(Series, v, "m/s"),
+    series!(Series, a_abs, "m/s^2"),
+    series!(Series, a_abs_without_joint, "m/s^2"),
+    series!(Series, joint_force, "N"),
+    series!(Series, friction_power, "W"),
+    series!(Series, uy, "m"),
+    series!(Series, a_abs_y, "m/s^2"),
+    series!(Series, joint_force_y, "N"),
+];
+
+/// Every table of a run's histories, in the order outputs list them.
+pub const TABLES: [Table; 4] = [
+    series!(Table, center_beam_dx, "m"),
+    series!(Table, subgaps, "m"),
+    series!(Table, subgaps_wide, "m"),
+    series!(Table, contact_force, "N"),
+];
+
 impl Histories {
     /// The series a sweep keeps of a job, in its journal and its file: the
     /// deck's and the joint's along the bridge and the sub-gaps, not the
