@@ -167,6 +167,9 @@ def test_two_joints_on_a_modal_bridge_in_the_cli_python_and_the_run_file(cli, tw
         out["friction_energy"], rel=1e-12
     )
     assert [p["sd"] for p in r.points] == [p["sd"] for p in out["points"]]
+    # every point's history, with the joints and without
+    assert r.history["points_u"].shape == (4, len(r.history["t"]))
+    assert r.history["points_a_abs_without_joint"].shape == (4, len(r.history["t"]))
     with h5py.File(path) as f:
         assert f["joints/1"].attrs["name"].decode() == "right abutment"
         assert f["joints/1/peak_joint_force"][()] == out["joints"][1]["peak_joint_force"]

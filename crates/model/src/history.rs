@@ -50,6 +50,18 @@ pub struct Histories {
     /// Force of the joint on the deck across the bridge, y \[N\] (empty when
     /// the deck does not move across).
     pub joint_force_y: Vec<f64>,
+    /// A bridge given by its modes: each point's displacement along the
+    /// bridge relative to the ground, `[point][time]` \[m\] (the run's
+    /// first joint's histories only).
+    pub points_u: Vec<Vec<f64>>,
+    /// Each point's absolute acceleration along the bridge,
+    /// `[point][time]` [m/s^2].
+    pub points_a_abs: Vec<Vec<f64>>,
+    /// The same of the bridge alone (exact modal superposition over the same
+    /// window; NaN past it) \[m\].
+    pub points_u_without_joint: Vec<Vec<f64>>,
+    /// The same [m/s^2].
+    pub points_a_abs_without_joint: Vec<Vec<f64>>,
 }
 
 /// One series of [`Histories`] over the output times: its name in every
@@ -103,18 +115,23 @@ pub const SERIES: [Series; 11] = [
 ];
 
 /// Every table of a run's histories, in the order outputs list them.
-pub const TABLES: [Table; 4] = [
+pub const TABLES: [Table; 8] = [
     series!(Table, center_beam_dx, "m"),
     series!(Table, subgaps, "m"),
     series!(Table, subgaps_wide, "m"),
     series!(Table, contact_force, "N"),
+    series!(Table, points_u, "m"),
+    series!(Table, points_a_abs, "m/s^2"),
+    series!(Table, points_u_without_joint, "m"),
+    series!(Table, points_a_abs_without_joint, "m/s^2"),
 ];
 
 impl Histories {
     /// The series a sweep keeps of a job, in its journal and its file: the
     /// deck's and the joint's along the bridge and the sub-gaps, not the
-    /// deck's velocity, the center beams' motion, the log of impacts or the
-    /// series across the bridge (a run's own file holds those).
+    /// deck's velocity, the center beams' motion, the log of impacts, the
+    /// series across the bridge or a modal bridge's points (a run's own
+    /// file holds those).
     pub fn for_sweep(self) -> Histories {
         Histories {
             v: Vec::new(),
@@ -123,6 +140,10 @@ impl Histories {
             uy: Vec::new(),
             a_abs_y: Vec::new(),
             joint_force_y: Vec::new(),
+            points_u: Vec::new(),
+            points_a_abs: Vec::new(),
+            points_u_without_joint: Vec::new(),
+            points_a_abs_without_joint: Vec::new(),
             ..self
         }
     }

@@ -214,9 +214,20 @@ impl RunSpec {
         }
         result.mode_check = Some((check, warnings));
         if let Some(h) = &mut result.histories {
-            let mut a = alone.points[point].a_abs.clone();
-            a.resize(h.t.len(), f64::NAN);
-            h.a_abs_without_joint = a;
+            let at_times = |x: &[f64]| {
+                let mut x = x.to_vec();
+                x.resize(h.t.len(), f64::NAN);
+                x
+            };
+            h.a_abs_without_joint = at_times(&alone.points[point].a_abs);
+            // every point's, the bridge alone's (and the run's, when it is
+            // the bridge alone)
+            h.points_u_without_joint = alone.points.iter().map(|p| at_times(&p.u)).collect();
+            h.points_a_abs_without_joint = alone.points.iter().map(|p| at_times(&p.a_abs)).collect();
+            if self.alone {
+                h.points_u = h.points_u_without_joint.clone();
+                h.points_a_abs = h.points_a_abs_without_joint.clone();
+            }
         }
         Ok(result)
     }

@@ -205,3 +205,37 @@ fn a_joint_turned_half_a_turn_reports_the_ground_in_its_own_x() {
         assert_eq!(*b, -*a);
     }
 }
+
+/// Every point of the modes file has its history, with the joints and
+/// without, not only the first joint's deck point: the first joint's deck
+/// end ("left end", its own x the bridge's) moves as the run's `u` and
+/// `a_abs` say, and without the joints every point's series are the bridge
+/// alone's, which `--no-joint` (the bridge alone, exactly) reports as its
+/// own.
+#[test]
+fn every_point_has_its_history_with_the_joints_and_without() {
+    use quakejoint_model::runspec::{Overrides, RunSpec};
+    let config = modal::two_joints_on_three_span(&root(), "small.toml", 0.3, "[simulation]\nduration = 1.0\n").unwrap();
+    let (x, _) = quakejoint_model::run::load_records(&config, &root()).unwrap();
+    let options = quakejoint_model::run::RunOptions { histories: true, ..Default::default() };
+    let with = RunSpec::new(config.clone(), &Overrides::default()).unwrap().run(&x.record, None, &options).unwrap();
+    let alone = RunSpec::new(config, &Overrides { alone: true, ..Default::default() })
+        .unwrap()
+        .run(&x.record, None, &options)
+        .unwrap();
+    let (h, a) = (with.histories.unwrap(), alone.histories.unwrap());
+    assert_eq!(h.points_u.len(), 4);
+    assert!(h.points_u.iter().chain(&h.points_u_without_joint).all(|s| s.len() == h.t.len()));
+    // the left end is the first joint's deck point
+    let close = |x: &[f64], y: &[f64]| {
+        let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        x.iter().zip(y).all(|(a, b)| (a - b).abs() <= 1e-9 * scale)
+    };
+    assert!(close(&h.points_u[0], &h.u) && close(&h.points_a_abs[0], &h.a_abs));
+    assert_eq!(h.points_a_abs_without_joint[0], h.a_abs_without_joint);
+    // the bridge alone reports every point as its own and as without
+    assert_eq!(a.points_u, a.points_u_without_joint);
+    assert_eq!(a.points_u_without_joint, h.points_u_without_joint);
+    // the joints change the bridge's motion
+    assert!(h.points_u[1] != h.points_u_without_joint[1]);
+}

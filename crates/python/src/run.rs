@@ -187,15 +187,12 @@ fn history_dict<'py>(py: Python<'py>, h: &Histories, joint: bool) -> PyResult<Bo
         d.set_item("a_abs_y", arr(&h.a_abs_y))?;
         d.set_item("joint_force_y", arr(&h.joint_force_y))?;
     }
-    if !h.center_beam_dx.is_empty() {
-        d.set_item("center_beam_dx", matrix(&h.center_beam_dx)?)?;
-    }
-    if !h.subgaps.is_empty() {
-        d.set_item("subgaps", matrix(&h.subgaps)?)?;
-        d.set_item("subgaps_wide", matrix(&h.subgaps_wide)?)?;
-    }
-    if !h.contact_force.is_empty() {
-        d.set_item("contact_force", matrix(&h.contact_force)?)?;
+    // (the tables, each (row, time), those the run has)
+    for table in quakejoint_model::history::TABLES {
+        let rows = (table.of)(h);
+        if !rows.is_empty() {
+            d.set_item(table.name, matrix(rows)?)?;
+        }
     }
     Ok(d)
 }
@@ -222,7 +219,9 @@ fn cumulative(t: &[f64], y: &[f64]) -> Vec<f64> {
 /// integral at the output times; the run's exact total is
 /// `friction_energy` of the result), center_beam_dx, subgaps (at the
 /// narrower end of each cell: pounding), subgaps_wide (at the wider end:
-/// the capacity) and contact_force. The GIL is released while the run goes on; Ctrl-C stops
+/// the capacity) and contact_force; on a bridge given by its modes also
+/// points_u, points_a_abs and their `_without_joint` (point, time): every
+/// point of the modes file. The GIL is released while the run goes on; Ctrl-C stops
 /// it (KeyboardInterrupt).
 #[pyfunction]
 #[pyo3(signature = (config=None, *, period=None, record=None, joint=true, history=true))]

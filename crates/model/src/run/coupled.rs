@@ -315,6 +315,10 @@ impl Observers {
             }
             if k == 0 {
                 obs.points = vec![[Peak::default(); 2]; point_names.len()];
+                if let Some(h) = &mut obs.histories {
+                    h.points_u = vec![Vec::new(); point_names.len()];
+                    h.points_a_abs = vec![Vec::new(); point_names.len()];
+                }
             }
             obs.sample(0.0, sim.positions(), sim.velocities(), sim.multipliers(), asm, &mut asm.workspace());
             joints.push(obs);
@@ -669,6 +673,10 @@ impl EarthquakeObserver {
             let [up, _, ap] = m.parts.point(asm, p, q, v, &acc, ag[0]);
             peaks[0].update(up, t);
             peaks[1].update(ap, t);
+            if let Some(h) = &mut self.histories {
+                h.points_u[p].push(up);
+                h.points_a_abs[p].push(ap);
+            }
         }
         if !self.points.is_empty() {
             self.base_shear.update(m.parts.base_shear(asm, q, v), t);
