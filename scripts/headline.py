@@ -33,7 +33,8 @@ def headline(src):
         for r, record in enumerate(records):
             for z, zeta in enumerate(damping):
                 ok, flagged, failed, not_run = job_masks(status[c, r, z], validity[c, r, z])
-                red = 100 * reduction[c, r, z]
+                # (rounded to a tenth of a percent; +0.0 rather than -0.0)
+                red = np.round(100 * reduction[c, r, z], 1) + 0.0
                 head = f"{case} / {record} / {100 * zeta:g} % damping"
                 at = (
                     f"  T = {periods[near]:.3f} s: Sa {without[r, z, near]:.3f} m/s^2 without the joint, "

@@ -17,6 +17,8 @@ the records); `--records` draws one row per record for them too. `--g`
 gives Sa in g. Writes out_spectrum.png beside the input
 unless an output name is given. Headless (Agg backend).
 """
+import sys
+
 import h5py
 import matplotlib
 
@@ -33,6 +35,12 @@ from plotlib import (  # noqa: E402
 def read(src):
     with h5py.File(src, "r") as f:
         refuse_modal(f, src)
+        if "fragility" in f:
+            # (one period, a record per stripe: a spectrum would be one point per panel)
+            sys.exit(
+                f"{src}: a multiple-stripe sweep ([sweep.stripes]): its records are scaled copies at one period; "
+                f"plot it with scripts/plot_fragility.py {src}"
+            )
         s = f["spectrum"]
         return {
             "periods": s["period"][:],

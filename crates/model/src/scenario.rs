@@ -27,6 +27,16 @@ impl Scenario {
         let kept =
             config.bridge.modal.as_ref().map(|m| crate::modal::kept_modes(m, config.bridge.damping)).transpose()?;
         let places = crate::placement::places(&config)?;
+        if let (Some(m), Some(kept)) = (config.bridge.modal.as_ref().filter(|m| m.corrected()), &kept) {
+            // the static correction at the joints' points, as the model
+            // builds it: a `[static]` table of other modes is refused here,
+            // before any run (a sweep's check and plan too)
+            // (the deck ends first, then the hinges' abutment sides, as the
+            // generator orders them)
+            let decks = places.iter().flat_map(|p| std::iter::once(p.deck_point).chain(p.deck_point_y));
+            let points: Vec<usize> = decks.chain(places.iter().filter_map(|p| p.abutment_point)).collect();
+            crate::modal::loaded(m)?.static_correction(kept, &points, m.scale(), &m.modes)?;
+        }
         Ok(Scenario { config, places, kept })
     }
 }

@@ -172,8 +172,9 @@ fn decimal_hint(token: &str) -> String {
 /// Invalid arguments to the spectrum functions.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SpectrumError {
-    /// A period that is negative or not finite.
-    #[error("period T = {0} s must be finite and >= 0")]
+    /// A period that is negative, not finite, or positive below
+    /// [`crate::oscillator::MIN_PERIOD`].
+    #[error("period T = {} s must be 0 (the rigid oscillator: Sa = PGA) or from 1e-6 s on, and finite", crate::text::number(*.0))]
     Period(f64),
     /// A damping ratio outside [0, 1).
     #[error("damping ratio {0} must be finite, >= 0 and < 1")]

@@ -149,7 +149,7 @@ pub fn step_coefficients(period: f64, damping: f64, dt: f64) -> StepCoefficients
 /// Check an oscillator's parameters: period \[s\] finite and >= 0, damping
 /// ratio [-] in [0, 1), time step \[s\] finite and > 0.
 pub fn check_parameters(period: f64, damping: f64, dt: f64) -> Result<(), SpectrumError> {
-    if !(period.is_finite() && period >= 0.0) {
+    if !(period.is_finite() && (period == 0.0 || period >= MIN_PERIOD)) {
         return Err(SpectrumError::Period(period));
     }
     if !(damping.is_finite() && (0.0..1.0).contains(&damping)) {
@@ -160,6 +160,11 @@ pub fn check_parameters(period: f64, damping: f64, dt: f64) -> Result<(), Spectr
     }
     Ok(())
 }
+
+/// The shortest positive period of an oscillator \[s\]: a microsecond, far
+/// below any structure's (shorter ones overflow `w^2`; 0 is the rigid
+/// oscillator, Sa = PGA).
+pub const MIN_PERIOD: f64 = 1e-6;
 
 /// A linear oscillator with its exact step for one time step: period T,
 /// damping ratio ζ, time step dt. T = 0 is the rigid oscillator (it moves

@@ -275,3 +275,21 @@ fn invalid_records_and_spectrum_arguments() {
         assert!(e.to_string().starts_with("period range: "), "{e}");
     }
 }
+
+/// A positive period below a microsecond is refused (its `w^2` overflows:
+/// 1e-154 s gave an infinite Sa, 1e-300 s a Sa of 0), while 0 is the
+/// rigid oscillator and 1e-6 s responds as it does, with the ground
+/// (Sa = PGA to 1e-6).
+#[test]
+fn periods_below_a_microsecond_are_refused() {
+    let acc: Vec<f64> = (0..400).map(|i| (0.05 * i as f64).sin() * (1.0 - i as f64 / 400.0)).collect();
+    let pga = acc.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    for t in [1e-300, 1e-154, 5e-7] {
+        let e = quakejoint_motion::spectrum_samples(&acc, 0.01, &[t], &[0.05], Default::default()).unwrap_err();
+        assert!(e.to_string().contains("1e-6 s"), "{t}: {e}");
+    }
+    let rows = quakejoint_motion::spectrum_samples(&acc, 0.01, &[0.0, 1e-6], &[0.05], Default::default()).unwrap();
+    for r in rows {
+        assert!((r.peaks.sa - pga).abs() <= 1e-6 * pga, "{}: {} against {pga}", r.period, r.peaks.sa);
+    }
+}

@@ -526,6 +526,13 @@ fn check_modal(config: &Config, m: &ModalConfig) -> Result<(), ModelError> {
         if n == 0 {
             return Err(invalid("bridge.modal.modes_used", 0.0, "keep at least one mode"));
         }
+        if let Some(held) = m.loaded.as_ref().map(|b| b.modes.len()).filter(|&held| n > held) {
+            return Err(invalid(
+                "bridge.modal.modes_used",
+                n as f64,
+                &format!("the modes file {} holds {held} mode{}", m.modes, if held == 1 { "" } else { "s" }),
+            ));
+        }
     }
     if let Some(f) = m.period_scale {
         check("bridge.modal.period_scale", f)?;

@@ -135,8 +135,8 @@ impl ModalBridge {
             if lambda < -NEGATIVE * largest {
                 let names: Vec<&str> = points.iter().map(|&p| self.points[p].name.as_str()).collect();
                 return Err(bad(format!(
-                    "at the points {names:?} the kept modes hold more static flexibility than the modes file's \
-                     [static] table ({lambda:.3e} m/N below it): the table does not belong to these modes"
+                    "at the points {names:?} the kept modes hold more static flexibility than the [static] table \
+                     of the modes file {file} ({lambda:.3e} m/N below it): the table does not belong to these modes"
                 )));
             }
             if lambda <= ZERO * largest {
