@@ -140,11 +140,10 @@ fn the_bridge_alone_of_a_modal_sweep_is_the_exact_modal_superposition() {
     for (t, &f) in SCALES.iter().enumerate() {
         let overrides = Overrides { period_scale: Some(Named::new(f, "test")), ..Overrides::default() };
         let spec = RunSpec::new(config.clone(), &overrides).unwrap();
-        let m = spec.config().bridge.modal.as_ref().unwrap();
-        let kept = quakejoint_model::modal::kept_modes(m, spec.config().bridge.damping).unwrap();
+        let kept = &spec.scenario.bridge.modal().unwrap().kept;
         assert_eq!(kept.len(), 124);
         let left = quakejoint_model::placement::places(spec.config()).unwrap()[0].deck_point;
-        let exact = quakejoint_model::linear::modal_response(&window, &kept, left, false);
+        let exact = quakejoint_model::linear::modal_response(&window, kept, left, false);
         let without: Vec<f64> = (0..4).map(|k| file.results.without[k][t]).collect();
         assert_eq!(without, vec![exact.sa, exact.psa, exact.sd, exact.sv], "period scale {f}");
         // not the single-DOF spectrum at the fundamental period

@@ -453,8 +453,9 @@ pub fn build_scenario(
     drive: Drive,
     bearing_joint: BearingJoint,
 ) -> Result<JointModel, ModelError> {
-    let (config, places, modes) = (&scenario.config, &scenario.places, &scenario.kept);
-    let bridge = bridge_of(config, omega, modes.as_deref())?;
+    let (config, places) = (&scenario.config, &scenario.places);
+    let modal = scenario.bridge.modal();
+    let bridge = bridge_of(config, omega, modal.map(|m| m.kept.as_slice()))?;
     let mut sys = System::new();
     let mut models = Vec::with_capacity(places.len());
     // (several joints: each one's bodies in its own group, whose friction
@@ -475,8 +476,8 @@ pub fn build_scenario(
         None => BodyId::GROUND,
     };
     // the decks (and the abutment sides at in-span hinges)
-    let (decks, hinges) = match &modes {
-        Some(kept) => add_modal_decks(&mut sys, config, kept, places, &mut models)?,
+    let (decks, hinges) = match modal {
+        Some(m) => add_modal_decks(&mut sys, m, places, &mut models),
         None => {
             let deck_coords: &[Coord] = if bridge.transverse.is_some() { &[Coord::X, Coord::Y] } else { &[Coord::X] };
             (vec![sys.add_body(Body::new("deck", bridge.mass, 1.0, [0.0; 3]).only(deck_coords))], vec![None])
@@ -590,11 +591,10 @@ fn add_far_segment(sys: &mut System, model: &mut JointModel, (mass, w, zeta): (f
 /// hinges' abutment sides.
 fn add_modal_decks(
     sys: &mut System,
-    config: &Config,
-    kept: &[crate::modal::KeptMode],
+    modal: &crate::bridge::Modal,
     places: &[crate::placement::Place],
     models: &mut [JointModel],
-) -> Result<(Vec<BodyId>, Vec<Option<BodyId>>), ModelError> {
+) -> (Vec<BodyId>, Vec<Option<BodyId>>) {
     let mut ends: Vec<EndSpec> = places
         .iter()
         .map(|p| EndSpec {
@@ -611,19 +611,13 @@ fn add_modal_decks(
             ends.len() - 1
         }));
     }
-    let correction = match config.bridge.modal.as_ref().filter(|m| m.corrected()) {
-        Some(m) => {
-            let points: Vec<usize> = ends.iter().flat_map(|e| std::iter::once(e.point).chain(e.point_y)).collect();
-            Some(crate::modal::loaded(m)?.static_correction(kept, &points, m.scale(), &m.modes)?)
-        }
-        None => None,
-    };
-    let parts = std::sync::Arc::new(add_modes(sys, kept, correction.as_ref(), &ends));
+    // (the static correction at these points, in this order: the scenario's)
+    let parts = std::sync::Arc::new(add_modes(sys, &modal.kept, modal.correction.as_ref(), &ends));
     for (k, m) in models.iter_mut().enumerate() {
         m.modal = Some(ModalDeck { parts: parts.clone(), end: k });
     }
     let decks = parts.ends[..places.len()].iter().map(|e| e.body).collect::<Vec<_>>();
-    Ok((decks, hinges.into_iter().map(|h| h.map(|e| parts.ends[e].body)).collect::<Vec<_>>()))
+    (decks, hinges.into_iter().map(|h| h.map(|e| parts.ends[e].body)).collect::<Vec<_>>())
 }
 
 /// What the joints connect to: each joint's deck, the abutment side of an

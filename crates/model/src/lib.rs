@@ -10,6 +10,7 @@
 
 #![deny(missing_docs)]
 
+pub mod bridge;
 pub mod calibrate;
 pub mod config;
 pub mod error;

@@ -118,13 +118,7 @@ pub fn modal_result(record: &Record, omega: f64, h: History, histories: bool) ->
 
 /// The history of [`modal_response`] at the record's sample times.
 pub fn modal_history(record: &Record, kept: &[KeptMode], point: usize) -> History {
-    modal_history_in(record, kept, point, 0)
-}
-
-/// [`modal_history`] under a record along the ground's direction `dir`
-/// (0: x, 1: y), at a point of the modes file along that direction.
-pub fn modal_history_in(record: &Record, kept: &[KeptMode], point: usize, dir: usize) -> History {
-    modal_superposition(record, kept, dir).points.swap_remove(point)
+    modal_superposition(record, kept, 0).points.swap_remove(point)
 }
 
 /// A modal bridge alone under a record, by exact modal superposition: each

@@ -114,11 +114,8 @@ impl RunSpec {
         if overrides.alone {
             config.joint.enabled = false;
         }
-        let scenario = Scenario::new(config)?;
-        let period = match &scenario.kept {
-            Some(kept) => 2.0 * std::f64::consts::PI / kept[0].omega,
-            None => overrides.period.as_ref().map_or_else(|| scenario.config.bridge.natural_period(), |p| p.value),
-        };
+        let scenario = Scenario::with_period(config, overrides.period.as_ref().map(|p| p.value))?;
+        let period = scenario.bridge.period();
         Ok(RunSpec { scenario, alone: overrides.alone, period })
     }
 
@@ -127,88 +124,68 @@ impl RunSpec {
         &self.scenario.config
     }
 
-    /// The bridge's circular frequency \[rad/s\].
-    pub fn omega(&self) -> f64 {
-        self.config().bridge.omega()
-    }
-
     /// Runs it under `record_x` (and `record_y` across, if the deck moves
-    /// across): the coupled model, or the bridge alone exactly; with
-    /// histories also the bridge alone's absolute acceleration at the same
-    /// output times (`a_abs_without_joint` of the histories).
+    /// across): the coupled model, or the bridge alone exactly; with the
+    /// bridge alone's response beside it ([`Scenario::alone`]): its peaks
+    /// at every point of a bridge given by its modes and, with histories,
+    /// its absolute acceleration at the same output times
+    /// (`a_abs_without_joint`, and every point's `points_*_without_joint`).
     pub fn run(
         &self,
         record_x: &Record,
         record_y: Option<&Record>,
         options: &RunOptions,
     ) -> Result<RunResult, ModelError> {
-        let config = self.config();
-        let reference = Reference::for_run(config, record_x, record_x);
-        if let Some(m) = &config.bridge.modal {
-            return self.run_modal(m, &reference, record_x, record_y, options);
-        }
-        let mut result = if self.alone {
-            crate::linear::linear_response(reference.window(), self.omega(), config.bridge.damping, options.histories)
-        } else {
-            simulate_scenario(&self.scenario, record_x, record_y, options)?
+        let scenario = &self.scenario;
+        let reference = Reference::for_run(self.config(), record_x, record_x);
+        let Some(modal) = scenario.bridge.modal() else {
+            let mut result = if self.alone {
+                scenario.alone(reference.window(), options.histories).result
+            } else {
+                simulate_scenario(scenario, record_x, record_y, options)?
+            };
+            if let Some(h) = &mut result.histories {
+                h.a_abs_without_joint = scenario.bridge.a_abs_alone(reference.window(), 0, h.t.len());
+            }
+            return Ok(result);
         };
-        if let Some(h) = &mut result.histories {
-            h.a_abs_without_joint = reference.a_abs(self.period, config.bridge.damping, h.t.len());
-        }
+        let alone = scenario.alone(reference.window(), options.histories);
+        let Some(every) = alone.modal.as_ref() else {
+            return Err(ModelError::Geometry("the bridge alone lacks its modes' points".into()));
+        };
+        let mut result = if self.alone {
+            // the run is the bridge alone: its values are those
+            let mut r = alone.result.clone();
+            r.points = (modal.file.points.iter().enumerate())
+                .map(|(p, mp)| {
+                    let [sd, sa] = every.peaks(p);
+                    let name = mp.name.clone();
+                    crate::modal::PointPeaks { name, sd, sa, t_sd: f64::NAN, t_sa: f64::NAN, ..Default::default() }
+                })
+                .collect();
+            r.base_shear = Some(every.base_shear_peak());
+            r
+        } else {
+            simulate_scenario(scenario, record_x, record_y, options)?
+        };
+        self.compare_modal(&mut result, modal, every);
         Ok(result)
     }
 
-    /// [`RunSpec::run`] of a bridge given by its modes: the run (or the
-    /// bridge alone at the first joint's deck point), each point of the
-    /// modes file and the base shear without the joints, and the check of
-    /// the kept modes, from one modal superposition.
-    fn run_modal(
-        &self,
-        m: &crate::config::ModalConfig,
-        reference: &Reference,
-        record_x: &Record,
-        record_y: Option<&Record>,
-        options: &RunOptions,
-    ) -> Result<RunResult, ModelError> {
-        let kept = self.scenario.kept.as_deref().unwrap_or_default();
-        let bridge = crate::modal::loaded(m)?;
-        let places = &self.scenario.places;
-        // the first joint's deck point
-        let point = places[0].deck_point;
-        let alone = crate::modal::alone(m, kept, reference.window())?;
-        let mut result = if self.alone {
-            let h = alone.points[point].clone();
-            let mut r = crate::linear::modal_result(reference.window(), kept[0].omega, h, options.histories);
-            // the run is the bridge alone: its values are those
-            r.points = bridge
-                .points
-                .iter()
-                .enumerate()
-                .map(|(p, mp)| {
-                    let [sd, sa] = alone.peaks(p);
-                    crate::modal::PointPeaks {
-                        name: mp.name.clone(),
-                        sd,
-                        sa,
-                        t_sd: f64::NAN,
-                        t_sa: f64::NAN,
-                        ..Default::default()
-                    }
-                })
-                .collect();
-            r.base_shear = Some(alone.base_shear_peak());
-            r
-        } else {
-            simulate_scenario(&self.scenario, record_x, record_y, options)?
-        };
+    /// A run on a bridge given by its modes set beside its bridge alone
+    /// `every`: each point's peaks and the base shear without the joints,
+    /// the check of the kept modes, and the histories without the joints.
+    fn compare_modal(&self, result: &mut RunResult, modal: &crate::bridge::Modal, every: &crate::linear::ModalAlone) {
         for (p, peaks) in result.points.iter_mut().enumerate() {
-            [peaks.sd_without, peaks.sa_without] = alone.peaks(p);
+            [peaks.sd_without, peaks.sa_without] = every.peaks(p);
         }
-        result.base_shear_without = Some(alone.base_shear_peak());
+        result.base_shear_without = Some(every.base_shear_peak());
+        let places = &self.scenario.places;
         let points: Vec<usize> =
             places.iter().flat_map(|p| std::iter::once(p.deck_point).chain(p.abutment_point)).collect();
-        let check = bridge.mode_check(kept, &points);
-        let mut warnings = check.warnings(bridge, &points, m.corrected(), !self.alone);
+        let bridge = &*modal.file;
+        let check = bridge.mode_check(&modal.kept, &points);
+        let mut warnings = check.warnings(bridge, &points, modal.correction.is_some(), !self.alone);
         if !self.alone {
             warnings.extend(places.iter().filter_map(|p| bridge.across_warning(p.deck_point_y?)));
         }
@@ -219,17 +196,16 @@ impl RunSpec {
                 x.resize(h.t.len(), f64::NAN);
                 x
             };
-            h.a_abs_without_joint = at_times(&alone.points[point].a_abs);
+            h.a_abs_without_joint = at_times(&every.points[self.scenario.first_point()].a_abs);
             // every point's, the bridge alone's (and the run's, when it is
             // the bridge alone)
-            h.points_u_without_joint = alone.points.iter().map(|p| at_times(&p.u)).collect();
-            h.points_a_abs_without_joint = alone.points.iter().map(|p| at_times(&p.a_abs)).collect();
+            h.points_u_without_joint = every.points.iter().map(|p| at_times(&p.u)).collect();
+            h.points_a_abs_without_joint = every.points.iter().map(|p| at_times(&p.a_abs)).collect();
             if self.alone {
                 h.points_u = h.points_u_without_joint.clone();
                 h.points_a_abs = h.points_a_abs_without_joint.clone();
             }
         }
-        Ok(result)
     }
 }
 
@@ -259,15 +235,6 @@ impl Reference {
     /// Peaks of the bridge of `period` \[s\] and `damping` \[-\].
     pub fn peaks(&self, period: f64, damping: f64) -> Peaks {
         quakejoint_motion::peaks(&self.window.acceleration, self.window.dt, period, damping, Default::default())
-    }
-
-    /// The bridge's absolute acceleration \[m/s^2\] at the first `samples`
-    /// sample times (NaN past the window).
-    pub fn a_abs(&self, period: f64, damping: f64, samples: usize) -> Vec<f64> {
-        let exact = quakejoint_motion::history(&self.window.acceleration, self.window.dt, period, damping).a_abs;
-        let mut a: Vec<f64> = exact.into_iter().take(samples).collect();
-        a.resize(samples, f64::NAN);
-        a
     }
 
     /// The spectrum over `periods` \[s\] and `damping` ratios \[-\].

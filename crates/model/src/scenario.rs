@@ -4,9 +4,9 @@
 //! run (a sweep's job, say) checks its config once and each joint's once,
 //! not again at every step that needs them.
 
+use crate::bridge::Bridge;
 use crate::config::Config;
 use crate::error::ModelError;
-use crate::modal::KeptMode;
 use crate::placement::Place;
 
 /// A config checked and resolved for runs.
@@ -16,27 +16,34 @@ pub struct Scenario {
     pub config: Config,
     /// Its joints, each with its own config, checked.
     pub places: Vec<Place>,
-    /// A bridge given by its modes: the modes it keeps.
-    pub kept: Option<Vec<KeptMode>>,
+    /// Its bridge: a single-DOF deck, or the modes it keeps.
+    pub bridge: Bridge,
 }
 
 impl Scenario {
-    /// Checks `config` and resolves its joints and kept modes.
+    /// Checks `config` and resolves its joints and its bridge.
     pub fn new(config: Config) -> Result<Self, ModelError> {
+        Self::with_period(config, None)
+    }
+
+    /// As [`Scenario::new`], with a single-DOF deck's period \[s\] as a
+    /// front end gave it (the config's `bridge.period` holds it too).
+    pub(crate) fn with_period(config: Config, period: Option<f64>) -> Result<Self, ModelError> {
         config.validate()?;
-        let kept =
-            config.bridge.modal.as_ref().map(|m| crate::modal::kept_modes(m, config.bridge.damping)).transpose()?;
         let places = crate::placement::places(&config)?;
-        if let (Some(m), Some(kept)) = (config.bridge.modal.as_ref().filter(|m| m.corrected()), &kept) {
-            // the static correction at the joints' points, as the model
-            // builds it: a `[static]` table of other modes is refused here,
-            // before any run (a sweep's check and plan too)
-            // (the deck ends first, then the hinges' abutment sides, as the
-            // generator orders them)
-            let decks = places.iter().flat_map(|p| std::iter::once(p.deck_point).chain(p.deck_point_y));
-            let points: Vec<usize> = decks.chain(places.iter().filter_map(|p| p.abutment_point)).collect();
-            crate::modal::loaded(m)?.static_correction(kept, &points, m.scale(), &m.modes)?;
-        }
-        Ok(Scenario { config, places, kept })
+        let bridge = Bridge::resolve(&config, &places, period)?;
+        Ok(Scenario { config, places, bridge })
+    }
+
+    /// The first joint's deck point (a single-DOF deck's: 0).
+    pub fn first_point(&self) -> usize {
+        self.places[0].deck_point
+    }
+
+    /// The bridge without its joints under `window` (the ground motion
+    /// along x over the run's window), at the first joint's deck point and,
+    /// given by its modes, at every point ([`Bridge::alone`]).
+    pub fn alone(&self, window: &quakejoint_motion::Record, histories: bool) -> crate::bridge::Alone {
+        self.bridge.alone(window, self.first_point(), histories)
     }
 }

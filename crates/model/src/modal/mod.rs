@@ -399,31 +399,22 @@ pub struct KeptMode {
     pub shape: Vec<f64>,
 }
 
-/// The kept modes of `[bridge.modal]`, with the damping ratio `damping`
-/// where the file gives none.
-pub fn kept_modes(m: &ModalConfig, damping: f64) -> Result<Vec<KeptMode>, ModelError> {
-    Ok(loaded(m)?.kept(m.modes_used, m.scale(), damping))
-}
-
-/// The bridge alone of `[bridge.modal]` under `record` along x: the exact
-/// superposition of the `kept` modes, with the ground's part of the static
-/// correction when it is on.
-pub fn alone(
-    m: &ModalConfig,
-    kept: &[KeptMode],
-    record: &quakejoint_motion::Record,
-) -> Result<crate::linear::ModalAlone, ModelError> {
-    let r = if m.corrected() { loaded(m)?.ground_residual(kept, m.scale()) } else { None };
-    Ok(crate::linear::modal_superposition(record, kept, 0).with_ground_static(r.as_deref(), record))
+/// The modes file read with `[bridge.modal]`, shared.
+pub fn loaded_arc(m: &ModalConfig) -> Result<std::sync::Arc<ModalBridge>, ModelError> {
+    m.loaded.clone().ok_or_else(|| not_read(m))
 }
 
 /// The modes file read with `[bridge.modal]`.
 pub fn loaded(m: &ModalConfig) -> Result<&ModalBridge, ModelError> {
-    m.loaded.as_deref().ok_or_else(|| ModelError::Invalid {
+    m.loaded.as_deref().ok_or_else(|| not_read(m))
+}
+
+fn not_read(m: &ModalConfig) -> ModelError {
+    ModelError::Invalid {
         field: "bridge.modal.modes".to_string(),
         value: format!("\"{}\"", m.modes),
         reason: "the modes file was not read with the config (Config::from_file or Config::load_modes)".to_string(),
-    })
+    }
 }
 
 /// A mode as a body of the solver system: its coordinate `y = s q` is the

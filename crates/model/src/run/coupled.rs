@@ -80,7 +80,7 @@ pub fn simulate_scenario(
         validity.findings.extend(j.validity.findings.iter().map(|f| format!("{}: {f}", j.name)));
     }
     let w = model.bridge.omega;
-    let without = Without { config, kept: scenario.kept.as_deref(), record_x, record_y };
+    let without = Without { config, modal: scenario.bridge.modal(), record_x, record_y };
     let transverse = transverse_result(&model, &obs, &without);
     let far = model.bridge.far.map(|(_, wf, zeta)| {
         let [sa, sd, f, rel] = obs.far_peaks;
@@ -209,7 +209,7 @@ struct Energies<'a> {
 /// segment): the exact linear response over the run's window.
 struct Without<'a> {
     config: &'a Config,
-    kept: Option<&'a [crate::modal::KeptMode]>,
+    modal: Option<&'a crate::bridge::Modal>,
     record_x: &'a Record,
     record_y: Option<&'a Record>,
 }
@@ -225,11 +225,10 @@ impl Without<'_> {
     /// Sa across of a modal bridge's point `py` under `[record_y]` (0
     /// without it).
     fn modal_sa_across(&self, py: usize) -> f64 {
-        self.record_y.map_or(0.0, |r| {
-            let window = crate::runspec::Reference::for_run(self.config, self.record_x, r);
-            let h = crate::linear::modal_history_in(window.window(), self.kept.unwrap_or_default(), py, 1);
-            h.a_abs.iter().fold(0.0f64, |m, a| m.max(a.abs()))
-        })
+        let (Some(r), Some(modal)) = (self.record_y, self.modal) else { return 0.0 };
+        let window = crate::runspec::Reference::for_run(self.config, self.record_x, r);
+        let alone = modal.superposition(window.window(), 1);
+        alone.points[py].a_abs.iter().fold(0.0f64, |m, a| m.max(a.abs()))
     }
 }
 
@@ -295,16 +294,10 @@ impl Observers {
         ground: &Ground,
         options: &RunOptions,
     ) -> Result<Self, ModelError> {
-        let (config, places) = (&scenario.config, &scenario.places);
+        let places = &scenario.places;
         let mut joints = Vec::with_capacity(places.len());
-        let point_names: Vec<String> = config
-            .bridge
-            .modal
-            .as_ref()
-            .map(crate::modal::loaded)
-            .transpose()?
-            .map(|b| b.points.iter().map(|p| p.name.clone()).collect())
-            .unwrap_or_default();
+        let point_names: Vec<String> =
+            scenario.bridge.modal().map(|m| m.file.points.iter().map(|p| p.name.clone()).collect()).unwrap_or_default();
         for (k, (jm, place)) in model.joints().zip(places).enumerate() {
             let mut obs = EarthquakeObserver::new(jm, asm, ground.x.clone(), ground.dt, options.histories)?;
             obs.monitor = Monitor::new(jm, asm, &place.config)?;

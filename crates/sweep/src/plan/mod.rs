@@ -58,7 +58,7 @@ pub use cost::{
 };
 use grid::{check_swept, grid_of};
 use modal::modal_axis;
-pub use modal::{modal_alone, ModalSweep};
+pub use modal::ModalSweep;
 use records::window_warning;
 pub use records::SweepRecord;
 use stripes::stripes_of;

@@ -1,14 +1,12 @@
 //! A sweep over a bridge given by its modes (`[bridge.modal]`): its swept
 //! axis `sweep.period_scales` (and the refusal of `sweep.periods` and
-//! `sweep.damping`), the modes file's identity (its path and hash) and the
-//! bridge alone at the first joint's point by modal superposition.
+//! `sweep.damping`) and the modes file's identity (its path and hash).
 
 use std::path::{Path, PathBuf};
 
 use quakejoint_model::config::ModalConfig;
 use quakejoint_model::runspec::{Named, Overrides};
-use quakejoint_model::{Config, ModelError};
-use quakejoint_motion::Record;
+use quakejoint_model::Config;
 
 use super::grid::grid_of;
 use super::sweep_err;
@@ -47,25 +45,6 @@ impl ModalSweep {
             ..Overrides::default()
         }
     }
-}
-
-/// The bridge alone at the first joint's deck point of a config with a
-/// bridge given by its modes (as its period scale sets them), under
-/// `window` (the ground motion over the run's window): the exact modal
-/// superposition ([`quakejoint_model::modal::alone`]), as
-/// `quakejoint simulate --no-joint` gives it.
-pub fn modal_alone(config: &Config, window: &Record) -> Result<quakejoint_model::run::RunResult, ModelError> {
-    let Some(m) = &config.bridge.modal else {
-        return Err(ModelError::Invalid {
-            field: "bridge.modal".into(),
-            value: "none".into(),
-            reason: "the bridge is not given by its modes".into(),
-        });
-    };
-    let kept = quakejoint_model::modal::kept_modes(m, config.bridge.damping)?;
-    let point = quakejoint_model::placement::places(config)?[0].deck_point;
-    let h = quakejoint_model::modal::alone(m, &kept, window)?.points.swap_remove(point);
-    Ok(quakejoint_model::linear::modal_result(window, kept[0].omega, h, false))
 }
 
 /// The swept axis of a bridge given by its modes (`sweep.period_scales`,

@@ -7,7 +7,7 @@ use quakejoint_model::runspec::RunSpec;
 use quakejoint_model::Config;
 use quakejoint_motion::{load_record, Record, RecordSpec};
 
-use super::modal::{modal_alone, ModalSweep};
+use super::modal::ModalSweep;
 use crate::error::SweepError;
 
 /// A record of the sweep.
@@ -67,8 +67,7 @@ pub(super) fn window_warning(
         Some(m) => {
             let at = |t: usize, r: &Record| {
                 RunSpec::new(config.clone(), &m.overrides(t))
-                    .and_then(|spec| modal_alone(spec.config(), r))
-                    .map_or(f64::NAN, |alone| alone.sa)
+                    .map_or(f64::NAN, |spec| spec.scenario.alone(r, false).result.sa)
             };
             let n = m.period_scales.len();
             let labels = (0..n)

@@ -17,7 +17,7 @@ use crate::results::{status, JobResult, JointJobResult, Results, FIELDS};
 /// The exact linear spectra of every record, damping and period; for a
 /// bridge given by its modes, the exact modal superposition at the first
 /// joint's point of every case, record and period scale
-/// ([`crate::plan::modal_alone`]).
+/// ([`quakejoint_model::scenario::Scenario::alone`]).
 pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepError> {
     let [_, nr, nz, nt] = plan.dims();
     if let Some(m) = &plan.modal {
@@ -27,7 +27,7 @@ pub fn without_joint(plan: &Plan, results: &mut Results) -> Result<(), SweepErro
                 let reference = Reference::for_run(&case.config, &rec.record, &rec.record);
                 for t in 0..nt {
                     let spec = RunSpec::new(case.config.clone(), &m.overrides(t))?;
-                    let alone = crate::plan::modal_alone(spec.config(), reference.window())?;
+                    let alone = spec.scenario.alone(reference.window(), false).result;
                     let at = ((c * nr + r) * nz) * nt + t;
                     for (k, v) in [alone.sa, alone.psa, alone.sd, alone.sv].into_iter().enumerate() {
                         results.without[k][at] = v;
