@@ -251,5 +251,14 @@ def limit_state_frequency(median: float, beta: float, hazard_intensity: Any, haz
     in closed form; a UserWarning when more than 1 % of it comes from beyond the curve's ends."""
     ...
 
-def service(config: Optional[Config] = None) -> dict[str, Any]:
-    """The service loop: t, u, joint_force, center-beam motions, works per cycle [J], validity."""
+def service(
+    config: Optional[Config] = None,
+    *,
+    speed: Optional[float] = None,
+    amplitude: Optional[float] = None,
+    cycles: Optional[int] = None,
+) -> dict[str, Any]:
+    """The service loop: t, u, joint_force, center-beam motions, works per cycle [J], validity.
+
+    speed [m/s], amplitude [m] and cycles replace the config's [service]
+    values, checked as `quakejoint service --speed/--amplitude/--cycles`."""

@@ -16,7 +16,7 @@ import pytest
 
 import quakejoint as qj
 
-from conftest import SHORT_SMALL, cli_json, run_cli
+from conftest import ROOT, SHORT_SMALL, cli_json, run_cli
 
 #: results a sweep stores per job that a run reports too
 COMPARED = ("sa", "psa", "sd", "sv", "t_sa", "peak_joint_force", "friction_energy", "earthquake_work", "steps")
@@ -59,3 +59,43 @@ def test_the_same_bad_override_gives_the_same_reason_everywhere(cli, configs):
     assert str(python_error.value).startswith(f"period = 100000{reason}"), python_error.value
     code, _, err = run_cli(cli, "sweep", bad, "--check", check=False)
     assert code == 2 and f"sweep.periods[0] = 100000{reason}" in err, err
+
+
+def test_a_record_passed_from_python_runs_as_the_command_lines_record(cli, configs):
+    # (the run's spec carries the record Python read, as it carries the file
+    # of --record: the same numbers and the same record in the result)
+    _, run, _, _ = configs
+    other = ROOT / "ground_motions" / "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
+    by_cli = cli_json(cli, "simulate", run, "--record", other)
+    by_python = qj.simulate(qj.Config.from_file(run), record=qj.Record.read(other), history=False)
+    assert by_python.record.startswith("RSN6"), by_python.record
+    for k in COMPARED:
+        assert np.float64(by_cli[k]).tobytes() == np.float64(getattr(by_python, k)).tobytes(), k
+
+
+def test_the_same_bad_service_override_gives_the_same_reason_everywhere(cli, configs):
+    # (the service case's speed, amplitude and cycles are overrides of the
+    # one run spec, checked by the same code from the command line and
+    # Python, each named as its front end names it)
+    _, run, _, _ = configs
+    cfg = qj.Config.from_file(run)
+    for flag, keyword, value, reason in [
+        ("--amplitude", "amplitude", 5.0, ": must be within 0 < x <= 2 m"),
+        ("--speed", "speed", 2.0, ": must be within 0 < x <= 1 m/s"),
+        ("--cycles", "cycles", 5000, ": must be within 1 <= x <= 1000"),
+    ]:
+        code, _, err = run_cli(cli, "service", run, flag, value, check=False)
+        assert code == 2 and f"{flag} {value:g}{reason}" in err, err
+        with pytest.raises(qj.InputError) as python_error:
+            qj.service(cfg, **{keyword: value})
+        assert str(python_error.value).startswith(f"{keyword} = {value:g}{reason}"), python_error.value
+
+
+def test_the_same_bad_calibration_speed_gives_the_same_error_everywhere(cli, configs, tmp_path):
+    _, run, _, _ = configs
+    code, _, err = run_cli(
+        cli, "calibrate", run, "--speed", "3", "--no-earthquake", "--output-dir", tmp_path, check=False
+    )
+    with pytest.raises(qj.InputError) as python_error:
+        qj.calibrate(qj.Config.from_file(run), speed=3.0, earthquake=False)
+    assert code == 2 and str(python_error.value) in err, (err, python_error.value)

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use quakejoint_model::calibrate::{calibrate, elastoplastic, export, Calibration, CalibrationOptions};
+use quakejoint_model::runspec::{Overrides, RecordOverride, RunSpec};
 use serde_json::json;
 
 use crate::args::CalibrateArgs;
@@ -15,6 +16,14 @@ use crate::commands::read_config;
 /// Runs `quakejoint calibrate`.
 pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
     let (config, _) = read_config(&a.config)?;
+    // --record: relative to the current directory, replacing the config's
+    // whole [record]
+    let record = a.record.as_ref().map(|path| {
+        let file = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+        RecordOverride::File(quakejoint_motion::RecordSpec::new(file))
+    });
+    let spec = RunSpec::new(config, &Overrides { record, ..Overrides::default() })?;
+    let config = spec.config();
     let mut options = CalibrationOptions::default();
     if let Some(x) = a.amplitudes {
         options.amplitudes = x;
@@ -26,21 +35,15 @@ pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
         options.contact_force = f;
     }
     if !a.no_earthquake {
-        let record = match &a.record {
-            Some(path) => {
-                let spec = quakejoint_motion::RecordSpec::new(path.clone());
-                quakejoint_motion::load_record(&spec, Path::new(".")).map_err(quakejoint_model::ModelError::from)?
-            }
-            None => quakejoint_model::run::load_records(&config, &quakejoint_model::config::base_dir(&a.config))?.0,
-        };
-        options.record = Some(quakejoint_model::run::run_window(&config, &record.record));
+        let (record, _) = spec.records(&quakejoint_model::config::base_dir(&a.config))?;
+        options.record = Some(quakejoint_model::run::run_window(config, &record.record));
     }
     let dir = a.output_dir.clone().unwrap_or_else(|| default_dir(&a.config));
     let mut inputs = config.input_files(&quakejoint_model::config::base_dir(&a.config));
     inputs.push(a.config.clone());
     inputs.extend(a.record.clone());
     check_outputs(&dir, &inputs)?;
-    let c = calibrate(&config, &options)?;
+    let c = calibrate(&spec.scenario, &options)?;
     let written = write_exports(&c, &dir, &a.config.display().to_string())?;
     for w in &c.warnings {
         eprintln!("warning: {w}");

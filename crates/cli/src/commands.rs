@@ -8,8 +8,8 @@ use anyhow::{Context, Result};
 use quakejoint_io::run_h5::{Provenance, RecordSource};
 use quakejoint_model::config::base_dir;
 use quakejoint_model::generator::{build, Drive};
-use quakejoint_model::run::{load_records, RunOptions};
-use quakejoint_model::runspec::{Named, Overrides, RunSpec};
+use quakejoint_model::run::RunOptions;
+use quakejoint_model::runspec::{Named, Overrides, RecordOverride, RunSpec};
 use quakejoint_model::service::service;
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{load_record, period_range, spectrum, LoadedRecord, RecordStats, SpectrumOptions};
@@ -371,10 +371,11 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
     let (config, text) = read_config(&a.config)?;
     let mut overrides =
         Overrides { period: a.period.map(|t| Named::new(t, "--period")), alone: a.no_joint, ..Overrides::default() };
-    let base = if let Some(path) = &a.record {
+    if let Some(path) = &a.record {
         // the override is relative to the current directory and replaces the
         // whole [record] table: its units, scale and columns described
-        // another file
+        // another file ([record_y] stays the config's, relative to its
+        // folder)
         let file = std::path::absolute(path).unwrap_or_else(|_| path.clone());
         if let Some(old) = &config.record {
             eprintln!(
@@ -384,8 +385,7 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
                 path.display()
             );
         }
-        overrides.record = Some(a.read.spec(&file));
-        PathBuf::new()
+        overrides.record = Some(RecordOverride::File(a.read.spec(&file)));
     } else if a.read.any() {
         return Err(InputError(
             "--format, --units, --dt, --column, --channel, --azimuth, --allow-vertical, --scale and --target-pga-g \
@@ -393,12 +393,11 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
                 .into(),
         )
         .into());
-    } else {
-        base_dir(&a.config)
-    };
+    }
+    let base = base_dir(&a.config);
     let spec = RunSpec::new(config, &overrides)?;
     let config = spec.config();
-    let (lx, ly) = load_records(config, &base)?;
+    let (lx, ly) = spec.records(&base)?;
     print_warnings(&[Some(&lx), ly.as_ref()].into_iter().flatten().collect::<Vec<_>>());
     let (rx, ry) = (&lx.record, ly.as_ref().map(|l| &l.record));
     if let Some(out) = &a.output {
@@ -434,26 +433,24 @@ fn simulate(a: SimulateArgs) -> Result<ExitCode> {
 }
 
 fn service_cmd(a: ServiceArgs) -> Result<ExitCode> {
-    let (mut config, text) = read_config(&a.config)?;
-    if let Some(s) = a.speed {
-        config.service.speed = s;
-    }
-    if let Some(x) = a.amplitude {
-        config.service.amplitude = x;
-    }
-    if let Some(c) = a.cycles {
-        config.service.cycles = c;
-    }
-    config.validate()?;
+    let (config, text) = read_config(&a.config)?;
+    let overrides = Overrides {
+        service_speed: a.speed.map(|s| Named::new(s, "--speed")),
+        service_amplitude: a.amplitude.map(|x| Named::new(x, "--amplitude")),
+        service_cycles: a.cycles.map(|c| Named::new(c, "--cycles")),
+        ..Overrides::default()
+    };
+    let spec = RunSpec::new(config, &overrides)?;
+    let config = spec.config();
     if let Some(out) = &a.output {
         quakejoint_io::files::check_overwrite(out, "service", &[&a.config]).map_err(InputError)?;
     }
-    let result = service(&config)?;
+    let result = service(&spec.scenario)?;
     for w in &result.warnings {
         eprintln!("warning: {w}");
     }
     if let Some(path) = &a.output {
-        let provenance = provenance_of(&a.config, &text, &config, Vec::new(), result.warnings.clone());
+        let provenance = provenance_of(&a.config, &text, config, Vec::new(), result.warnings.clone());
         quakejoint_io::run_h5::write_service(path, &provenance, &result).context("writing the hysteresis loop")?;
     }
     output::service_result(&a.config, &result, a.print.json);

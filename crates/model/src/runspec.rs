@@ -9,7 +9,9 @@
 //! line, `period = 100000: ...` in Python, `sweep.periods[0] = 100000:
 //! ...` in a sweep; the reason is the same text.
 
-use quakejoint_motion::{Peaks, Record, RecordSpec, SpectrumError, SpectrumOptions, SpectrumRow};
+use std::path::Path;
+
+use quakejoint_motion::{LoadedRecord, Peaks, Record, RecordSpec, SpectrumError, SpectrumOptions, SpectrumRow};
 
 use crate::config::Config;
 use crate::error::ModelError;
@@ -42,13 +44,31 @@ pub struct Overrides {
     /// The bridge's damping ratio \[-\] (replaces `bridge.damping`).
     pub damping: Option<Named<f64>>,
     /// A record replacing the config's whole `[record]` (the command
-    /// line's `--record`).
-    pub record: Option<RecordSpec>,
+    /// line's `--record`, Python's `record=`).
+    pub record: Option<RecordOverride>,
     /// Run the bridge alone, exactly (no joint).
     pub alone: bool,
     /// A factor on every period of a bridge given by its modes \[-\]
     /// (replaces `bridge.modal.period_scale`).
     pub period_scale: Option<Named<f64>>,
+    /// The service case's deck speed \[m/s\] (replaces `service.speed`).
+    pub service_speed: Option<Named<f64>>,
+    /// The service case's opening amplitude \[m\] (replaces
+    /// `service.amplitude`).
+    pub service_amplitude: Option<Named<f64>>,
+    /// The service case's number of cycles (replaces `service.cycles`).
+    pub service_cycles: Option<Named<u32>>,
+}
+
+/// The ground motion along x a front end gives for one run, replacing the
+/// config's `[record]`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RecordOverride {
+    /// A file and how to read it (the command line's `--record`; its path
+    /// relative to the folder the run's records are read against).
+    File(RecordSpec),
+    /// A record already read (Python's `record=`, a `quakejoint.Record`).
+    Loaded(Box<LoadedRecord>),
 }
 
 /// A run: the config with every override applied and checked.
@@ -62,6 +82,9 @@ pub struct RunSpec {
     /// The bridge's natural period \[s\]: the override as given, else the
     /// config's (2π/ω); a modal bridge's longest kept period.
     pub period: f64,
+    /// A record read by the front end, which the run takes instead of the
+    /// config's `[record]` ([`RunSpec::records`]).
+    pub record: Option<Box<LoadedRecord>>,
 }
 
 /// Checks an override of the config key `key` (its range in
@@ -108,20 +131,46 @@ impl RunSpec {
             check_override("bridge.damping", &z.name, z.value)?;
             config.bridge.damping = z.value;
         }
-        if let Some(r) = &overrides.record {
-            config.record = Some(r.clone());
+        for (key, o) in
+            [("service.speed", &overrides.service_speed), ("service.amplitude", &overrides.service_amplitude)]
+        {
+            if let Some(o) = o {
+                check_override(key, &o.name, o.value)?;
+            }
+        }
+        if let Some(o) = &overrides.service_cycles {
+            check_override("service.cycles", &o.name, f64::from(o.value))?;
+        }
+        let s = &mut config.service;
+        s.speed = overrides.service_speed.as_ref().map_or(s.speed, |o| o.value);
+        s.amplitude = overrides.service_amplitude.as_ref().map_or(s.amplitude, |o| o.value);
+        s.cycles = overrides.service_cycles.as_ref().map_or(s.cycles, |o| o.value);
+        let mut record = None;
+        match &overrides.record {
+            Some(RecordOverride::File(r)) => config.record = Some(r.clone()),
+            Some(RecordOverride::Loaded(r)) => record = Some(r.clone()),
+            None => {}
         }
         if overrides.alone {
             config.joint.enabled = false;
         }
         let scenario = Scenario::with_period(config, overrides.period.as_ref().map(|p| p.value))?;
         let period = scenario.bridge.period();
-        Ok(RunSpec { scenario, alone: overrides.alone, period })
+        Ok(RunSpec { scenario, alone: overrides.alone, period, record })
     }
 
     /// The config as the run uses it.
     pub fn config(&self) -> &Config {
         &self.scenario.config
+    }
+
+    /// The run's records, along x and across: the one a front end read
+    /// (Python's `record=`), else the config's `[record]`, relative paths
+    /// against `base_dir`; `[record_y]` is always the config's.
+    pub fn records(&self, base_dir: &Path) -> Result<(LoadedRecord, Option<LoadedRecord>), ModelError> {
+        let Some(x) = &self.record else { return crate::run::load_records(self.config(), base_dir) };
+        let y = self.config().record_y.as_ref().map(|s| quakejoint_motion::load_record(s, base_dir)).transpose()?;
+        Ok((x.as_ref().clone(), y))
     }
 
     /// Runs it under `record_x` (and `record_y` across, if the deck moves

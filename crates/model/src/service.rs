@@ -347,8 +347,10 @@ impl Observer for LoopObserver {
     }
 }
 
-/// Runs the service case of `config`.
-pub fn service(config: &Config) -> Result<ServiceResult, ModelError> {
+/// Runs the service case of a scenario (its `[service]` with a front
+/// end's overrides: [`crate::runspec::Overrides`]).
+pub fn service(scenario: &crate::scenario::Scenario) -> Result<ServiceResult, ModelError> {
+    let config = &scenario.config;
     let tri = opening(config)?;
     let period = tri.period();
     let cycles = config.service.cycles;

@@ -28,6 +28,7 @@
 //! out.
 
 use quakejoint_model::calibrate::{calibrate, CalibrationOptions};
+use quakejoint_model::scenario::Scenario;
 use quakejoint_model::Config;
 
 const JOINT: &str = "
@@ -80,7 +81,7 @@ fn one_beam_on_a_guide_and_a_joist_gives_the_hand_calculations_friction_and_stif
     let config = Config::from_toml(JOINT, "one_beam.toml").unwrap();
     let options =
         CalibrationOptions { amplitudes: vec![0.002, 0.005, 0.01, 0.05, 0.1], ..CalibrationOptions::default() };
-    let c = calibrate(&config, &options).unwrap();
+    let c = calibrate(&Scenario::new(config.clone()).unwrap(), &options).unwrap();
     let theta = 13f64.to_radians();
     let (g0, x1) = (2.0, 1.0);
     let f = &config.joint.friction;
@@ -122,15 +123,19 @@ fn calibrations_the_model_cannot_stand_behind_say_so() {
     let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let config = Config::from_file(&root.join("configs/small.toml")).unwrap();
     let beyond = CalibrationOptions { amplitudes: vec![0.01, 0.2], ..CalibrationOptions::default() };
-    let e = calibrate(&config, &beyond).unwrap_err().to_string();
+    let e = calibrate(&Scenario::new(config.clone()).unwrap(), &beyond).unwrap_err().to_string();
     assert!(e.contains("amplitudes") && e.contains("inside the joint"), "{e}");
     let tiny = CalibrationOptions { amplitudes: vec![1e-6], ..CalibrationOptions::default() };
-    let e = calibrate(&config, &tiny).unwrap_err().to_string();
+    let e = calibrate(&Scenario::new(config.clone()).unwrap(), &tiny).unwrap_err().to_string();
     assert!(e.contains("hardly slides"), "{e}");
 
     let (x, _) = quakejoint_model::run::load_records(&config, &root.join("configs")).unwrap();
     let window = quakejoint_model::run::run_window(&config, &x.record);
-    let c = calibrate(&config, &CalibrationOptions { record: Some(window), ..CalibrationOptions::default() }).unwrap();
+    let c = calibrate(
+        &Scenario::new(config.clone()).unwrap(),
+        &CalibrationOptions { record: Some(window), ..CalibrationOptions::default() },
+    )
+    .unwrap();
     eprintln!("{:#?}", c.warnings);
     assert!(c.warnings.iter().any(|w| w.contains("0.05 m is left out") && w.contains("capacity_exceeded")));
     assert!(c.warnings.iter().any(|w| w.contains("flagged under the calibration earthquake")));

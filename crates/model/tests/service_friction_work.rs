@@ -32,7 +32,13 @@
 
 mod common;
 
-use quakejoint_model::service::{compliance_deficit, service};
+use quakejoint_model::scenario::Scenario;
+use quakejoint_model::service::{compliance_deficit, service as service_of};
+
+/// The service case of `config`.
+fn service(config: &Config) -> Result<quakejoint_model::service::ServiceResult, quakejoint_model::ModelError> {
+    service_of(&Scenario::new(config.clone())?)
+}
 use quakejoint_model::Config;
 
 fn check(config: &Config, what: &str) -> (f64, f64) {

@@ -5,12 +5,13 @@ use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use quakejoint_model::calibrate::{calibrate as run_calibration, export, CalibrationOptions};
-use quakejoint_model::run::{load_records, run_window};
-use quakejoint_model::Config;
+use quakejoint_model::run::run_window;
+use quakejoint_model::runspec::{Overrides, RecordOverride};
 
 use crate::config::PyConfig;
 use crate::convert::{real_opt, Numbers};
 use crate::record::PyRecord;
+use crate::run::Spec;
 use crate::{config_error, model_error};
 
 /// Calibrates the link element of the config's (detailed) joint: service
@@ -39,10 +40,8 @@ fn calibrate<'py>(
     record: Option<&PyRecord>,
     earthquake: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (cfg, base, source) = match config {
-        Some(c) => (c.config.clone(), c.base_dir.clone(), c.source.clone()),
-        None => (Config::default(), std::path::PathBuf::from("."), "config (defaults)".to_string()),
-    };
+    let record = record.map(|r| RecordOverride::Loaded(Box::new(r.loaded.clone())));
+    let Spec { spec, base, source } = Spec::new(config, &Overrides { record, ..Overrides::default() })?;
     let mut options = CalibrationOptions::default();
     if let Some(a) = amplitudes {
         options.amplitudes = Numbers::at_most_1d(a, "calibrate", "amplitudes")?.values;
@@ -54,13 +53,10 @@ fn calibrate<'py>(
         options.contact_force = f;
     }
     if earthquake {
-        let loaded = match record {
-            Some(r) => r.loaded.clone(),
-            None => load_records(&cfg, &base).map_err(|e| config_error(e, &source))?.0,
-        };
-        options.record = Some(run_window(&cfg, &loaded.record));
+        let (loaded, _) = spec.records(&base).map_err(|e| config_error(e, &source))?;
+        options.record = Some(run_window(spec.config(), &loaded.record));
     }
-    let c = py.detach(|| run_calibration(&cfg, &options)).map_err(model_error)?;
+    let c = py.detach(|| run_calibration(&spec.scenario, &options)).map_err(model_error)?;
     let l = &c.link;
     let d = PyDict::new(py);
     for (k, v) in [

@@ -12,14 +12,14 @@ use std::time::Duration;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use quakejoint_model::run::{load_records, Histories, RunOptions, RunResult};
-use quakejoint_model::runspec::{Named, Overrides, RunSpec};
+use quakejoint_model::run::{Histories, RunOptions, RunResult};
+use quakejoint_model::runspec::{Named, Overrides, RecordOverride, RunSpec};
 use quakejoint_model::service::{service as run_service, ServiceResult};
 use quakejoint_model::{Config, ModelError};
 use quakejoint_motion::{LoadedRecord, G};
 
 use crate::config::PyConfig;
-use crate::convert::real_opt;
+use crate::convert::{real_opt, whole};
 use crate::record::PyRecord;
 use crate::{config_error, model_error};
 
@@ -233,28 +233,14 @@ fn simulate(
     joint: bool,
     history: bool,
 ) -> PyResult<PyRunResult> {
-    let (cfg, base, source) = match config {
-        Some(c) => (c.config.clone(), c.base_dir.clone(), c.source.clone()),
-        None => (Config::default(), std::path::PathBuf::from("."), "config (defaults)".to_string()),
-    };
-    let named = |e: ModelError| config_error(e, &source);
     let overrides = Overrides {
         period: real_opt(period, "simulate", "period")?.map(|t| Named::new(t, "period")),
         alone: !joint,
+        record: record.map(|r| RecordOverride::Loaded(Box::new(r.loaded.clone()))),
         ..Overrides::default()
     };
-    // an error about the period argument is not the config's
-    let spec = RunSpec::new(cfg, &overrides).map_err(|e| match &e {
-        ModelError::Override { .. } => model_error(e),
-        _ => named(e),
-    })?;
-    let (lx, ly) = match record {
-        Some(r) => {
-            let ly = spec.config().record_y.as_ref().map(|s| quakejoint_motion::load_record(s, &base)).transpose();
-            (r.loaded.clone(), ly.map_err(crate::input_error)?)
-        }
-        None => load_records(spec.config(), &base).map_err(named)?,
-    };
+    let Spec { spec, base, source } = Spec::new(config, &overrides)?;
+    let (lx, ly) = spec.records(&base).map_err(|e| config_error(e, &source))?;
     let cancel = Arc::new(AtomicBool::new(false));
     let options = RunOptions { histories: history, cancel: Some(cancel.clone()), ..Default::default() };
     let (rx, ry) = (&lx.record, ly.as_ref().map(|l| &l.record));
@@ -308,6 +294,31 @@ fn simulate(
     })
 }
 
+/// A run defined by a config (the defaults without one) and a front end's
+/// overrides, with the folder its records are read against and the name
+/// its errors give the config.
+pub(crate) struct Spec {
+    pub(crate) spec: RunSpec,
+    pub(crate) base: std::path::PathBuf,
+    pub(crate) source: String,
+}
+
+impl Spec {
+    /// The config checked with `overrides` applied; an error about an
+    /// override names the argument, not the config.
+    pub(crate) fn new(config: Option<&PyConfig>, overrides: &Overrides) -> PyResult<Self> {
+        let (cfg, base, source) = match config {
+            Some(c) => (c.config.clone(), c.base_dir.clone(), c.source.clone()),
+            None => (Config::default(), std::path::PathBuf::from("."), "config (defaults)".to_string()),
+        };
+        let spec = RunSpec::new(cfg, overrides).map_err(|e| match &e {
+            ModelError::Override { .. } => model_error(e),
+            _ => config_error(e, &source),
+        })?;
+        Ok(Spec { spec, base, source })
+    }
+}
+
 /// The service case: the deck opens and closes the joint kinematically
 /// (`[service]`: speed, amplitude, cycles). Returns a dict: the loop's
 /// arrays t [s], u (deck opening) [m], joint_force [N], center_beam_dx,
@@ -318,10 +329,25 @@ fn simulate(
 /// energy_error, warnings, flags and findings. GIL released; Ctrl-C
 /// waits for the loop to end.
 #[pyfunction]
-#[pyo3(signature = (config=None))]
-fn service<'py>(py: Python<'py>, config: Option<&PyConfig>) -> PyResult<Bound<'py, PyDict>> {
-    let cfg = config.map(|c| c.config.clone()).unwrap_or_default();
-    let r: ServiceResult = py.detach(|| run_service(&cfg)).map_err(model_error)?;
+#[pyo3(signature = (config=None, *, speed=None, amplitude=None, cycles=None))]
+fn service<'py>(
+    py: Python<'py>,
+    config: Option<&PyConfig>,
+    speed: Option<&Bound<'py, PyAny>>,
+    amplitude: Option<&Bound<'py, PyAny>>,
+    cycles: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    const F: &str = "service";
+    let overrides = Overrides {
+        service_speed: real_opt(speed, F, "speed")?.map(|s| Named::new(s, "speed")),
+        service_amplitude: real_opt(amplitude, F, "amplitude")?.map(|x| Named::new(x, "amplitude")),
+        service_cycles: cycles
+            .map(|c| whole(c, F, "cycles", 1, i64::from(u32::MAX)).map(|c| Named::new(c as u32, "cycles")))
+            .transpose()?,
+        ..Overrides::default()
+    };
+    let Spec { spec, .. } = Spec::new(config, &overrides)?;
+    let r: ServiceResult = py.detach(|| run_service(&spec.scenario)).map_err(model_error)?;
     let d = PyDict::new(py);
     d.set_item("t", PyArray1::from_slice(py, &r.t))?;
     d.set_item("u", PyArray1::from_slice(py, &r.u))?;

@@ -38,6 +38,8 @@
 use crate::config::{Config, ContactLawConfig, LinkConfig, SupportKind};
 use crate::error::ModelError;
 use crate::geometry::Geometry;
+use crate::runspec::{Named, Overrides, RunSpec};
+use crate::scenario::Scenario;
 
 pub mod export;
 
@@ -147,8 +149,10 @@ pub struct Calibration {
     pub warnings: Vec<String>,
 }
 
-/// Calibrates the link of `config`'s joint (the detailed one of `[joint]`).
-pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibration, ModelError> {
+/// Calibrates the link of a scenario's joint (the detailed one of
+/// `[joint]`).
+pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Calibration, ModelError> {
+    let config = &scenario.config;
     let amplitudes = checked_amplitudes(config, options)?;
     let j = &config.joint;
     let mut warnings = Vec::new();
@@ -218,7 +222,6 @@ pub fn calibrate(config: &Config, options: &CalibrationOptions) -> Result<Calibr
 /// `config`'s joint and `options`' amplitudes checked for a calibration:
 /// the amplitudes sorted, each once.
 fn checked_amplitudes(config: &Config, options: &CalibrationOptions) -> Result<Vec<f64>, ModelError> {
-    config.validate()?;
     let j = &config.joint;
     if !j.enabled || j.is_link() {
         return Err(ModelError::Invalid {
@@ -263,14 +266,17 @@ fn service_loops(
     warnings: &mut Vec<String>,
 ) -> Result<Vec<LoopSummary>, ModelError> {
     let mut loops = Vec::with_capacity(amplitudes.len());
-    for &a in amplitudes {
+    for (k, &a) in amplitudes.iter().enumerate() {
         let mut c = config.clone();
-        c.service.amplitude = a;
-        c.service.speed = options.speed;
-        c.service.cycles = options.cycles;
         // (each reversal rounded over at most a quarter of a stroke)
         c.service.blend = c.service.blend.min(0.25 * 2.0 * a / options.speed);
-        let r = crate::service::service(&c)?;
+        let overrides = Overrides {
+            service_amplitude: Some(Named::new(a, format!("amplitudes[{k}]"))),
+            service_speed: Some(Named::new(options.speed, "speed")),
+            service_cycles: Some(Named::new(options.cycles, "cycles")),
+            ..Overrides::default()
+        };
+        let r = crate::service::service(&RunSpec::new(c, &overrides)?.scenario)?;
         if r.validity.flags.is_flagged() || r.contact_work_per_cycle > 0.0 {
             // (its cells racked beyond their capacity, or its beams pounded:
             // not the law of a joint in service)

@@ -351,6 +351,7 @@ fn service_friction_work(root: &Path) -> Result<Outcome, String> {
     let mut c = config(root, "small.toml")?;
     (c.joint.bushing.kx, c.joint.bushing.ky) = (1e9, 1e9);
     c.joint.contact.enabled = false;
-    let r = crate::service::service(&c).map_err(|e| e.to_string())?;
+    let scenario = crate::scenario::Scenario::new(c).map_err(|e| e.to_string())?;
+    let r = crate::service::service(&scenario).map_err(|e| e.to_string())?;
     Ok(Outcome { computed: r.friction_work_per_cycle, reference: r.hand_calculation })
 }

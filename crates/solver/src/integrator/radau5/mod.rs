@@ -223,6 +223,9 @@ pub struct Radau5 {
     zone: Vec<bool>,
     /// Contact onsets and releases ([`super::events`]).
     events: Events,
+    /// When the wall-clock limit's count started: the start of
+    /// [`Radau5::run`], or the first [`Radau5::advance`].
+    started: Option<Instant>,
 }
 
 impl Radau5 {
@@ -322,6 +325,7 @@ impl Radau5 {
             local,
             zone,
             events: Events::new(&asm),
+            started: None,
             ws,
             n,
             m,
@@ -393,47 +397,84 @@ impl Radau5 {
         &self.asm
     }
 
-    /// Integrates to `t_end`, calling `observer` after every accepted step.
-    /// Returns `Ok(false)` if the observer stopped the run early.
+    /// Integrates to `t_end`, calling `observer` after every accepted step
+    /// ([`Radau5::advance`] in a loop; the wall-clock limit counts from
+    /// this call). Returns `Ok(false)` if the observer stopped the run
+    /// early.
     pub fn run(&mut self, t_end: f64, observer: &mut dyn Observer) -> Result<bool, SolverError> {
-        if t_end < self.t {
-            return Err(SolverError::EndBeforeStart { t_end, t: self.t });
-        }
-        let start = Instant::now();
-        while self.t < t_end {
-            if self.stats.steps + self.stats.rejected + self.stats.failed_attempts >= self.opt.max_steps {
-                return Err(SolverError::StepLimit { limit: self.opt.max_steps, time: self.t });
-            }
-            if let Some(limit) = self.opt.max_wall_time {
-                if start.elapsed().as_secs_f64() > limit {
-                    return Err(SolverError::WallClockLimit { limit_s: limit, time: self.t });
-                }
-            }
-            self.step(t_end)?;
-            let asm = Arc::clone(&self.asm);
-            let mut view = StepView {
-                t_prev: self.t_prev,
-                t: self.t,
-                q: &self.q,
-                v: &self.v,
-                lambda: &self.lam,
-                assembly: &asm,
-                workspace: &mut self.ws,
-                events: &self.events.last,
-                dense: DenseRef {
-                    t1: self.t,
-                    h: self.h_cont,
-                    q: [&self.q, &self.cont_q[0], &self.cont_q[1], &self.cont_q[2]],
-                    v: [&self.v, &self.cont_v[0], &self.cont_v[1], &self.cont_v[2]],
-                    l: [&self.lam, &self.cont_l[0], &self.cont_l[1], &self.cont_l[2]],
-                },
-            };
+        self.started = Some(Instant::now());
+        while let Some(mut view) = self.advance(t_end)? {
             if !observer.step(&mut view) {
                 return Ok(false);
             }
-            self.events.last.clear();
         }
         Ok(true)
+    }
+
+    /// Advances by one accepted step towards `t_end`: the caller drives the
+    /// integrator (pull-style, as diffsol's `step`), between steps free to
+    /// read the state, stop, or go on to another end time. Returns the
+    /// step's view with its dense output and its contact events, or `None`
+    /// once the integrator has reached `t_end`. The step and wall-clock
+    /// limits hold as in [`Radau5::run`] (the clock counts from the first
+    /// call, or from the last `run`).
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use quakejoint_solver::*;
+    ///
+    /// // 1 kg on a 1 N/m spring along x, released from 1 m: half a period
+    /// // later it is at -1 m
+    /// let mut sys = System::new();
+    /// let body = sys.add_body(Body::new("mass", 1.0, 1.0, [1.0, 0.0, 0.0]).only(&[Coord::X]));
+    /// let spring = CoordinateSpring { body, coord: Coord::X, stiffness: 1.0, damping: 0.0, rest: 0.0 };
+    /// sys.add_force(ForceElement::CoordinateSpring(spring));
+    /// let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default()).unwrap());
+    /// let mut sim = Radau5::new(asm, IntegratorOptions::default()).unwrap();
+    /// let half = std::f64::consts::PI;
+    /// let (mut steps, mut end) = (0, (0.0, 0.0));
+    /// while let Some(step) = sim.advance(half).unwrap() {
+    ///     steps += 1;
+    ///     end = (step.t, step.q[0]);
+    /// }
+    /// assert!(steps > 5 && (end.0 - half).abs() < 1e-12 && (end.1 + 1.0).abs() < 1e-4, "{steps} {end:?}");
+    /// ```
+    pub fn advance(&mut self, t_end: f64) -> Result<Option<StepView<'_>>, SolverError> {
+        if t_end < self.t {
+            return Err(SolverError::EndBeforeStart { t_end, t: self.t });
+        }
+        // (the previous step's events were handed out with it)
+        self.events.last.clear();
+        if self.t >= t_end {
+            return Ok(None);
+        }
+        if self.stats.steps + self.stats.rejected + self.stats.failed_attempts >= self.opt.max_steps {
+            return Err(SolverError::StepLimit { limit: self.opt.max_steps, time: self.t });
+        }
+        let started = *self.started.get_or_insert_with(Instant::now);
+        if let Some(limit) = self.opt.max_wall_time {
+            if started.elapsed().as_secs_f64() > limit {
+                return Err(SolverError::WallClockLimit { limit_s: limit, time: self.t });
+            }
+        }
+        self.step(t_end)?;
+        Ok(Some(StepView {
+            t_prev: self.t_prev,
+            t: self.t,
+            q: &self.q,
+            v: &self.v,
+            lambda: &self.lam,
+            assembly: &self.asm,
+            workspace: &mut self.ws,
+            events: &self.events.last,
+            dense: DenseRef {
+                t1: self.t,
+                h: self.h_cont,
+                q: [&self.q, &self.cont_q[0], &self.cont_q[1], &self.cont_q[2]],
+                v: [&self.v, &self.cont_v[0], &self.cont_v[1], &self.cont_v[2]],
+                l: [&self.lam, &self.cont_l[0], &self.cont_l[1], &self.cont_l[2]],
+            },
+        }))
     }
 
     // ----------------------------------------------------------------- setup
