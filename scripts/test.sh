@@ -43,8 +43,12 @@ stage() {
 system_packages
 python_env
 
-stage "cargo fmt --check, clippy and rustdoc with warnings denied"
+stage "cargo fmt --check, clippy and rustdoc with warnings denied; the code's shape"
 cargo fmt --all --check
+# (no function over 120 lines in crates/*/src, no import circle between the
+# model crate's modules: issue 36)
+python3 scripts/long_functions.py 120
+python3 scripts/import_cycles.py model
 cargo clippy --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 

@@ -225,7 +225,7 @@ fn bad_input_exits_with_code_2_and_names_the_problem() {
         (vec!["simulate", "configs/small.toml", "--record", "ground_motions/none.AT2"], "none.AT2"),
         (vec!["record", "configs/paper.toml"], "paper.toml"),
         (vec!["spectrum", "ground_motions/RSN753_LOMAP_CLS090-hor2.AT2", "--damping", "1.5"], "1.5"),
-        (vec!["service", "configs/small.toml", "--speed", "0"], "service.speed"),
+        (vec!["service", "configs/small.toml", "--speed", "0"], "--speed 0: must be within"),
     ];
     for (args, expect) in cases {
         let out = quakejoint(&args);

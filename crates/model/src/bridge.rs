@@ -1,9 +1,10 @@
 //! A run's bridge, resolved once ([`Bridge`]): a single-DOF deck, or a
 //! bridge given by its modes with the modes a run keeps and their static
 //! correction. Each variant has its one implementation of the bridge
-//! without its joints ([`Bridge::alone`]), which the run with `--no-joint`,
-//! the histories and peaks "without the joint" of every run, a sweep's
-//! spectra without the joint and its check of the record's window take.
+//! without its joints (`Bridge::alone`, in [`crate::linear`]), which the
+//! run with `--no-joint`, the histories and peaks "without the joint" of
+//! every run, a sweep's spectra without the joint and its check of the
+//! record's window take.
 
 use std::sync::Arc;
 
@@ -11,10 +12,8 @@ use quakejoint_motion::Record;
 
 use crate::config::Config;
 use crate::error::ModelError;
-use crate::linear::ModalAlone;
-use crate::modal::{KeptMode, ModalBridge, StaticCorrection};
+use crate::modal::{KeptMode, ModalAlone, ModalBridge, StaticCorrection};
 use crate::placement::Place;
-use crate::run::RunResult;
 
 /// A run's bridge.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,17 +51,6 @@ pub struct Modal {
     /// the file \[s^2\], which the bridge without its joints adds
     /// ([`ModalBridge::ground_residual`]).
     pub ground_residual: Option<Vec<f64>>,
-}
-
-/// The bridge without its joints under a record along x.
-#[derive(Debug, Clone)]
-pub struct Alone {
-    /// At the first joint's deck point: the run's result as `--no-joint`
-    /// gives it.
-    pub result: RunResult,
-    /// A bridge given by its modes: every point of its file and the base
-    /// shear.
-    pub modal: Option<ModalAlone>,
 }
 
 impl Bridge {
@@ -107,37 +95,6 @@ impl Bridge {
             Bridge::Modal(m) => Some(m),
         }
     }
-
-    /// The bridge without its joints under `window` (the ground motion
-    /// along x over a run's window), exactly: at `point` (the first
-    /// joint's deck point; a single-DOF deck has one) and, given by its
-    /// modes, at every point of the file.
-    pub fn alone(&self, window: &Record, point: usize, histories: bool) -> Alone {
-        match self {
-            Bridge::SingleDof(b) => {
-                Alone { result: crate::linear::linear_response(window, b.omega, b.damping, histories), modal: None }
-            }
-            Bridge::Modal(m) => {
-                let all = m.superposition(window, 0);
-                let result = crate::linear::modal_result(window, m.kept[0].omega, all.points[point].clone(), histories);
-                Alone { result, modal: Some(all) }
-            }
-        }
-    }
-
-    /// The absolute acceleration \[m/s^2\] of the bridge without its
-    /// joints at the first `samples` sample times of `window` (NaN past
-    /// it), at `point` along x.
-    pub fn a_abs_alone(&self, window: &Record, point: usize, samples: usize) -> Vec<f64> {
-        let mut a = match self {
-            Bridge::SingleDof(b) => {
-                quakejoint_motion::history(&window.acceleration, window.dt, b.period, b.damping).a_abs
-            }
-            Bridge::Modal(m) => m.superposition(window, 0).points.swap_remove(point).a_abs,
-        };
-        a.resize(samples, f64::NAN);
-        a
-    }
 }
 
 impl Modal {
@@ -145,7 +102,7 @@ impl Modal {
     /// ground's direction `dir` (0: x, 1: y), with the ground's part of
     /// the static correction along x.
     pub fn superposition(&self, record: &Record, dir: usize) -> ModalAlone {
-        let all = crate::linear::modal_superposition(record, &self.kept, dir);
+        let all = crate::modal::modal_superposition(record, &self.kept, dir);
         match dir {
             0 => all.with_ground_static(self.ground_residual.as_deref(), record),
             _ => all,

@@ -174,3 +174,13 @@ pub fn markdown_tables() -> (String, String) {
     }
     (result, per_job)
 }
+
+impl RunResult {
+    /// Scalar results of a run: name, value, unit, in the order of
+    /// [`FIELDS`]. Quantities a run did not compute are NaN
+    /// (the joint's, the energy balance and the solver counters of the
+    /// exact linear solution without the joint).
+    pub fn scalars(&self) -> Vec<(&'static str, f64, &'static str)> {
+        FIELDS.iter().map(|f| (f.name, (f.value)(self), f.units)).collect()
+    }
+}

@@ -18,11 +18,11 @@
 
 use quakejoint_solver::{
     Body, BodyId, Bushing, ConstraintId, Contact, ContactLaw, Coord, CoordinateSpring, Driver, Excitation,
-    ForceElement, Friction, FrictionLaw, HertzDamping, PointOnLine, Prismatic, Revolute, SmoothTriangle, System,
-    TimeFunction, TimeSeries, Weld, NO_GROUP,
+    ForceElement, Friction, FrictionLaw, PointOnLine, Prismatic, Revolute, SmoothTriangle, System, TimeFunction,
+    TimeSeries, Weld, NO_GROUP,
 };
 
-use crate::config::{Config, ContactLawConfig, HertzDampingConfig, LawConfig, SupportKind};
+use crate::config::{Config, ContactLawConfig, LawConfig, SupportKind};
 use crate::error::ModelError;
 use crate::geometry::Geometry;
 use crate::modal::{add_modes, EndSpec, ModalDeck};
@@ -113,21 +113,15 @@ impl ContactPlace {
     }
 }
 
-/// The solver's Hertz damping of a contact config.
-pub(crate) fn hertz_damping(c: &crate::config::ContactConfig) -> HertzDamping {
-    match c.damping {
-        HertzDampingConfig::YeLiZhu => HertzDamping::YeLiZhu,
-        HertzDampingConfig::LankaraniNikravesh => HertzDamping::LankaraniNikravesh,
-    }
-}
-
 /// The solver's law for the contact config.
 fn contact_law(config: &Config) -> ContactLaw {
     let c = &config.joint.contact;
     match c.law {
-        ContactLawConfig::Hertz => {
-            ContactLaw::Hertz { stiffness: c.hertz_stiffness, restitution: c.restitution, damping: hertz_damping(c) }
-        }
+        ContactLawConfig::Hertz => ContactLaw::Hertz {
+            stiffness: c.hertz_stiffness,
+            restitution: c.restitution,
+            damping: crate::link::hertz_damping(c),
+        },
         ContactLawConfig::Linear => ContactLaw::Linear { stiffness: c.linear_stiffness, restitution: c.restitution },
     }
 }

@@ -136,7 +136,7 @@ pub fn add_link(
                     Some(stiffness) => ContactLaw::Hertz {
                         stiffness,
                         restitution: joint.contact.restitution,
-                        damping: crate::generator::hertz_damping(&joint.contact),
+                        damping: hertz_damping(&joint.contact),
                     },
                     None => ContactLaw::Linear { stiffness: l.gap_stiffness, restitution: 1.0 },
                 },
@@ -210,5 +210,14 @@ impl LinkWatch {
     pub fn cells(&self, parts: &LinkParts) -> [f64; 2] {
         let n = parts.cells as f64;
         [parts.clear + self.min_u / n, parts.clear + self.max_u / n]
+    }
+}
+
+/// The solver's Hertz damping of a contact config (the detailed joint's
+/// contacts and the link's closed joint alike).
+pub(crate) fn hertz_damping(c: &crate::config::ContactConfig) -> quakejoint_solver::HertzDamping {
+    match c.damping {
+        crate::config::HertzDampingConfig::YeLiZhu => quakejoint_solver::HertzDamping::YeLiZhu,
+        crate::config::HertzDampingConfig::LankaraniNikravesh => quakejoint_solver::HertzDamping::LankaraniNikravesh,
     }
 }

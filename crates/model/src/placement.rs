@@ -29,10 +29,7 @@ pub struct Place {
     pub abutment_lag: f64,
 }
 
-/// The largest |`abutment_lag`| \[s\]: a wave crossing a bridge at 100 m/s
-/// takes 1 s per 100 m; 10 s is a bridge of kilometres at the slowest
-/// apparent speeds.
-pub const MAX_ABUTMENT_LAG: f64 = 10.0;
+pub use crate::config::MAX_ABUTMENT_LAG;
 
 /// The joints of `config`, checked (each joint's values as `[joint]`'s are,
 /// named `joints[k].joint.<key>`).

@@ -8,8 +8,8 @@
 use quakejoint_solver::{Assembly, ContactEventKind, ContactValue, StateBuffer, StepView, Workspace};
 
 use crate::generator::{ContactPlace, JointModel};
-use crate::run::DENSE_OUTPUT;
 use crate::validity::Monitor;
+use crate::watch::DENSE_OUTPUT;
 
 /// Slowest approach that counts as an impact [m/s]: slower touches (a
 /// beam settling against its neighbour after an impact, in bounces of

@@ -224,7 +224,7 @@ impl RunSpec {
     /// A run on a bridge given by its modes set beside its bridge alone
     /// `every`: each point's peaks and the base shear without the joints,
     /// the check of the kept modes, and the histories without the joints.
-    fn compare_modal(&self, result: &mut RunResult, modal: &crate::bridge::Modal, every: &crate::linear::ModalAlone) {
+    fn compare_modal(&self, result: &mut RunResult, modal: &crate::bridge::Modal, every: &crate::modal::ModalAlone) {
         for (p, peaks) in result.points.iter_mut().enumerate() {
             [peaks.sd_without, peaks.sa_without] = every.peaks(p);
         }

@@ -39,11 +39,4 @@ impl Scenario {
     pub fn first_point(&self) -> usize {
         self.places[0].deck_point
     }
-
-    /// The bridge without its joints under `window` (the ground motion
-    /// along x over the run's window), at the first joint's deck point and,
-    /// given by its modes, at every point ([`Bridge::alone`]).
-    pub fn alone(&self, window: &quakejoint_motion::Record, histories: bool) -> crate::bridge::Alone {
-        self.bridge.alone(window, self.first_point(), histories)
-    }
 }

@@ -80,3 +80,8 @@ impl Gaps {
         }
     }
 }
+
+/// Why the dense output cannot fail in the observers: the times come from
+/// the step's own `OutputTimes::next_in` (or lie between its ends) and the
+/// buffers are sized by the same assembly.
+pub(crate) const DENSE_OUTPUT: &str = "an output time handed out for a step lies in it, and the buffers fit its system";

@@ -95,7 +95,7 @@ fn deck_ends_agree_with_opensees_without_joints() {
     // every point and the base shear: the solver's modes against the exact
     // superposition of the same 20 modes
     let kept = bridge.kept(Some(20), 1.0, 0.05);
-    let alone = quakejoint_model::linear::modal_superposition(record, &kept, 0);
+    let alone = quakejoint_model::modal::modal_superposition(record, &kept, 0);
     let shear = alone.base_shear_peak();
     for (k, p) in r.points.iter().enumerate() {
         let [sd, sa] = alone.peaks(k);

@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::ModelError;
 
 mod joint;
+pub mod modes;
 
 pub use joint::*;
 
@@ -147,7 +148,7 @@ pub struct ModalConfig {
     /// The modes file, read with the config ([`Config::from_file`],
     /// [`Config::load_modes`]).
     #[serde(skip)]
-    pub loaded: Option<std::sync::Arc<crate::modal::ModalBridge>>,
+    pub loaded: Option<std::sync::Arc<modes::ModalBridge>>,
 }
 
 impl ModalConfig {
@@ -341,7 +342,7 @@ impl Config {
     pub fn load_modes(&mut self, base_dir: &std::path::Path) -> Result<(), ModelError> {
         let Some(m) = &self.bridge.modal else { return Ok(()) };
         let path = base_dir.join(&m.modes);
-        let bridge = crate::modal::ModalBridge::read(&path).map_err(|e| match e {
+        let bridge = modes::ModalBridge::read(&path).map_err(|e| match e {
             ModelError::Io { file, message } => ModelError::Invalid {
                 field: "bridge.modal.modes".to_string(),
                 value: format!("\"{}\"", m.modes),
@@ -354,21 +355,21 @@ impl Config {
 
     /// Gives `[bridge.modal]` a modes file already read (the one a sweep's
     /// cases share) and checks the config's points against it.
-    pub fn attach_modes(&mut self, bridge: std::sync::Arc<crate::modal::ModalBridge>) -> Result<(), ModelError> {
+    pub fn attach_modes(&mut self, bridge: std::sync::Arc<modes::ModalBridge>) -> Result<(), ModelError> {
         let Some(m) = &mut self.bridge.modal else { return Ok(()) };
         if let Some(p) = &m.joint_point {
-            bridge.point(p, crate::modal::Direction::X, "bridge.modal.joint_point")?;
+            bridge.point(p, modes::Direction::X, "bridge.modal.joint_point")?;
         }
         if let Some(p) = &m.joint_point_y {
-            bridge.point(p, crate::modal::Direction::Y, "bridge.modal.joint_point_y")?;
+            bridge.point(p, modes::Direction::Y, "bridge.modal.joint_point_y")?;
         }
         for (k, j) in self.joints.iter().enumerate() {
-            bridge.point(&j.deck_point, crate::modal::Direction::X, &format!("joints[{k}].deck_point"))?;
+            bridge.point(&j.deck_point, modes::Direction::X, &format!("joints[{k}].deck_point"))?;
             if let Some(p) = &j.deck_point_y {
-                bridge.point(p, crate::modal::Direction::Y, &format!("joints[{k}].deck_point_y"))?;
+                bridge.point(p, modes::Direction::Y, &format!("joints[{k}].deck_point_y"))?;
             }
             if let Some(a) = &j.abutment_point {
-                bridge.point(a, crate::modal::Direction::X, &format!("joints[{k}].abutment_point"))?;
+                bridge.point(a, modes::Direction::X, &format!("joints[{k}].abutment_point"))?;
             }
         }
         if m.corrected() && bridge.static_response.as_ref().is_none_or(|s| s.flexibility.is_empty()) {
@@ -550,12 +551,12 @@ fn check_modal(config: &Config, m: &ModalConfig) -> Result<(), ModelError> {
     Ok(())
 }
 
-/// A joint's `abutment_lag`: from 0 to [`crate::placement::MAX_ABUTMENT_LAG`],
+/// A joint's `abutment_lag`: from 0 to [`MAX_ABUTMENT_LAG`],
 /// and only at an abutment.
 fn check_lag(k: usize, j: &PlacedJointConfig) -> Result<(), ModelError> {
     let Some(lag) = j.abutment_lag else { return Ok(()) };
     let field = format!("joints[{k}].abutment_lag");
-    let max = crate::placement::MAX_ABUTMENT_LAG;
+    let max = MAX_ABUTMENT_LAG;
     if lag.is_nan() || !(0.0..=max).contains(&lag) {
         return Err(invalid(
             &field,
@@ -576,6 +577,11 @@ fn check_lag(k: usize, j: &PlacedJointConfig) -> Result<(), ModelError> {
     }
     Ok(())
 }
+
+/// The largest |`abutment_lag`| \[s\]: a wave crossing a bridge at 100 m/s
+/// takes 1 s per 100 m; 10 s is a bridge of kilometres at the slowest
+/// apparent speeds.
+pub const MAX_ABUTMENT_LAG: f64 = 10.0;
 
 /// A directory against which relative record paths are resolved.
 pub fn base_dir(config_path: &std::path::Path) -> PathBuf {

@@ -11,8 +11,8 @@ use quakejoint_solver::{
 };
 
 use super::{
-    check_run_length, integrator_options, run_duration, series, FarSegment, Histories, JointResult, ProgressFn,
-    RunOptions, RunResult, Transverse,
+    check_run_length, integrator_options, run_duration, series, window_to, FarSegment, Histories, JointResult,
+    ProgressFn, RunOptions, RunResult, Transverse,
 };
 use crate::config::Config;
 use crate::error::ModelError;
@@ -21,6 +21,7 @@ use crate::pounding::{ContactWatch, Pounding};
 use crate::scenario::Scenario;
 use crate::validity::Monitor;
 use crate::watch::Gaps;
+use crate::watch::DENSE_OUTPUT;
 
 /// Runs the coupled model under given records.
 pub fn simulate_records(
@@ -215,19 +216,24 @@ struct Without<'a> {
 }
 
 impl Without<'_> {
+    /// `record` over the run's window (the run's duration under `record_x`).
+    fn window(&self, record: &Record) -> Record {
+        window_to(record, run_duration(self.config, self.record_x))
+    }
+
     /// Sa of a single-DOF oscillator of circular frequency `w` [rad/s] and
     /// damping ratio `zeta` [-] under `record` over the run's window.
     fn sdof_sa(&self, record: &Record, w: f64, zeta: f64) -> f64 {
         let period = 2.0 * std::f64::consts::PI / w;
-        crate::runspec::Reference::for_run(self.config, self.record_x, record).peaks(period, zeta).sa
+        let window = self.window(record);
+        quakejoint_motion::peaks(&window.acceleration, window.dt, period, zeta, Default::default()).sa
     }
 
     /// Sa across of a modal bridge's point `py` under `[record_y]` (0
     /// without it).
     fn modal_sa_across(&self, py: usize) -> f64 {
         let (Some(r), Some(modal)) = (self.record_y, self.modal) else { return 0.0 };
-        let window = crate::runspec::Reference::for_run(self.config, self.record_x, r);
-        let alone = modal.superposition(window.window(), 1);
+        let alone = modal.superposition(&self.window(r), 1);
         alone.points[py].a_abs.iter().fold(0.0f64, |m, a| m.max(a.abs()))
     }
 }
@@ -360,11 +366,6 @@ impl Peak {
         }
     }
 }
-
-/// Why the dense output cannot fail in the observers: the times come from
-/// the step's own `OutputTimes::next_in` (or lie between its ends) and the
-/// buffers are sized by the same assembly.
-pub(crate) const DENSE_OUTPUT: &str = "an output time handed out for a step lies in it, and the buffers fit its system";
 
 /// Evaluates the reported quantities at the output times.
 struct EarthquakeObserver {

@@ -52,7 +52,7 @@ impl std::fmt::Debug for RunOptions {
 mod coupled;
 mod result;
 
-pub(crate) use coupled::DENSE_OUTPUT;
+pub(crate) use crate::watch::DENSE_OUTPUT;
 pub use coupled::{simulate_records, simulate_scenario, CHECK_INTERVAL};
 pub use result::{FarSegment, JointResult, RunResult, Transverse};
 
