@@ -171,6 +171,12 @@ impl Crossing {
     }
 }
 
+/// The limits whose crossing is located on the dense output, in the order
+/// of [`Monitor::excesses`]: beams overlapping without contacts, a cell
+/// beyond its capacity, a bearing off its support, a joist pulled out of
+/// its box.
+pub(crate) const LIMITS: usize = 4;
+
 /// Watches the limits of a run at its output times.
 #[derive(Debug, Clone)]
 pub struct Monitor {
@@ -245,15 +251,51 @@ impl Monitor {
     /// sub-gaps (abutment side first) at their narrower end `subgaps` and
     /// at their wider end `largest`.
     pub fn sample(&mut self, t: f64, q: &[f64], u: f64, subgaps: &[f64], largest: &[f64]) {
-        for (s, &gap) in subgaps.iter().enumerate() {
-            if gap < 0.0 && self.max_penetration.is_none() {
-                Crossing::update(&mut self.collision, t, -gap, s);
+        for (limit, (excess, place)) in self.excesses(q, u, subgaps, largest).into_iter().enumerate() {
+            if excess > 0.0 {
+                Crossing::update(self.slot(limit), t, excess, place);
+            }
+        }
+    }
+
+    /// A limit crossed at `t` as the dense output locates it, between the
+    /// samples (`excess` \[m\] just after, at `place`): the crossing starts
+    /// there, or earlier than its first sample.
+    pub(crate) fn crossed(&mut self, limit: usize, t: f64, excess: f64, place: usize) {
+        match self.slot(limit) {
+            Some(c) => c.first = c.first.min(t),
+            slot => Crossing::update(slot, t, excess.max(0.0), place),
+        }
+    }
+
+    fn slot(&mut self, limit: usize) -> &mut Option<Crossing> {
+        match limit {
+            0 => &mut self.collision,
+            1 => &mut self.capacity,
+            2 => &mut self.off_support,
+            _ => &mut self.pulled_out,
+        }
+    }
+
+    /// Each limit's largest excess \[m\] (positive: crossed; negative:
+    /// the margin left) with its place, at positions `q`, deck opening `u`
+    /// and the sub-gaps `subgaps` (narrower ends) and `largest` (wider
+    /// ends), in the order of [`LIMITS`]; a limit with no place to cross
+    /// (a collision where contacts act, no joist) is (-1 m, 0).
+    pub(crate) fn excesses(&self, q: &[f64], u: f64, subgaps: &[f64], largest: &[f64]) -> [(f64, usize); LIMITS] {
+        let mut out = [(f64::NEG_INFINITY, 0); LIMITS];
+        let mut take = |limit: usize, excess: f64, place: usize| {
+            if excess > out[limit].0 {
+                out[limit] = (excess, place);
+            }
+        };
+        if self.max_penetration.is_none() {
+            for (s, &gap) in subgaps.iter().enumerate() {
+                take(0, -gap, s);
             }
         }
         for (s, &gap) in largest.iter().enumerate() {
-            if gap > self.max_subgap {
-                Crossing::update(&mut self.capacity, t, gap - self.max_subgap, s);
-            }
+            take(1, gap - self.max_subgap, s);
         }
         let g = &self.geometry;
         let uy = self.deck_y.map_or(0.0, |c| q[c]);
@@ -271,19 +313,19 @@ impl Monitor {
                 }
                 None => (q[b.x] - u0, open),
             };
-            let excess = (-along).max(along - reach);
-            if excess > 0.0 {
-                Crossing::update(&mut self.off_support, t, excess, n);
-            }
+            take(2, (-along).max(along - reach), n);
         }
         for (k, sup) in g.supports.iter().enumerate() {
             if sup.kind == SupportKind::Joist {
-                let excess = open.hypot(sup.box_dy + uy) - self.joist_length;
-                if excess > 0.0 {
-                    Crossing::update(&mut self.pulled_out, t, excess, k);
-                }
+                take(3, open.hypot(sup.box_dy + uy) - self.joist_length, k);
             }
         }
+        for o in &mut out {
+            if o.0 == f64::NEG_INFINITY {
+                *o = (-1.0, 0);
+            }
+        }
+        out
     }
 
     /// The validity of the run so far, with its energy balance error.

@@ -60,24 +60,33 @@ impl Gaps {
     /// The sub-gaps at time `t` for positions `q` and deck opening `u`,
     /// and the validity limits if a monitor is given.
     pub fn check(&mut self, t: f64, q: &[f64], u: f64, monitor: Option<&mut Monitor>) {
+        let equal = self.fill(q, u);
+        for &[a, b] in &self.ends {
+            self.min = self.min.min(a.min(b));
+            self.max = self.max.max(a.max(b));
+            self.deviation = self.deviation.max((a - equal).abs().max((b - equal).abs()));
+        }
+        if let Some(m) = monitor {
+            m.sample(t, q, u, &self.smallest, &self.largest);
+        }
+    }
+
+    /// The sub-gaps for positions `q` and deck opening `u` into `ends`,
+    /// `smallest` and `largest`, the extremes so far left as they are;
+    /// returns the sub-gap of equal spacing \[m\].
+    pub fn fill(&mut self, q: &[f64], u: f64) -> f64 {
         for ((x, phi), (&c, &a)) in self.x.iter_mut().zip(&mut self.phi).zip(self.beams.iter().zip(&self.angles)) {
             (*x, *phi) = (q[c], q[a]);
         }
         let u0 = self.far.map_or(0.0, |c| q[c]);
         self.geometry.subgaps(&self.x, &self.phi, u, u0, &mut self.ends);
-        let equal = (self.geometry.gap + u - u0) / (self.geometry.center_beams + 1) as f64 - self.geometry.width;
         self.smallest.clear();
         self.largest.clear();
         for &[a, b] in &self.ends {
-            self.min = self.min.min(a.min(b));
-            self.max = self.max.max(a.max(b));
-            self.deviation = self.deviation.max((a - equal).abs().max((b - equal).abs()));
             self.smallest.push(a.min(b));
             self.largest.push(a.max(b));
         }
-        if let Some(m) = monitor {
-            m.sample(t, q, u, &self.smallest, &self.largest);
-        }
+        (self.geometry.gap + u - u0) / (self.geometry.center_beams + 1) as f64 - self.geometry.width
     }
 }
 

@@ -114,3 +114,34 @@ fn a_coarse_record_does_not_hide_a_collision_between_its_samples() {
     assert!((ga - gb).abs() < 0.5e-3, "smallest sub-gap {ga} m (0.1 s record) against {gb} m (5 ms)");
     assert_eq!(a.validity.flags, b.validity.flags, "{:?} {:?}", a.validity, b.validity);
 }
+
+/// The first crossing of a limit is located on the dense output, not at the
+/// sample that first sees it: the collision of the small joint without
+/// contacts under the full record begins where the smallest sub-gap's
+/// history, sampled every 5 ms independently of the root finding, crosses
+/// zero (linear interpolation between the last sample above zero and the
+/// first below, good to the curvature over 5 ms: 1 ms).
+#[test]
+fn a_limit_is_first_crossed_where_the_sub_gaps_history_crosses_it() {
+    let config = common::shipped_with(
+        "small.toml",
+        "[simulation]\nduration = 8.0\n[joint.contact]\nenabled = false\n[joint.capacity]\nmax_subgap = 0.5\n",
+    );
+    let options = RunOptions { histories: true, ..RunOptions::default() };
+    let r = simulate(&config, &common::configs_dir(), &options).unwrap();
+    let h = r.histories.as_ref().unwrap();
+    let smallest = |j: usize| h.subgaps.iter().map(|s| s[j]).fold(f64::INFINITY, f64::min);
+    let k = (0..h.t.len()).find(|&j| smallest(j) < 0.0).expect("the sub-gaps close");
+    let (g0, g1) = (smallest(k - 1), smallest(k));
+    let interpolated = h.t[k - 1] + (h.t[k] - h.t[k - 1]) * g0 / (g0 - g1);
+    let finding = &r.validity.findings[0];
+    let first: f64 = finding
+        .split("first below zero at t = ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{finding}"));
+    assert!(first > h.t[k - 1] - 1e-3 && first <= h.t[k] + 1e-3, "{first} outside ({}, {}]", h.t[k - 1], h.t[k]);
+    assert!((first - interpolated).abs() < 1e-3, "located {first} s, interpolated {interpolated} s: {finding}");
+    eprintln!("located {first} s, interpolated {interpolated:.5} s, samples {} and {} s", h.t[k - 1], h.t[k]);
+}

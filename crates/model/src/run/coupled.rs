@@ -351,6 +351,10 @@ impl Observer for Observers {
 /// at 1 m/s moves 5 mm in it.
 pub const CHECK_INTERVAL: f64 = 0.005;
 
+/// The tolerance to which the first crossing of a validity limit is
+/// located in time \[s\].
+pub const CROSSING_TOLERANCE: f64 = 1e-6;
+
 /// A running maximum of |x| with its time.
 #[derive(Debug, Clone, Copy, Default)]
 struct Peak {
@@ -431,6 +435,9 @@ struct EarthquakeObserver {
     /// [`CHECK_INTERVAL`] (a coarse record must not hide a collision).
     check_dt: f64,
     checks: quakejoint_solver::OutputTimes,
+    /// Each validity limit's excess at the last step's end \[m\]
+    /// ([`Monitor::excesses`]; NaN before the first step).
+    excess: [f64; crate::validity::LIMITS],
     /// The run's start and wall-clock limit [s], checked as output samples
     /// are written too (a long free vibration is many samples per step).
     deadline: Option<(Clock, f64)>,
@@ -512,6 +519,7 @@ impl EarthquakeObserver {
             histories,
             check_dt,
             checks: grid(check_dt)?,
+            excess: [f64::NAN; crate::validity::LIMITS],
             deadline: None,
             out_of_time: false,
             monitor: None,
@@ -524,6 +532,38 @@ impl EarthquakeObserver {
     fn check(&mut self, t: f64, q: &[f64]) {
         if let Some(g) = &mut self.gaps {
             g.check(t, q, q[self.deck], self.monitor.as_mut());
+        }
+    }
+
+    /// The times within the step at which a validity limit is first crossed,
+    /// located on the dense output to [`CROSSING_TOLERANCE`] (the samples
+    /// of the sub-gaps and the limits find the worst excess, but an excess
+    /// between two samples, or where it began, only the root finding sees).
+    fn locate_crossings(&mut self, view: &StepView<'_>) {
+        let (Some(gaps), Some(monitor)) = (&mut self.gaps, &mut self.monitor) else { return };
+        let deck = self.deck;
+        let excess = |gaps: &mut Gaps, monitor: &Monitor, q: &[f64]| {
+            gaps.fill(q, q[deck]);
+            monitor.excesses(q, q[deck], &gaps.smallest, &gaps.largest)
+        };
+        // the step's end against the last one's: a limit crossed within
+        // the step is located there (one crossing per step and limit; one
+        // that goes and comes back within a step is the samples' to see)
+        let end = excess(gaps, monitor, view.q);
+        for (limit, &(now, _)) in end.iter().enumerate() {
+            let before = std::mem::replace(&mut self.excess[limit], now);
+            // (NaN: the first step, whose start the dense output gives)
+            if before > 0.0 || now <= 0.0 {
+                continue;
+            }
+            let root = view
+                .locate_root(CROSSING_TOLERANCE, &mut self.state, |s| excess(gaps, monitor, &s.q)[limit].0)
+                .expect(DENSE_OUTPUT);
+            // (none: the dense output at the step's start, which differs from
+            // the last end state by its projection, is beyond already)
+            let t = root.map_or(view.t_prev, |r| r.t);
+            let (e, place) = excess(gaps, monitor, &self.state.q)[limit];
+            monitor.crossed(limit, t, e, place);
         }
     }
 
@@ -740,6 +780,7 @@ struct Instant<'a> {
 
 impl Observer for EarthquakeObserver {
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        self.locate_crossings(view);
         self.check_between(view);
         if let Some(c) = &mut self.contacts {
             c.step(view, self.monitor.as_mut());
