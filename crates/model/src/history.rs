@@ -72,6 +72,8 @@ pub struct Series {
     pub name: &'static str,
     /// Its units.
     pub units: &'static str,
+    /// What it is (a line of `docs/hdf5-layout.md`).
+    pub meaning: &'static str,
     /// The series in a run's histories.
     pub of: fn(&Histories) -> &Vec<f64>,
     /// The same, to fill.
@@ -86,6 +88,10 @@ pub struct Table {
     pub name: &'static str,
     /// Its units.
     pub units: &'static str,
+    /// What it is (a line of `docs/hdf5-layout.md`).
+    pub meaning: &'static str,
+    /// Its rows, as the docs name their count (`Nc`, `Nc + 1`, `np`).
+    pub rows: &'static str,
     /// The rows in a run's histories.
     pub of: fn(&Histories) -> &Vec<Vec<f64>>,
     /// The same, to fill.
@@ -93,38 +99,111 @@ pub struct Table {
 }
 
 macro_rules! series {
-    ($kind:ident, $field:ident, $units:literal) => {
-        $kind { name: stringify!($field), units: $units, of: |h| &h.$field, of_mut: |h| &mut h.$field }
+    ($field:ident, $units:literal, $meaning:literal) => {
+        Series {
+            name: stringify!($field),
+            units: $units,
+            meaning: $meaning,
+            of: |h| &h.$field,
+            of_mut: |h| &mut h.$field,
+        }
+    };
+    ($field:ident, $rows:literal, $units:literal, $meaning:literal) => {
+        Table {
+            name: stringify!($field),
+            units: $units,
+            meaning: $meaning,
+            rows: $rows,
+            of: |h| &h.$field,
+            of_mut: |h| &mut h.$field,
+        }
     };
 }
 
 /// Every series of a run's histories, in the order outputs list them (a
 /// run's `/history`, a sweep's `/histories/job_<j>`).
 pub const SERIES: [Series; 11] = [
-    series!(Series, t, "s"),
-    series!(Series, ag, "m/s^2"),
-    series!(Series, u, "m"),
-    series!(Series, v, "m/s"),
-    series!(Series, a_abs, "m/s^2"),
-    series!(Series, a_abs_without_joint, "m/s^2"),
-    series!(Series, joint_force, "N"),
-    series!(Series, friction_power, "W"),
-    series!(Series, uy, "m"),
-    series!(Series, a_abs_y, "m/s^2"),
-    series!(Series, joint_force_y, "N"),
+    series!(t, "s", "time"),
+    series!(ag, "m/s^2", "ground acceleration (in the joint's own x: `u` opens the joint)"),
+    series!(u, "m", "deck displacement relative to the ground (at the joint's deck point, in its own x)"),
+    series!(v, "m/s", "deck velocity relative to the ground"),
+    series!(a_abs, "m/s^2", "deck absolute acceleration (force balance)"),
+    series!(
+        a_abs_without_joint,
+        "m/s^2",
+        "the same for the bridge alone (exact linear solution over the same window; the ground is at rest after the record)"
+    ),
+    series!(joint_force, "N", "force of the joint on the deck (x; NaN without the joint)"),
+    series!(
+        friction_power,
+        "W",
+        "power dissipated by the joint's friction (its own bodies' in a run of several joints; NaN without the joint)"
+    ),
+    series!(uy, "m", "across the bridge (when the deck moves across): the deck's displacement relative to the ground"),
+    series!(a_abs_y, "m/s^2", "across the bridge: the deck's absolute acceleration"),
+    series!(joint_force_y, "N", "across the bridge: the joint's force on the deck"),
 ];
 
 /// Every table of a run's histories, in the order outputs list them.
 pub const TABLES: [Table; 8] = [
-    series!(Table, center_beam_dx, "m"),
-    series!(Table, subgaps, "m"),
-    series!(Table, subgaps_wide, "m"),
-    series!(Table, contact_force, "N"),
-    series!(Table, points_u, "m"),
-    series!(Table, points_a_abs, "m/s^2"),
-    series!(Table, points_u_without_joint, "m"),
-    series!(Table, points_a_abs_without_joint, "m/s^2"),
+    series!(
+        center_beam_dx,
+        "Nc",
+        "m",
+        "x displacement of each center beam from its reference position (absent without the joint)"
+    ),
+    series!(
+        subgaps,
+        "Nc + 1",
+        "m",
+        "clear sub-gaps at the narrower of the two beam ends (where the beams close first: pounding), abutment side \
+         first (absent without the joint); for the link element (`joint.model = \"link\"`, docs/link.md) one row, its \
+         cells opening alike: `(pitch - width) + u / (Nc + 1)`"
+    ),
+    series!(
+        subgaps_wide,
+        "Nc + 1",
+        "m",
+        "clear sub-gaps at the wider of the two beam ends (where a cell opens most: the movement capacity); its \
+         largest value is `/result/max_subgap` when the record's step is at most the 5 ms of the validity checks"
+    ),
+    series!(
+        contact_force,
+        "Nc + 1",
+        "N",
+        "largest contact force across each sub-gap (both ends together) since the previous output time, an impact \
+         being shorter than a time step (absent without contact)"
+    ),
+    series!(
+        points_u,
+        "np",
+        "m",
+        "a bridge given by its modes: every point of the modes file (in the order of `/points/name`), its \
+         displacement along the bridge relative to the ground (with `--no-joint`, the bridge alone's)"
+    ),
+    series!(points_a_abs, "np", "m/s^2", "the same point's absolute acceleration"),
+    series!(
+        points_u_without_joint,
+        "np",
+        "m",
+        "`points_u` of the bridge alone (exact modal superposition of the kept modes over the same window)"
+    ),
+    series!(points_a_abs_without_joint, "np", "m/s^2", "`points_a_abs` of the bridge alone"),
 ];
+
+/// The rows of `docs/hdf5-layout.md`'s table of a run file's `/history`:
+/// the docs are made from [`SERIES`] and [`TABLES`] (a test keeps them
+/// equal).
+pub fn markdown_table() -> String {
+    let mut out = String::from("| path | shape | units | content |\n|---|---|---|---|\n| `/history` | | | group |\n");
+    for s in SERIES {
+        out += &format!("| `/history/{}` | (nt) | {} | {} |\n", s.name, s.units, s.meaning);
+    }
+    for t in TABLES {
+        out += &format!("| `/history/{}` | ({}, nt) | {} | {} |\n", t.name, t.rows, t.units, t.meaning);
+    }
+    out
+}
 
 impl Histories {
     /// The series a sweep keeps of a job, in its journal and its file: the

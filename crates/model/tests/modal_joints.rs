@@ -239,3 +239,34 @@ fn every_point_has_its_history_with_the_joints_and_without() {
     // the joints change the bridge's motion
     assert!(h.points_u[1] != h.points_u_without_joint[1]);
 }
+
+/// Each joint's friction power history is its own, not the whole
+/// system's: integrated over the run (trapezoids at the record's 5 ms
+/// samples) it gives that joint's friction energy, which the solver
+/// integrates inside every step for its group of bodies, to the sampling's
+/// accuracy, and the two joints' histories sum to the system's dissipation.
+#[test]
+fn each_joints_friction_power_history_is_its_own() {
+    let config = modal::two_joints_on_three_span(&root(), "small.toml", 1.0, "[simulation]\nduration = 3.0\n").unwrap();
+    let (x, _) = quakejoint_model::run::load_records(&config, &root()).unwrap();
+    let options = quakejoint_model::run::RunOptions { histories: true, ..Default::default() };
+    let r = quakejoint_model::run::simulate_records(&config, &x.record, None, &options).unwrap();
+    let integral = |h: &quakejoint_model::run::Histories| {
+        h.t.windows(2).zip(h.friction_power.windows(2)).map(|(t, p)| 0.5 * (p[0] + p[1]) * (t[1] - t[0])).sum::<f64>()
+    };
+    let histories = [r.histories.as_ref().unwrap(), r.joints[1].histories.as_ref().unwrap()];
+    let mut sum = 0.0;
+    for (h, joint) in histories.iter().zip(&r.joints) {
+        let e = integral(h);
+        eprintln!("{}: history {e:.1} J, friction_energy {:.1} J", joint.name, joint.friction_energy);
+        assert!(joint.friction_energy > 1.0, "{}: {}", joint.name, joint.friction_energy);
+        assert!(
+            (e / joint.friction_energy - 1.0).abs() < 0.03,
+            "{}: {e} against {}",
+            joint.name,
+            joint.friction_energy
+        );
+        sum += e;
+    }
+    assert!((sum / r.friction_energy - 1.0).abs() < 0.03, "{sum} against the system's {}", r.friction_energy);
+}

@@ -167,26 +167,22 @@ fn scalars<'py>(py: Python<'py>, r: &RunResult, record: &LoadedRecord) -> PyResu
 /// The histories as a dict of arrays.
 fn history_dict<'py>(py: Python<'py>, h: &Histories, joint: bool) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let arr = |v: &[f64]| PyArray1::from_slice(py, v);
-    d.set_item("t", arr(&h.t))?;
-    d.set_item("ag", arr(&h.ag))?;
-    d.set_item("u", arr(&h.u))?;
-    d.set_item("v", arr(&h.v))?;
-    d.set_item("a_abs", arr(&h.a_abs))?;
-    d.set_item("a_abs_without_joint", arr(&h.a_abs_without_joint))?;
-    if joint {
-        d.set_item("joint_force", arr(&h.joint_force))?;
-        d.set_item("friction_power", arr(&h.friction_power))?;
-        d.set_item("friction_energy", PyArray1::from_vec(py, cumulative(&h.t, &h.friction_power)))?;
+    // (the series from the one list of them, history::SERIES: those the run
+    // has, the joint's only with the joint)
+    for series in quakejoint_model::history::SERIES {
+        let x = (series.of)(h);
+        let of_joint = matches!(series.name, "joint_force" | "friction_power");
+        if x.is_empty() || (of_joint && !joint) {
+            continue;
+        }
+        d.set_item(series.name, PyArray1::from_slice(py, x))?;
+        if series.name == "friction_power" {
+            d.set_item("friction_energy", PyArray1::from_vec(py, cumulative(&h.t, x)))?;
+        }
     }
     let matrix = |m: &[Vec<f64>]| -> PyResult<Bound<'py, PyArray2<f64>>> {
         PyArray2::from_vec2(py, m).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
     };
-    if !h.uy.is_empty() {
-        d.set_item("uy", arr(&h.uy))?;
-        d.set_item("a_abs_y", arr(&h.a_abs_y))?;
-        d.set_item("joint_force_y", arr(&h.joint_force_y))?;
-    }
     // (the tables, each (row, time), those the run has)
     for table in quakejoint_model::history::TABLES {
         let rows = (table.of)(h);

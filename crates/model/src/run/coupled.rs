@@ -182,13 +182,8 @@ fn joint_results(
             max_subgap_deviation: obs.gaps.as_ref().map(|g| g.deviation).or(obs.link.as_ref().map(|_| 0.0)),
             pounding,
             validity,
-            // (the first joint's stay the run's; the friction power is the
-            // whole system's: only the run's history has it)
-            histories: if k > 0 {
-                obs.histories.take().map(|h| Histories { friction_power: Vec::new(), ..h })
-            } else {
-                None
-            },
+            // (the first joint's stay the run's)
+            histories: if k > 0 { obs.histories.take() } else { None },
         };
         (joint, obs)
     });
@@ -421,6 +416,8 @@ struct EarthquakeObserver {
     /// for every group's peak forces, and its own peaks.
     group: Option<usize>,
     group_extremes: Vec<quakejoint_solver::ForceExtremes>,
+    /// Scratch: every group's friction power at a sample \[W\].
+    group_powers: Vec<f64>,
     own: quakejoint_solver::ForceExtremes,
     gaps: Option<Gaps>,
     contacts: Option<ContactWatch>,
@@ -511,6 +508,7 @@ impl EarthquakeObserver {
             friction: 0.0,
             group: None,
             group_extremes: Vec::new(),
+            group_powers: Vec::new(),
             own: Default::default(),
             gaps,
             contacts,
@@ -745,7 +743,20 @@ impl EarthquakeObserver {
             h.a_abs_y.push(a);
             h.joint_force_y.push(fy);
         }
-        h.friction_power.push(asm.powers(ws, t, q, v, lam).friction);
+        // (its own group's, in a run of several joints; else the system's)
+        let friction_power = match self.group {
+            Some(g) => {
+                let mut powers = std::mem::take(&mut self.group_powers);
+                powers.clear();
+                powers.resize(asm.group_count(), 0.0);
+                asm.friction_powers_by_group(ws, t, q, v, &mut powers);
+                let own = powers[g];
+                self.group_powers = powers;
+                own
+            }
+            None => asm.powers(ws, t, q, v, lam).friction,
+        };
+        h.friction_power.push(friction_power);
         if let Some(g) = &self.gaps {
             for (i, &c) in g.beams.iter().enumerate() {
                 h.center_beam_dx[i].push(q[c] - g.geometry.center_x[i]);
