@@ -46,6 +46,7 @@ mod cost;
 mod grid;
 mod modal;
 mod records;
+mod section;
 mod stripes;
 mod suite;
 
@@ -61,6 +62,7 @@ use modal::modal_axis;
 pub use modal::ModalSweep;
 use records::window_warning;
 pub use records::SweepRecord;
+use section::SweepSection;
 use stripes::stripes_of;
 pub use stripes::{Measure, StripeRun, Stripes, STRIPES_KEYS};
 use suite::{suite_of, suite_warnings};
@@ -274,20 +276,13 @@ impl Plan {
             Some(_) => return Err(sweep_err("sweep", "must be a table")),
             None => return Err(sweep_err("sweep", format!("{source} has no [sweep] table"))),
         };
-        known_keys(&sweep, "sweep", &SWEEP_KEYS)?;
-        if sweep.contains_key("stripes") && sweep.contains_key("suite") {
-            return Err(sweep_err(
-                "sweep.stripes",
-                "the stripes scale every record to every level; a suite's scaling to a target ([sweep.suite]) would \
-                 be undone: remove [sweep.suite] and list its records in sweep.records",
-            ));
-        }
+        let sweep = SweepSection::read(sweep)?;
         let (periods, damping, modal) = axes_of(&sweep, &base_config, base_dir)?;
-        let history_periods = history_indices(&sweep, &periods, modal.as_ref())?;
-        let checkpoint_seconds = checkpoint_of(&sweep)?;
+        let history_periods = history_indices(&sweep.histories, &periods, modal.as_ref())?;
+        let checkpoint_seconds = sweep.checkpoint_seconds;
         let specs = record_specs(&sweep, &base_config)?;
         let mut records = specs.into_iter().map(|s| SweepRecord::load(s, base_dir)).collect::<Result<Vec<_>, _>>()?;
-        let suite = match sweep.get("suite") {
+        let suite = match &sweep.suite {
             Some(v) => {
                 // a bridge given by its modes: the fit's default range is
                 // about its longest kept period at scale 1, the modes file's
@@ -303,8 +298,8 @@ impl Plan {
             None => None,
         };
         // the records as given: the window warnings are about them
-        let given = sweep.contains_key("stripes").then(|| records.clone());
-        let (stripes, stripe_warnings) = match sweep.get("stripes") {
+        let given = sweep.stripes.is_some().then(|| records.clone());
+        let (stripes, stripe_warnings) = match &sweep.stripes {
             Some(v) => {
                 stripes_allowed(&base_config, &records)?;
                 let (s, w) = stripes_of(v, &periods, &damping, &mut records, &base_config)?;
@@ -312,7 +307,7 @@ impl Plan {
             }
             None => (None, Vec::new()),
         };
-        let fragility = match (&stripes, sweep.get("fragility")) {
+        let fragility = match (&stripes, sweep.fragility.as_ref()) {
             (Some(_), f) => Some(crate::fragility::FragilitySpec::from_toml(f, base_dir)?),
             (None, Some(_)) => {
                 return Err(sweep_err(
@@ -334,8 +329,8 @@ impl Plan {
                 ));
             }
         }
-        let cases = cases_of(&sweep, &table, &base_config, modal.is_some())?;
-        check_cases(&cases, sweep.contains_key("cases"), modal.as_ref(), &records)?;
+        let cases = cases_of(sweep.cases.as_deref().unwrap_or_default(), &table, &base_config, modal.is_some())?;
+        check_cases(&cases, sweep.cases.is_some(), modal.as_ref(), &records)?;
         let mut warnings = Vec::new();
         if let Some(suite) = &suite {
             warnings.extend(suite_warnings(suite));
@@ -344,7 +339,7 @@ impl Plan {
             warnings.extend(window_warning(&base_config, &r.record, &periods, &damping, modal.as_ref()));
         }
         warnings.extend(stripe_warnings);
-        let (config_used, config_sha256) = identity(&base_config, &table, &sweep, modal.as_ref());
+        let (config_used, config_sha256) = identity(&base_config, &table, &sweep.table, modal.as_ref());
         Ok(Self {
             cases,
             records,
@@ -424,7 +419,7 @@ impl Plan {
 /// The swept axes: the periods \[s\] (a bridge given by its modes: its
 /// longest kept period at each swept scale), the damping ratios and, for a
 /// bridge given by its modes, the period scales.
-fn axes_of(sweep: &toml::Table, base_config: &Config, base_dir: &Path) -> Result<Axes, SweepError> {
+fn axes_of(sweep: &SweepSection, base_config: &Config, base_dir: &Path) -> Result<Axes, SweepError> {
     match &base_config.bridge.modal {
         Some(m) => {
             let modal = modal_axis(sweep, m, base_config, base_dir)?;
@@ -436,7 +431,7 @@ fn axes_of(sweep: &toml::Table, base_config: &Config, base_dir: &Path) -> Result
             Ok((periods, vec![base_config.bridge.damping], Some(modal)))
         }
         None => {
-            if sweep.contains_key("period_scales") {
+            if sweep.period_scales.is_some() {
                 return Err(sweep_err(
                     "sweep.period_scales",
                     "a factor on the periods of a bridge given by its modes ([bridge.modal]); this bridge is a \
@@ -444,15 +439,12 @@ fn axes_of(sweep: &toml::Table, base_config: &Config, base_dir: &Path) -> Result
                 ));
             }
             let periods = grid_of(
-                sweep.get("periods").ok_or_else(|| sweep_err("sweep.periods", "missing"))?,
+                sweep.periods.as_ref().ok_or_else(|| sweep_err("sweep.periods", "missing"))?,
                 "sweep.periods",
                 "bridge.period",
                 "s",
             )?;
-            let damping = match sweep.get("damping") {
-                Some(v) => list_of_f64(v, "sweep.damping")?,
-                None => vec![base_config.bridge.damping],
-            };
+            let damping = sweep.damping.clone().unwrap_or_else(|| vec![base_config.bridge.damping]);
             if damping.is_empty() {
                 return Err(sweep_err("sweep.damping", "no damping ratio"));
             }
@@ -468,7 +460,7 @@ type Axes = (Vec<f64>, Vec<f64>, Option<ModalSweep>);
 
 /// The indices of the swept periods (period scales) whose histories are
 /// kept: each requested one picks the nearest swept one, within 5 %.
-fn history_indices(sweep: &toml::Table, periods: &[f64], modal: Option<&ModalSweep>) -> Result<Vec<usize>, SweepError> {
+fn history_indices(requested: &[f64], periods: &[f64], modal: Option<&ModalSweep>) -> Result<Vec<usize>, SweepError> {
     // each requested period (a modal bridge: period scale) picks the
     // nearest swept one (within 5 %)
     let (axis, unit) = match modal {
@@ -476,66 +468,32 @@ fn history_indices(sweep: &toml::Table, periods: &[f64], modal: Option<&ModalSwe
         None => (periods, " s"),
     };
     let what = if modal.is_some() { "period scale" } else { "period" };
-    let history_periods = match sweep.get("histories") {
-        Some(v) => {
-            let mut idx = Vec::new();
-            for t in list_of_f64(v, "sweep.histories")? {
-                let (i, p) = axis
-                    .iter()
-                    .enumerate()
-                    .min_by(|a, b| (a.1 - t).abs().total_cmp(&(b.1 - t).abs()))
-                    .expect("periods not empty");
-                // NaN fails the comparison and is refused too
-                if (p - t).abs().partial_cmp(&(0.05 * t.abs())) != Some(std::cmp::Ordering::Less) {
-                    return Err(sweep_err(
-                        "sweep.histories",
-                        format!("{t}{unit}: no swept {what} within 5 % (nearest {p}{unit})"),
-                    ));
-                }
-                if !idx.contains(&i) {
-                    idx.push(i);
-                }
-            }
-            idx
+    let mut idx = Vec::new();
+    for &t in requested {
+        let (i, p) = axis
+            .iter()
+            .enumerate()
+            .min_by(|a, b| (a.1 - t).abs().total_cmp(&(b.1 - t).abs()))
+            .expect("periods not empty");
+        // NaN fails the comparison and is refused too
+        if (p - t).abs().partial_cmp(&(0.05 * t.abs())) != Some(std::cmp::Ordering::Less) {
+            return Err(sweep_err(
+                "sweep.histories",
+                format!("{t}{unit}: no swept {what} within 5 % (nearest {p}{unit})"),
+            ));
         }
-        None => Vec::new(),
-    };
-    Ok(history_periods)
-}
-
-/// `sweep.checkpoint_seconds`, 60 s unless given.
-fn checkpoint_of(sweep: &toml::Table) -> Result<f64, SweepError> {
-    let checkpoint_seconds = match sweep.get("checkpoint_seconds") {
-        Some(v) => f64_of(v, "sweep.checkpoint_seconds")?,
-        None => 60.0,
-    };
-    if !(checkpoint_seconds.is_finite() && checkpoint_seconds > 0.0 && checkpoint_seconds <= MAX_INTERVAL) {
-        return Err(sweep_err(
-            "sweep.checkpoint_seconds",
-            format!("{checkpoint_seconds}: seconds between checkpoints, above 0 and at most {MAX_INTERVAL:e}"),
-        ));
+        if !idx.contains(&i) {
+            idx.push(i);
+        }
     }
-    Ok(checkpoint_seconds)
+    Ok(idx)
 }
 
 /// The records of `sweep.records` (the config's `[record]` without it),
 /// checked against the config's `[record]`, `[record_y]` and a suite.
-fn record_specs(sweep: &toml::Table, base_config: &Config) -> Result<Vec<RecordSpec>, SweepError> {
-    // records
-    let specs: Vec<RecordSpec> = match sweep.get("records") {
-        Some(toml::Value::Array(items)) => items
-            .iter()
-            .enumerate()
-            .map(|(i, v)| {
-                v.clone()
-                    .try_into()
-                    .map_err(|e: toml::de::Error| sweep_err(&format!("sweep.records[{i}]"), e.to_string()))
-            })
-            .collect::<Result<_, _>>()?,
-        Some(_) => return Err(sweep_err("sweep.records", "must be a list of tables")),
-        None => vec![base_config.record_x()],
-    };
-    if let (Some(_), Some(r)) = (sweep.get("records"), &base_config.record) {
+fn record_specs(sweep: &SweepSection, base_config: &Config) -> Result<Vec<RecordSpec>, SweepError> {
+    let specs = sweep.records.clone().unwrap_or_else(|| vec![base_config.record_x()]);
+    if let (Some(_), Some(r)) = (&sweep.records, &base_config.record) {
         // [record]'s settings (its scale, say) would silently not apply
         return Err(sweep_err(
             "sweep.records",
@@ -549,7 +507,7 @@ fn record_specs(sweep: &toml::Table, base_config: &Config) -> Result<Vec<RecordS
     if specs.is_empty() {
         return Err(sweep_err("sweep.records", "the list of records is empty"));
     }
-    if let (true, Some(y)) = (sweep.contains_key("suite"), &base_config.record_y) {
+    if let (true, Some(y)) = (sweep.suite.is_some(), &base_config.record_y) {
         return Err(sweep_err(
             "sweep.suite",
             format!(
@@ -559,7 +517,7 @@ fn record_specs(sweep: &toml::Table, base_config: &Config) -> Result<Vec<RecordS
             ),
         ));
     }
-    if sweep.contains_key("suite") {
+    if sweep.suite.is_some() {
         for (i, spec) in specs.iter().enumerate() {
             if spec.scale != 1.0 || spec.target_pga_g.is_some() {
                 return Err(sweep_err(
@@ -578,29 +536,16 @@ fn record_specs(sweep: &toml::Table, base_config: &Config) -> Result<Vec<RecordS
 /// The sweep's cases: each `[[sweep.cases]]` merged into the config and
 /// checked, or the config alone as the case "base".
 fn cases_of(
-    sweep: &toml::Table,
+    case_tables: &[toml::Table],
     table: &toml::Table,
     base_config: &Config,
     modal: bool,
 ) -> Result<Vec<Case>, SweepError> {
-    // cases
-    let case_tables: Vec<toml::Table> = match sweep.get("cases") {
-        Some(toml::Value::Array(items)) => items
-            .iter()
-            .enumerate()
-            .map(|(i, v)| match v {
-                toml::Value::Table(t) => Ok(t.clone()),
-                _ => Err(sweep_err(&format!("sweep.cases[{i}]"), "must be a table")),
-            })
-            .collect::<Result<_, _>>()?,
-        Some(_) => return Err(sweep_err("sweep.cases", "must be a list of tables ([[sweep.cases]])")),
-        None => Vec::new(),
-    };
     let mut cases = Vec::new();
     if case_tables.is_empty() {
         cases.push(Case { name: "base".to_string(), bodies: bodies_of(base_config), config: base_config.clone() });
     }
-    for (i, mut ct) in case_tables.into_iter().enumerate() {
+    for (i, mut ct) in case_tables.iter().cloned().enumerate() {
         let key = format!("sweep.cases[{i}]");
         let name = match ct.remove("name") {
             Some(toml::Value::String(s)) if !s.trim().is_empty() => s,

@@ -52,19 +52,19 @@ impl ModalSweep {
 /// keeps of its modes file; `sweep.periods` and `sweep.damping` are
 /// refused.
 pub(super) fn modal_axis(
-    sweep: &toml::Table,
+    sweep: &super::SweepSection,
     m: &ModalConfig,
     config: &Config,
     base_dir: &Path,
 ) -> Result<ModalSweep, SweepError> {
-    if sweep.contains_key("periods") {
+    if sweep.periods.is_some() {
         return Err(sweep_err(
             "sweep.periods",
             "the bridge is given by its modes ([bridge.modal]): sweep its periods with sweep.period_scales, a \
              factor on every period of the modes (period_scales = [0.8, 1.0, 1.25], or { from, to, count, spacing })",
         ));
     }
-    if sweep.contains_key("damping") {
+    if sweep.damping.is_some() {
         return Err(sweep_err(
             "sweep.damping",
             "the bridge is given by its modes ([bridge.modal]): their damping ratios are the modes file's, or \
@@ -72,8 +72,8 @@ pub(super) fn modal_axis(
              run one sweep per bridge.damping to study the damping)",
         ));
     }
-    let swept = sweep.contains_key("period_scales");
-    let period_scales = match sweep.get("period_scales") {
+    let swept = sweep.period_scales.is_some();
+    let period_scales = match &sweep.period_scales {
         Some(v) => {
             if let Some(f) = m.period_scale {
                 return Err(sweep_err(
