@@ -184,3 +184,41 @@ impl RunResult {
         FIELDS.iter().map(|f| (f.name, (f.value)(self), f.units)).collect()
     }
 }
+
+/// `docs/hdf5-layout.md`'s tables of a run file's joints (`/joints/<k>`,
+/// their values from [`crate::run::JOINT_FIELDS`]) and a modal bridge's
+/// points (`/points`, their values from [`crate::modal::POINT_FIELDS`]):
+/// the docs are made from these lists (a test keeps them equal).
+pub fn joint_and_point_tables() -> (String, String) {
+    const HEAD: &str = "| path | shape | units | content |\n|---|---|---|---|\n";
+    let rows = |prefix: &str, shape: &str, fields: &[crate::described::Described]| -> String {
+        let row = |f: &crate::described::Described| {
+            format!("| `{prefix}/{}` | {shape} | {} | {} |\n", f.name, f.units, f.meaning)
+        };
+        fields.iter().map(row).collect()
+    };
+    let joints = format!(
+        "{HEAD}| `/joints` | | | group of every joint of the run |\n\
+         | `/joints/<k>` | | | group of the joint k of `[[joints]]` (k from 0); attributes `name`, `validity_label` and \
+         `validity_findings` |\n\
+         {}\
+         | `/joints/<k>/validity` | () | 1 | its validity bits (the bits of docs/model.md's flags) |\n\
+         | `/joints/<k>/history` | | | k from 1 (the first joint's is `/history`): as `/history` (its deck point's motion \
+         and the ground's acceleration `ag` in the joint's own x: `u` opens it, its own `friction_power`) |\n\
+         | `/joints/<k>/history/<series>` | | | each of its series and tables, as in `/history` |\n",
+        rows("/joints/<k>", "()", &crate::run::JOINT_FIELDS)
+    );
+    let points = format!(
+        "{HEAD}| `/points` | | | group: every point of the modes file, in its order |\n\
+         | `/points/name` | (np) | | the points' names |\n\
+         {}\
+         | `/points/base_shear`, `/points/base_shear_without_joint` | () | N | peak base shear along the bridge of the \
+         kept modes, `sum_i Gamma_i (w_i^2 q_i + 2 zeta_i w_i q_i')`, with the joints and without |\n\
+         | `/points/flexibility_captured` | (np) | 1 | at each point, the kept modes' share of the full model's static \
+         flexibility there (NaN without the modes file's `[static]` table; `docs/bridge.md`, \"How many modes\") |\n\
+         | `/points/mass_ratio` | () | 1 | the kept modes' effective mass along x over the file's `total_mass_x` (NaN \
+         without it); the group's attribute `warnings` says where the kept modes hold less than 90 % |\n",
+        rows("/points", "(np)", &crate::modal::POINT_FIELDS)
+    );
+    (joints, points)
+}

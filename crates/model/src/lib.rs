@@ -13,6 +13,7 @@
 pub mod bridge;
 pub mod calibrate;
 pub mod config;
+pub mod described;
 pub mod error;
 pub mod fields;
 pub mod fragility;

@@ -1,7 +1,9 @@
 //! The lists of results in `docs/hdf5-layout.md` are made from the one list
 //! in the code (`quakejoint_model::fields::FIELDS`): a run file's `/result`
 //! table and a sweep's per-job fields; its `/history` table from the list of
-//! the histories' series and tables (`quakejoint_model::history`). This test fails when they differ;
+//! the histories' series and tables (`quakejoint_model::history`), its
+//! `/joints` and `/points` tables from the lists of a joint's and a point's
+//! values (`quakejoint_model::run::JOINT_FIELDS`, `modal::POINT_FIELDS`). This test fails when they differ;
 //! `QJ_UPDATE_DOCS=1 cargo test -p quakejoint-model --test fields_doc`
 //! rewrites them.
 
@@ -26,10 +28,15 @@ fn the_docs_list_every_result_as_the_code_does() {
     let (text3, old_per_job) = replace_block(&text2, "per_job", &per_job);
     let history = quakejoint_model::history::markdown_table();
     let (text4, old_history) = replace_block(&text3, "history", &history);
+    let (joints, points) = quakejoint_model::fields::joint_and_point_tables();
+    let (text5, old_joints) = replace_block(&text4, "joints", &joints);
+    let (text6, old_points) = replace_block(&text5, "points", &points);
     if std::env::var_os("QJ_UPDATE_DOCS").is_some() {
-        std::fs::write(&path, text4).unwrap();
+        std::fs::write(&path, text6).unwrap();
         return;
     }
+    assert_eq!(old_joints, joints, "docs/hdf5-layout.md's /joints table is not the code's: QJ_UPDATE_DOCS=1");
+    assert_eq!(old_points, points, "docs/hdf5-layout.md's /points table is not the code's: QJ_UPDATE_DOCS=1");
     assert_eq!(old_history, history, "docs/hdf5-layout.md's /history table is not the code's: QJ_UPDATE_DOCS=1");
     assert_eq!(old_result, result, "docs/hdf5-layout.md's /result table is not the code's: QJ_UPDATE_DOCS=1");
     assert_eq!(old_per_job, per_job, "docs/hdf5-layout.md's per-job fields are not the code's: QJ_UPDATE_DOCS=1");

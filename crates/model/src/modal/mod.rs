@@ -14,6 +14,7 @@ use quakejoint_solver::{
 };
 
 use crate::config::ModalConfig;
+use crate::described::{described, Described};
 use crate::error::ModelError;
 
 mod residual;
@@ -393,18 +394,22 @@ pub struct PointPeaks {
     pub sa_without: f64,
 }
 
+/// A point's values, in the order of [`PointPeaks::scalars`].
+pub const POINT_FIELDS: [Described; 6] = [
+    described("sd", "m", "peak displacement relative to the ground along the bridge, with the joints"),
+    described("t_sd", "s", "time of `sd` (NaN for `--no-joint`)"),
+    described("sa", "m/s^2", "peak absolute acceleration along the bridge, with the joints"),
+    described("t_sa", "s", "time of `sa` (NaN for `--no-joint`)"),
+    described("sd_without_joint", "m", "`sd` of the bridge alone (exact modal superposition of the kept modes)"),
+    described("sa_without_joint", "m/s^2", "`sa` of the bridge alone"),
+];
+
 impl PointPeaks {
-    /// Its peaks: name, value and unit, as every output lists a point's
-    /// (a run file's `/points/<name>`, JSON, Python).
+    /// Its peaks ([`POINT_FIELDS`]): name, value and unit, as every output
+    /// lists a point's (a run file's `/points/<name>`, JSON, Python).
     pub fn scalars(&self) -> [(&'static str, f64, &'static str); 6] {
-        [
-            ("sd", self.sd, "m"),
-            ("t_sd", self.t_sd, "s"),
-            ("sa", self.sa, "m/s^2"),
-            ("t_sa", self.t_sa, "s"),
-            ("sd_without_joint", self.sd_without, "m"),
-            ("sa_without_joint", self.sa_without, "m/s^2"),
-        ]
+        let values = [self.sd, self.t_sd, self.sa, self.t_sa, self.sd_without, self.sa_without];
+        std::array::from_fn(|i| (POINT_FIELDS[i].name, values[i], POINT_FIELDS[i].units))
     }
 }
 

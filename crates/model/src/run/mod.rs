@@ -54,7 +54,7 @@ mod result;
 
 pub(crate) use crate::watch::DENSE_OUTPUT;
 pub use coupled::{simulate_records, simulate_scenario, CHECK_INTERVAL};
-pub use result::{FarSegment, JointResult, RunResult, Transverse};
+pub use result::{FarSegment, JointResult, RunResult, Transverse, JOINT_FIELDS};
 
 /// Loads the records of a config (x, and y if given), with their hashes
 /// and the warnings raised while reading them.

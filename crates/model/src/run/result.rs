@@ -1,6 +1,7 @@
 //! What a run reports ([`RunResult`]), and its parts: the adjacent
 //! segment's, the deck's across the bridge, each more joint's.
 
+use crate::described::{described, Described};
 use quakejoint_solver::{ConstraintResiduals, Stats};
 
 use super::Histories;
@@ -180,30 +181,59 @@ pub struct JointResult {
     pub histories: Option<Histories>,
 }
 
+/// A joint's values, in the order of [`JointResult::scalars`].
+pub const JOINT_FIELDS: [Described; 16] = [
+    described("sa", "m/s^2", "peak absolute acceleration of its deck point (along the bridge)"),
+    described("t_sa", "s", "time of `sa`"),
+    described("sd", "m", "peak displacement of its deck point relative to the ground"),
+    described("sv", "m/s", "peak velocity of its deck point relative to the ground"),
+    described("peak_joint_force", "N", "peak force of the joint on the deck"),
+    described(
+        "peak_abutment_force",
+        "N",
+        "peak force of the joint on its abutment side (its links' reactions and the edge-beam contacts; NaN for a link)",
+    ),
+    described("peak_bushing_force", "N", "its own largest bushing force"),
+    described("peak_friction_force", "N", "its own largest friction force of one bearing"),
+    described(
+        "friction_energy",
+        "J",
+        "the energy its own friction dissipated (integrated as the system's, whose sum it is)",
+    ),
+    described("min_subgap", "m", "its smallest clear sub-gap, as `/result/min_subgap`"),
+    described("max_subgap", "m", "its largest clear sub-gap, as `/result/max_subgap`"),
+    described("max_subgap_deviation", "m", "its largest deviation of a sub-gap from equal spacing"),
+    described("impacts", "1", "its impacts (contact onsets faster than the impact speed)"),
+    described("peak_contact_force", "N", "its largest contact force"),
+    described("peak_deck_contact_force", "N", "its largest force on the deck through its closed cells"),
+    described("max_penetration", "m", "its deepest contact penetration"),
+];
+
 impl JointResult {
-    /// Its peak values: name, value (NaN where not computed) and unit, as
-    /// a run's `/joints/<k>` and a sweep's `/joints/<k>` store them (its
-    /// validity bits apart).
+    /// Its values ([`JOINT_FIELDS`]): name, value (NaN where not computed)
+    /// and unit, as a run's `/joints/<k>` and a sweep's `/joints/<k>`
+    /// store them (its validity bits apart).
     pub fn scalars(&self) -> [(&'static str, f64, &'static str); 16] {
         let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
         let p = &self.pounding;
-        [
-            ("sa", self.sa, "m/s^2"),
-            ("t_sa", self.t_sa, "s"),
-            ("sd", self.sd, "m"),
-            ("sv", self.sv, "m/s"),
-            ("peak_joint_force", self.peak_joint_force, "N"),
-            ("peak_abutment_force", self.peak_abutment_force, "N"),
-            ("peak_bushing_force", self.peak_bushing_force, "N"),
-            ("peak_friction_force", self.peak_friction_force, "N"),
-            ("friction_energy", self.friction_energy, "J"),
-            ("min_subgap", opt(self.min_subgap), "m"),
-            ("max_subgap", opt(self.max_subgap), "m"),
-            ("max_subgap_deviation", opt(self.max_subgap_deviation), "m"),
-            ("impacts", p.impacts as f64, "1"),
-            ("peak_contact_force", p.peak_contact_force, "N"),
-            ("peak_deck_contact_force", p.peak_deck_contact_force, "N"),
-            ("max_penetration", p.max_penetration, "m"),
-        ]
+        let values = [
+            self.sa,
+            self.t_sa,
+            self.sd,
+            self.sv,
+            self.peak_joint_force,
+            self.peak_abutment_force,
+            self.peak_bushing_force,
+            self.peak_friction_force,
+            self.friction_energy,
+            opt(self.min_subgap),
+            opt(self.max_subgap),
+            opt(self.max_subgap_deviation),
+            p.impacts as f64,
+            p.peak_contact_force,
+            p.peak_deck_contact_force,
+            p.max_penetration,
+        ];
+        std::array::from_fn(|i| (JOINT_FIELDS[i].name, values[i], JOINT_FIELDS[i].units))
     }
 }
