@@ -190,35 +190,25 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
 }
 
 fn json_of(c: &Calibration, written: &[PathBuf]) -> serde_json::Value {
-    let l = &c.link;
-    json!({
-        "stiffness": l.stiffness,
-        "friction": l.friction,
-        "hand_friction": c.hand_friction,
-        "mass": l.mass,
-        "kinetic_mass": c.kinetic_mass,
-        "damping": l.damping.unwrap_or(0.0),
-        "earthquake": c.dynamic.as_ref().map(|d| json!({
-            "record": d.record, "rms": d.rms, "peak_link": d.peak_link, "peak_detailed": d.peak_detailed,
-            "friction_link": d.friction_link, "friction_detailed": d.friction_detailed,
-        })),
-        "gap": c.gap,
-        "gap_stiffness": l.gap_stiffness,
-        "gap_hertz": l.gap_hertz,
-        "warnings": c.warnings,
-        "capacity": c.capacity,
-        "cells": c.cells,
-        "fit_rms": c.fit_rms,
-        "speed": c.options.speed,
-        "contact_force": c.options.contact_force,
-        "loops": c.loops.iter().map(|p| json!({
-            "amplitude": p.amplitude,
-            "energy": p.energy,
-            "link_energy": p.link_energy,
-            "peak_force": p.peak_force,
-            "damping_joint": p.damping_joint,
-            "damping_bridge": p.damping_bridge,
-        })).collect::<Vec<_>>(),
-        "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-    })
+    // (the numbers from the one list of them, Calibration::scalars, as
+    // Python's; NaN is null)
+    let numbers = |pairs: &[(&str, f64, &str)]| -> serde_json::Map<String, serde_json::Value> {
+        pairs.iter().map(|(k, v, _)| (k.to_string(), json!(v))).collect()
+    };
+    let mut out = numbers(&c.scalars());
+    out.insert(
+        "earthquake".into(),
+        c.dynamic.as_ref().map_or(serde_json::Value::Null, |d| {
+            let mut e = numbers(&d.scalars());
+            e.insert("record".into(), json!(d.record));
+            serde_json::Value::Object(e)
+        }),
+    );
+    out.insert("gap_hertz".into(), json!(c.link.gap_hertz));
+    out.insert("warnings".into(), json!(c.warnings));
+    out.insert("cells".into(), json!(c.cells));
+    let loops = c.loops.iter().map(|p| serde_json::Value::Object(numbers(&p.scalars()))).collect::<Vec<_>>();
+    out.insert("loops".into(), json!(loops));
+    out.insert("written".into(), json!(written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()));
+    serde_json::Value::Object(out)
 }

@@ -302,14 +302,19 @@ impl Monitor {
         // the opening between the pivots' side (abutment or adjacent segment) and the deck
         let u0 = self.far.map_or(0.0, |c| q[c]);
         let open = g.gap + u - u0;
+        // each joist's length between its pivot and its box (deck) end, and
+        // its angle's sine and cosine, once per support (its bearings share
+        // them)
+        let reach: Vec<f64> = g.supports.iter().map(|sup| open.hypot(sup.box_dy + uy)).collect();
+        let mut turned: Vec<Option<(f64, f64)>> = vec![None; g.supports.len()];
         for (n, b) in self.bearings.iter().enumerate() {
             let sup = &g.supports[b.support];
             // distance along the support from its pivot (abutment) end, and
             // the length between the pivot and the box (deck) end
             let (along, reach) = match b.phi {
                 Some(phi) => {
-                    let (sin, cos) = q[phi].sin_cos();
-                    ((q[b.x] - u0) * cos + (q[b.y] - sup.y0) * sin, open.hypot(sup.box_dy + uy))
+                    let (sin, cos) = *turned[b.support].get_or_insert_with(|| q[phi].sin_cos());
+                    ((q[b.x] - u0) * cos + (q[b.y] - sup.y0) * sin, reach[b.support])
                 }
                 None => (q[b.x] - u0, open),
             };
@@ -317,7 +322,7 @@ impl Monitor {
         }
         for (k, sup) in g.supports.iter().enumerate() {
             if sup.kind == SupportKind::Joist {
-                take(3, open.hypot(sup.box_dy + uy) - self.joist_length, k);
+                take(3, reach[k] - self.joist_length, k);
             }
         }
         for o in &mut out {

@@ -22,7 +22,8 @@ use crate::{config_error, model_error};
 /// Returns a dict: stiffness [N/m], friction [N], hand_friction [N], mass
 /// and kinetic_mass [kg], damping [N s/m], gap [m], gap_stiffness [N/m],
 /// gap_hertz [N/m^1.5] (None for a joint with the linear contact law),
-/// capacity [m], cells, fit_rms [N], loops (one dict per amplitude:
+/// capacity [m], cells, fit_rms [N], speed [m/s] and contact_force [N] (the
+/// options it ran with), loops (one dict per amplitude:
 /// amplitude, energy, link_energy [J], peak_force [N], damping_joint,
 /// damping_bridge, and the arrays t, u, force), earthquake (the dynamic
 /// fit, or None) and exports (the texts of link.toml, link.tcl,
@@ -57,36 +58,19 @@ fn calibrate<'py>(
         options.record = Some(run_window(spec.config(), &loaded.record));
     }
     let c = py.detach(|| run_calibration(&spec.scenario, &options)).map_err(model_error)?;
-    let l = &c.link;
     let d = PyDict::new(py);
-    for (k, v) in [
-        ("stiffness", l.stiffness),
-        ("friction", l.friction),
-        ("hand_friction", c.hand_friction),
-        ("mass", l.mass),
-        ("kinetic_mass", c.kinetic_mass),
-        ("damping", l.damping.unwrap_or(0.0)),
-        ("gap", c.gap),
-        ("gap_stiffness", l.gap_stiffness),
-        ("capacity", c.capacity),
-        ("fit_rms", c.fit_rms),
-    ] {
+    // (the numbers from the one list of them, Calibration::scalars, as the
+    // command line's JSON)
+    for (k, v, _) in c.scalars() {
         d.set_item(k, v)?;
     }
     d.set_item("cells", c.cells)?;
-    d.set_item("gap_hertz", l.gap_hertz)?;
+    d.set_item("gap_hertz", c.link.gap_hertz)?;
     d.set_item("warnings", c.warnings.clone())?;
     let loops = PyList::empty(py);
     for p in &c.loops {
         let e = PyDict::new(py);
-        for (k, v) in [
-            ("amplitude", p.amplitude),
-            ("energy", p.energy),
-            ("link_energy", p.link_energy),
-            ("peak_force", p.peak_force),
-            ("damping_joint", p.damping_joint),
-            ("damping_bridge", p.damping_bridge.unwrap_or(f64::NAN)),
-        ] {
+        for (k, v, _) in p.scalars() {
             e.set_item(k, v)?;
         }
         e.set_item("t", PyArray1::from_slice(py, &p.t))?;
@@ -99,13 +83,7 @@ fn calibrate<'py>(
         Some(f) => {
             let e = PyDict::new(py);
             e.set_item("record", f.record.clone())?;
-            for (k, v) in [
-                ("rms", f.rms),
-                ("peak_link", f.peak_link),
-                ("peak_detailed", f.peak_detailed),
-                ("friction_link", f.friction_link),
-                ("friction_detailed", f.friction_detailed),
-            ] {
+            for (k, v, _) in f.scalars() {
                 e.set_item(k, v)?;
             }
             e.into_any()

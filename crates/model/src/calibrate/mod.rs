@@ -149,6 +149,55 @@ pub struct Calibration {
     pub warnings: Vec<String>,
 }
 
+impl Calibration {
+    /// Its numbers: name, value (NaN where none) and unit, as every front
+    /// end lists them (the command line's JSON, Python).
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 12] {
+        let l = &self.link;
+        [
+            ("stiffness", l.stiffness, "N/m"),
+            ("friction", l.friction, "N"),
+            ("hand_friction", self.hand_friction, "N"),
+            ("mass", l.mass, "kg"),
+            ("kinetic_mass", self.kinetic_mass, "kg"),
+            ("damping", l.damping.unwrap_or(0.0), "N s/m"),
+            ("gap", self.gap, "m"),
+            ("gap_stiffness", l.gap_stiffness, "N/m"),
+            ("capacity", self.capacity, "m"),
+            ("fit_rms", self.fit_rms, "N"),
+            ("speed", self.options.speed, "m/s"),
+            ("contact_force", self.options.contact_force, "N"),
+        ]
+    }
+}
+
+impl LoopSummary {
+    /// Its numbers, as [`Calibration::scalars`] lists the calibration's.
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 6] {
+        [
+            ("amplitude", self.amplitude, "m"),
+            ("energy", self.energy, "J"),
+            ("link_energy", self.link_energy, "J"),
+            ("peak_force", self.peak_force, "N"),
+            ("damping_joint", self.damping_joint, "1"),
+            ("damping_bridge", self.damping_bridge.unwrap_or(f64::NAN), "1"),
+        ]
+    }
+}
+
+impl DynamicFit {
+    /// Its numbers, as [`Calibration::scalars`] lists the calibration's.
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 5] {
+        [
+            ("rms", self.rms, "N"),
+            ("peak_link", self.peak_link, "N"),
+            ("peak_detailed", self.peak_detailed, "N"),
+            ("friction_link", self.friction_link, "J"),
+            ("friction_detailed", self.friction_detailed, "J"),
+        ]
+    }
+}
+
 /// Calibrates the link of a scenario's joint (the detailed one of
 /// `[joint]`).
 pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Calibration, ModelError> {
