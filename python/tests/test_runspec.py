@@ -91,11 +91,19 @@ def test_the_same_bad_service_override_gives_the_same_reason_everywhere(cli, con
         assert str(python_error.value).startswith(f"{keyword} = {value:g}{reason}"), python_error.value
 
 
-def test_the_same_bad_calibration_speed_gives_the_same_error_everywhere(cli, configs, tmp_path):
+def test_the_same_bad_calibration_option_gives_the_same_reason_everywhere(cli, configs, tmp_path):
+    # (checked before any loop runs, each named as its front end names it)
     _, run, _, _ = configs
-    code, _, err = run_cli(
-        cli, "calibrate", run, "--speed", "3", "--no-earthquake", "--output-dir", tmp_path, check=False
-    )
-    with pytest.raises(qj.InputError) as python_error:
-        qj.calibrate(qj.Config.from_file(run), speed=3.0, earthquake=False)
-    assert code == 2 and str(python_error.value) in err, (err, python_error.value)
+    cfg = qj.Config.from_file(run)
+    for flag, keyword, value, reason in [
+        ("--speed", "speed", 3.0, ": must be within 0 < x <= 1 m/s"),
+        ("--contact-force", "contact_force", 0.0, ": must be a force above 0 and at most 1e11 N"),
+        ("--amplitudes", "amplitudes", 5.0, ": must be within 0 < x <= 2 m"),
+    ]:
+        code, _, err = run_cli(
+            cli, "calibrate", run, flag, value, "--no-earthquake", "--output-dir", tmp_path, check=False
+        )
+        assert code == 2 and f"{flag} {value:g}{reason}" in err, err
+        with pytest.raises(qj.InputError) as python_error:
+            qj.calibrate(cfg, earthquake=False, **{keyword: [value] if keyword == "amplitudes" else value})
+        assert str(python_error.value).startswith(f"{keyword} = {value:g}{reason}"), python_error.value

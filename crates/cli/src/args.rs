@@ -268,9 +268,13 @@ pub struct CalibrateArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub contact_force: Option<f64>,
     /// The calibration earthquake for the link's mass and damper (default: the config's
-    /// [record]; read as `quakejoint record` would, from its content).
+    /// [record]): a record file relative to the current directory, read with the options
+    /// below as `quakejoint record` reads it (a file of several channels needs --channel
+    /// or --azimuth).
     #[arg(long)]
     pub record: Option<PathBuf>,
+    #[command(flatten)]
+    pub read: RecordReadArgs,
     /// Skip the calibration earthquake: the mass of the joint's kinetic energy, no damper.
     #[arg(long, conflicts_with = "record")]
     pub no_earthquake: bool,

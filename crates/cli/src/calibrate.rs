@@ -20,8 +20,16 @@ pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
     // whole [record]
     let record = a.record.as_ref().map(|path| {
         let file = std::path::absolute(path).unwrap_or_else(|_| path.clone());
-        RecordOverride::File(quakejoint_motion::RecordSpec::new(file))
+        RecordOverride::File(a.read.spec(&file))
     });
+    if a.record.is_none() && a.read.any() {
+        return Err(crate::commands::InputError(
+            "--format, --units, --dt, --column, --channel, --azimuth, --allow-vertical, --scale and --target-pga-g \
+             describe the file of --record; without --record, set them in the config's [record]"
+                .into(),
+        )
+        .into());
+    }
     let spec = RunSpec::new(config, &Overrides { record, ..Overrides::default() })?;
     let config = spec.config();
     let mut options = CalibrationOptions::default();
@@ -34,6 +42,9 @@ pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
     if let Some(f) = a.contact_force {
         options.contact_force = f;
     }
+    // (each option named as typed: `--contact-force 0: ...`), before a
+    // record is read or a loop runs
+    options.check(|k| format!("--{}", k.replace('_', "-")))?;
     if !a.no_earthquake {
         let (record, _) = spec.records(&quakejoint_model::config::base_dir(&a.config))?;
         options.record = Some(quakejoint_model::run::run_window(config, &record.record));
@@ -170,10 +181,16 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
     );
     for p in &c.loops {
         let bridge = p.damping_bridge.map_or_else(|| "-".to_string(), |x| format!("{:.3e}", x));
+        // (the amplitude as written: 0.002, not 0.0020)
         let _ = writeln!(
             s,
-            "  {:>8.4} m {:>12.4e} {:>12.4e} {:>12.4e} {:>10.3} {:>12}",
-            p.amplitude, p.energy, p.link_energy, p.peak_force, p.damping_joint, bridge
+            "  {:>10} {:>12.4e} {:>12.4e} {:>12.4e} {:>10.3} {:>12}",
+            format!("{} m", p.amplitude),
+            p.energy,
+            p.link_energy,
+            p.peak_force,
+            p.damping_joint,
+            bridge
         );
     }
     if !c.warnings.is_empty() {

@@ -128,6 +128,11 @@ fn calibrations_the_model_cannot_stand_behind_say_so() {
     let tiny = CalibrationOptions { amplitudes: vec![1e-6], ..CalibrationOptions::default() };
     let e = calibrate(&Scenario::new(config.clone()).unwrap(), &tiny).unwrap_err().to_string();
     assert!(e.contains("hardly slides"), "{e}");
+    // 2 mm loops of the small joint stay elastic (1.0 kN against its 8.8 kN
+    // of bearing friction): the fit's "slider" of 7 N is noise, refused
+    let elastic = CalibrationOptions { amplitudes: vec![0.002], ..CalibrationOptions::default() };
+    let e = calibrate(&Scenario::new(config.clone()).unwrap(), &elastic).unwrap_err().to_string();
+    assert!(e.contains("do not slide") && e.contains("8.792e3 N by hand"), "{e}");
 
     let (x, _) = quakejoint_model::run::load_records(&config, &root.join("configs")).unwrap();
     let window = quakejoint_model::run::run_window(&config, &x.record);

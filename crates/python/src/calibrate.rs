@@ -53,6 +53,7 @@ fn calibrate<'py>(
     if let Some(f) = real_opt(contact_force, "calibrate", "contact_force")? {
         options.contact_force = f;
     }
+    options.check(|k| k.to_string()).map_err(model_error)?;
     if earthquake {
         let (loaded, _) = spec.records(&base).map_err(|e| config_error(e, &source))?;
         options.record = Some(run_window(spec.config(), &loaded.record));

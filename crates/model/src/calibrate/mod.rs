@@ -72,6 +72,43 @@ impl Default for CalibrationOptions {
     }
 }
 
+/// The largest closed-joint force at which a secant may be taken \[N\]
+/// (100 GN: far beyond any abutment).
+pub const MAX_CONTACT_FORCE: f64 = 1e11;
+
+impl CalibrationOptions {
+    /// Checks the options a front end gave before the calibration runs,
+    /// an error naming each as that front end does (`name("speed")`:
+    /// `--speed` on the command line, `speed` in Python): every amplitude
+    /// within `service.amplitude`'s range, the speed within
+    /// `service.speed`'s, the contact force positive and finite.
+    pub fn check(&self, name: impl Fn(&str) -> String) -> Result<(), ModelError> {
+        if self.amplitudes.is_empty() {
+            return Err(ModelError::Override {
+                name: name("amplitudes"),
+                value: "none".into(),
+                reason: "give at least one amplitude [m]".into(),
+            });
+        }
+        for &a in &self.amplitudes {
+            crate::runspec::check_override("service.amplitude", &name("amplitudes"), a)?;
+        }
+        crate::runspec::check_override("service.speed", &name("speed"), self.speed)?;
+        let f = self.contact_force;
+        if !(f.is_finite() && f > 0.0 && f <= MAX_CONTACT_FORCE) {
+            return Err(ModelError::Override {
+                name: name("contact_force"),
+                value: quakejoint_motion::number(f),
+                reason: format!(
+                    "must be a force above 0 and at most {MAX_CONTACT_FORCE:e} N: the closed joint's stiffness is \
+                     the secant of its contact law at it"
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
 /// One service loop of the detailed joint and the link's at the same
 /// amplitude.
 #[derive(Debug, Clone, PartialEq)]
@@ -201,6 +238,7 @@ impl DynamicFit {
 /// Calibrates the link of a scenario's joint (the detailed one of
 /// `[joint]`).
 pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Calibration, ModelError> {
+    options.check(|k| k.to_string())?;
     let config = &scenario.config;
     let amplitudes = checked_amplitudes(config, options)?;
     let j = &config.joint;
@@ -226,6 +264,23 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
             ),
         });
     }
+    let geo = Geometry::new(config)?;
+    // loops that do not slide: none reaches half the slider force the
+    // bearings give by hand, or the law misses them by more than its own
+    // slider force (a fit of elastic loops, whose "slider" is noise)
+    let hand = hand_friction(config, &geo);
+    let strongest = loops.iter().map(|l| l.peak_force).fold(0.0, f64::max);
+    if strongest < 0.5 * hand || fit_rms > friction {
+        return Err(ModelError::Invalid {
+            field: "amplitudes".to_string(),
+            value: format!("{amplitudes:?}"),
+            reason: format!(
+                "the loops do not slide: their largest force is {strongest:.3e} N against the bearings' friction \
+                 force of {hand:.3e} N by hand, and the elastic-perfectly-plastic law fitted to them (a slider of \
+                 {friction:.3e} N) misses them by {fit_rms:.3e} N RMS: give amplitudes several times larger"
+            ),
+        });
+    }
     if fit_rms > 0.2 * friction {
         warnings.push(format!(
             "the elastic-perfectly-plastic law fits the loops poorly: RMS {:.3e} N, {:.0} % of the slider force",
@@ -233,7 +288,6 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
             100.0 * fit_rms / friction
         ));
     }
-    let geo = Geometry::new(config)?;
     let mass = moving_mass(config, &geo);
     let gap_stiffness = closed_stiffness(config, options.contact_force);
     let bridge = config.bridge.modal.is_none().then(|| config.bridge.mass * config.bridge.omega().powi(2));
@@ -257,7 +311,7 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
         link,
         kinetic_mass: mass,
         dynamic,
-        hand_friction: hand_friction(config, &geo),
+        hand_friction: hand,
         fit_rms,
         gap: cells as f64 * j.clear_subgap(),
         capacity: cells as f64 * (j.capacity.max_subgap - j.clear_subgap()),
