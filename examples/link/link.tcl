@@ -5,13 +5,14 @@
 # moving mass               m   = 4.974967e3 kg
 # damper with the spring    c   = 1.000000e5 N s/m
 # closing movement (gap)    g   = 1.120000e0 m  (28 cells)
-# closed-joint stiffness    k_c = 5.165160e7 N/m
+# closed-joint stiffness    k_c = 5.165160e7 N/m (the closed cells' Hertz law as a secant at 1.000e6 N: rerun `quakejoint calibrate --contact-force` with the closed joint's force your model finds, until the two agree; docs/link.md)
 # opening capacity              = 1.120000e0 m  (cells at joint.capacity.max_subgap)
 # the opening u is the deck's displacement away from the abutment; the element acts along it
 #
 # quakejointLink abutNode deckNode newNode firstTag
 #   abutNode, deckNode: existing nodes at the same place, the deck lying toward
-#   +x (the global X) of the joint (swap them for a joint whose deck lies toward -x);
+#   +x (the global X) of the joint. Not for a deck lying toward -x: swapping the nodes
+#   reverses the chain, the slider on the deck (docs/link.md);
 #   newNode: a new node tag (the moving mass); firstTag: the first of 5 free material
 #   and element tags. 2D or 3D: the new node takes the deck node's coordinates and DOFs,
 #   its mass and freedom along the first (global X).

@@ -14,6 +14,19 @@ use super::Calibration;
 /// [-]: rigid next to it (0.1 % of the stuck joint's deflection).
 pub const STICK_FACTOR: f64 = 1000.0;
 
+/// How `k_c` was taken: the Hertz contacts' secant at the calibration's
+/// contact force, with how to iterate it (nothing for linear contacts).
+fn secant(c: &Calibration) -> String {
+    match c.link.gap_hertz {
+        Some(_) => format!(
+            " (the closed cells' Hertz law as a secant at {:.3e} N: rerun `quakejoint calibrate --contact-force` \
+             with the closed joint's force your model finds, until the two agree; docs/link.md)",
+            c.options.contact_force
+        ),
+        None => String::new(),
+    }
+}
+
 fn header(c: &Calibration, comment: &str, source: &str) -> String {
     let l = &c.link;
     [
@@ -24,7 +37,7 @@ fn header(c: &Calibration, comment: &str, source: &str) -> String {
         format!("moving mass               m   = {:.6e} kg", l.mass),
         format!("damper with the spring    c   = {:.6e} N s/m", l.damping.unwrap_or(0.0)),
         format!("closing movement (gap)    g   = {:.6e} m  ({} cells)", c.gap, c.cells),
-        format!("closed-joint stiffness    k_c = {:.6e} N/m", l.gap_stiffness),
+        format!("closed-joint stiffness    k_c = {:.6e} N/m{}", l.gap_stiffness, secant(c)),
         format!("opening capacity              = {:.6e} m  (cells at joint.capacity.max_subgap)", c.capacity),
         "the opening u is the deck's displacement away from the abutment; the element acts along it".to_string(),
     ]
@@ -59,7 +72,8 @@ pub fn opensees_tcl(c: &Calibration, source: &str) -> String {
     format!(
         "{}#\n# quakejointLink abutNode deckNode newNode firstTag\n\
          #   abutNode, deckNode: existing nodes at the same place, the deck lying toward\n\
-         #   +x (the global X) of the joint (swap them for a joint whose deck lies toward -x);\n\
+         #   +x (the global X) of the joint. Not for a deck lying toward -x: swapping the nodes\n\
+         #   reverses the chain, the slider on the deck (docs/link.md);\n\
          #   newNode: a new node tag (the moving mass); firstTag: the first of 5 free material\n\
          #   and element tags. 2D or 3D: the new node takes the deck node's coordinates and DOFs,\n\
          #   its mass and freedom along the first (global X).\n\
@@ -107,7 +121,8 @@ pub fn opensees_py(c: &Calibration, source: &str) -> String {
          STICK_FACTOR = {stick}  # the slider's stick stiffness over STIFFNESS\n\n\n\
          def add_link(ops, abut_node, deck_node, new_node, first_tag):\n\
          \x20   \"\"\"Adds the link between two existing nodes at the same place, the deck lying\n\
-         \x20   toward +X of the joint (swap them otherwise); new_node: a new node tag (the\n\
+         \x20   toward +X of the joint (not for a deck toward -X: swapping the nodes reverses the\n\
+         \x20   chain, the slider on the deck; docs/link.md); new_node: a new node tag (the\n\
          \x20   moving mass); first_tag: the first of 5 free material tags (and of 3 element tags).\n\
          \x20   2D or 3D: the new node takes the deck node's coordinates and DOFs, its mass\n\
          \x20   and freedom along the first (global X).\"\"\"\n\
