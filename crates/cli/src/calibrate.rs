@@ -47,6 +47,9 @@ pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
     options.check(|k| format!("--{}", k.replace('_', "-")))?;
     if !a.no_earthquake {
         let (record, _) = spec.records(&quakejoint_model::config::base_dir(&a.config))?;
+        // (which channel of a file of several was read, a record not
+        // starting at rest, ...: as simulate says)
+        crate::commands::print_warnings(&[&record]);
         options.record = Some(quakejoint_model::run::run_window(config, &record.record));
     }
     let dir = a.output_dir.clone().unwrap_or_else(|| default_dir(&a.config));

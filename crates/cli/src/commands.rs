@@ -356,7 +356,7 @@ fn provenance_of(
 }
 
 /// Prints the warnings raised while reading records.
-fn print_warnings(records: &[&LoadedRecord]) {
+pub(crate) fn print_warnings(records: &[&LoadedRecord]) {
     for r in records {
         for w in &r.warnings {
             eprintln!("warning: {w}");

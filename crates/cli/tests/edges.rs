@@ -400,3 +400,23 @@ fn a_broken_sweep_table_is_refused_by_model_and_simulate_too() {
         }
     }
 }
+
+/// `calibrate --record` reads its record as `quakejoint record` does and
+/// says what it read: the first of CICLC.v1's three channels unless
+/// `--channel` or `--azimuth` chooses, with the warning `simulate` gives;
+/// and 2 mm loops of the small joint, which stay elastic, are refused
+/// (their fitted slider would be noise).
+#[test]
+fn calibrate_says_which_channel_it_read_and_refuses_loops_that_do_not_slide() {
+    let d = dir("edges-calibrate-channel");
+    let cfg = root().join("configs/small.toml");
+    let record = cesmd("CICLC.v1");
+    let args = [os("calibrate"), cfg.as_os_str(), os("--record"), os(&record), os("--amplitudes"), os("0.002")];
+    let out = run_within(&[&args[..], &[os("--output-dir"), d.as_os_str()]].concat(), 120);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("holds 3 channels") && stderr(&out).contains("channel 1 of 3"), "{}", stderr(&out));
+    assert!(stderr(&out).contains("the loops do not slide"), "{}", stderr(&out));
+    let chosen = [&args[..], &[os("--channel"), os("2"), os("--output-dir"), d.as_os_str()]].concat();
+    let out = run_within(&chosen, 120);
+    assert!(!stderr(&out).contains("holds 3 channels"), "{}", stderr(&out));
+}
