@@ -1,10 +1,10 @@
 //! A run's bridge, resolved once ([`Bridge`]): a single-DOF deck, or a
 //! bridge given by its modes with the modes a run keeps and their static
 //! correction. Each variant has its one implementation of the bridge
-//! without its joints (`Bridge::alone`, in [`crate::linear`]), which the
-//! run with `--no-joint`, the histories and peaks "without the joint" of
-//! every run, a sweep's spectra without the joint and its check of the
-//! record's window take.
+//! without its joints (`SingleDof::alone`, `Modal::alone_at`, both behind
+//! `Bridge::alone`, in [`crate::linear`]), which the run with `--no-joint`,
+//! the histories and peaks "without the joint" of every run, a sweep's
+//! spectra without the joint and its check of the record's window take.
 
 use std::sync::Arc;
 

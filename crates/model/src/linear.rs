@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use quakejoint_motion::{history, peaks, History, Record, SpectrumOptions};
 
-use crate::bridge::Bridge;
+use crate::bridge::{Bridge, Modal, SingleDof};
 use crate::modal::{modal_superposition, KeptMode, ModalAlone};
 use crate::run::{Histories, RunResult};
 use crate::scenario::Scenario;
@@ -123,55 +123,49 @@ pub fn modal_history(record: &Record, kept: &[KeptMode], point: usize) -> Histor
     modal_superposition(record, kept, 0).points.swap_remove(point)
 }
 
-/// The bridge without its joints under a record along x.
-#[derive(Debug, Clone)]
-pub struct Alone {
-    /// At the first joint's deck point: the run's result as `--no-joint`
-    /// gives it.
-    pub result: RunResult,
-    /// A bridge given by its modes: every point of its file and the base
-    /// shear.
-    pub modal: Option<ModalAlone>,
-}
-
-impl Bridge {
-    /// The bridge without its joints under `window` (the ground motion
-    /// along x over a run's window), exactly: at `point` (the first
-    /// joint's deck point; a single-DOF deck has one) and, given by its
-    /// modes, at every point of the file.
-    pub fn alone(&self, window: &Record, point: usize, histories: bool) -> Alone {
-        match self {
-            Bridge::SingleDof(b) => {
-                Alone { result: crate::linear::linear_response(window, b.omega, b.damping, histories), modal: None }
-            }
-            Bridge::Modal(m) => {
-                let all = m.superposition(window, 0);
-                let result = crate::linear::modal_result(window, m.kept[0].omega, all.points[point].clone(), histories);
-                Alone { result, modal: Some(all) }
-            }
-        }
+impl SingleDof {
+    /// The deck without its joints under `window` (the ground motion along
+    /// x over a run's window), exactly.
+    pub fn alone(&self, window: &Record, histories: bool) -> RunResult {
+        linear_response(window, self.omega, self.damping, histories)
     }
 
-    /// The absolute acceleration \[m/s^2\] of the bridge without its
-    /// joints at the first `samples` sample times of `window` (NaN past
-    /// it), at `point` along x.
-    pub fn a_abs_alone(&self, window: &Record, point: usize, samples: usize) -> Vec<f64> {
-        let mut a = match self {
-            Bridge::SingleDof(b) => {
-                quakejoint_motion::history(&window.acceleration, window.dt, b.period, b.damping).a_abs
-            }
-            Bridge::Modal(m) => m.superposition(window, 0).points.swap_remove(point).a_abs,
-        };
+    /// Its absolute acceleration \[m/s^2\] without the joints at the first
+    /// `samples` sample times of `window` (NaN past it).
+    pub fn a_abs_alone(&self, window: &Record, samples: usize) -> Vec<f64> {
+        let mut a = history(&window.acceleration, window.dt, self.period, self.damping).a_abs;
         a.resize(samples, f64::NAN);
         a
     }
 }
 
+impl Modal {
+    /// The bridge without its joints at `point` of its modes file, from
+    /// `every` point's exact superposition under `window`
+    /// ([`Modal::superposition`]), reported at the longest kept period.
+    pub fn alone_at(&self, window: &Record, every: &ModalAlone, point: usize, histories: bool) -> RunResult {
+        modal_result(window, self.kept[0].omega, every.points[point].clone(), histories)
+    }
+}
+
+impl Bridge {
+    /// The bridge without its joints under `window` (the ground motion
+    /// along x over a run's window), exactly, at `point` (the first joint's
+    /// deck point; a single-DOF deck has one): one implementation per
+    /// variant.
+    pub fn alone(&self, window: &Record, point: usize, histories: bool) -> RunResult {
+        match self {
+            Bridge::SingleDof(b) => b.alone(window, histories),
+            Bridge::Modal(m) => m.alone_at(window, &m.superposition(window, 0), point, histories),
+        }
+    }
+}
+
 impl Scenario {
     /// The bridge without its joints under `window` (the ground motion
-    /// along x over the run's window), at the first joint's deck point and,
-    /// given by its modes, at every point ([`Bridge::alone`]).
-    pub fn alone(&self, window: &Record, histories: bool) -> Alone {
+    /// along x over the run's window), at the first joint's deck point
+    /// ([`Bridge::alone`]).
+    pub fn alone(&self, window: &Record, histories: bool) -> RunResult {
         self.bridge.alone(window, self.first_point(), histories)
     }
 }

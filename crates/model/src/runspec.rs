@@ -13,6 +13,7 @@ use std::path::Path;
 
 use quakejoint_motion::{LoadedRecord, Peaks, Record, RecordSpec, SpectrumError, SpectrumOptions, SpectrumRow};
 
+use crate::bridge::Bridge;
 use crate::config::Config;
 use crate::error::ModelError;
 use crate::run::{run_duration, simulate_scenario, RunOptions, RunResult};
@@ -187,24 +188,25 @@ impl RunSpec {
     ) -> Result<RunResult, ModelError> {
         let scenario = &self.scenario;
         let reference = Reference::for_run(self.config(), record_x, record_x);
-        let Some(modal) = scenario.bridge.modal() else {
-            let mut result = if self.alone {
-                scenario.alone(reference.window(), options.histories).result
-            } else {
-                simulate_scenario(scenario, record_x, record_y, options)?
-            };
-            if let Some(h) = &mut result.histories {
-                h.a_abs_without_joint = scenario.bridge.a_abs_alone(reference.window(), 0, h.t.len());
+        let window = reference.window();
+        let modal = match &scenario.bridge {
+            Bridge::SingleDof(b) => {
+                let mut result = if self.alone {
+                    b.alone(window, options.histories)
+                } else {
+                    simulate_scenario(scenario, record_x, record_y, options)?
+                };
+                if let Some(h) = &mut result.histories {
+                    h.a_abs_without_joint = b.a_abs_alone(window, h.t.len());
+                }
+                return Ok(result);
             }
-            return Ok(result);
+            Bridge::Modal(m) => m,
         };
-        let alone = scenario.alone(reference.window(), options.histories);
-        let Some(every) = alone.modal.as_ref() else {
-            return Err(ModelError::Geometry("the bridge alone lacks its modes' points".into()));
-        };
+        let every = modal.superposition(window, 0);
         let mut result = if self.alone {
             // the run is the bridge alone: its values are those
-            let mut r = alone.result.clone();
+            let mut r = modal.alone_at(window, &every, scenario.first_point(), options.histories);
             r.points = (modal.file.points.iter().enumerate())
                 .map(|(p, mp)| {
                     let [sd, sa] = every.peaks(p);
@@ -217,7 +219,7 @@ impl RunSpec {
         } else {
             simulate_scenario(scenario, record_x, record_y, options)?
         };
-        self.compare_modal(&mut result, modal, every);
+        self.compare_modal(&mut result, modal, &every);
         Ok(result)
     }
 

@@ -66,8 +66,7 @@ pub(super) fn window_warning(
         }
         Some(m) => {
             let at = |t: usize, r: &Record| {
-                RunSpec::new(config.clone(), &m.overrides(t))
-                    .map_or(f64::NAN, |spec| spec.scenario.alone(r, false).result.sa)
+                RunSpec::new(config.clone(), &m.overrides(t)).map_or(f64::NAN, |spec| spec.scenario.alone(r, false).sa)
             };
             let n = m.period_scales.len();
             let labels = (0..n)
