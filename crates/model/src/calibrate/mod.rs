@@ -333,13 +333,7 @@ fn checked_amplitudes(config: &Config, options: &CalibrationOptions) -> Result<V
             reason: "the calibration needs the detailed joint (joint.model = \"detailed\", the default)".to_string(),
         });
     }
-    if options.amplitudes.is_empty() || options.amplitudes.iter().any(|a| !(a.is_finite() && *a > 0.0 && *a <= 2.0)) {
-        return Err(ModelError::Invalid {
-            field: "amplitudes".to_string(),
-            value: format!("{:?}", options.amplitudes),
-            reason: "give at least one amplitude, each above 0 and at most 2 m".to_string(),
-        });
-    }
+    // (each amplitude in its range, at least one: CalibrationOptions::check)
     // (the opening the cells take, and the closing that closes them all)
     let reach =
         (j.cells() as f64 * (j.capacity.max_subgap - j.clear_subgap())).min(j.cells() as f64 * j.clear_subgap());
