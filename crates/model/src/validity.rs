@@ -199,6 +199,10 @@ pub struct Monitor {
     pulled_out: Option<Crossing>,
     penetration: Option<Crossing>,
     capacity: Option<Crossing>,
+    /// Scratch of [`Monitor::excesses`]: each support's joist length
+    /// between its pivot and its box \[m\], and its angle's sine and cosine.
+    reach: Vec<f64>,
+    turned: Vec<Option<(f64, f64)>>,
 }
 
 impl Monitor {
@@ -234,6 +238,8 @@ impl Monitor {
             pulled_out: None,
             penetration: None,
             capacity: None,
+            reach: Vec::new(),
+            turned: Vec::new(),
         }))
     }
 
@@ -282,7 +288,7 @@ impl Monitor {
     /// and the sub-gaps `subgaps` (narrower ends) and `largest` (wider
     /// ends), in the order of [`LIMITS`]; a limit with no place to cross
     /// (a collision where contacts act, no joist) is (-1 m, 0).
-    pub(crate) fn excesses(&self, q: &[f64], u: f64, subgaps: &[f64], largest: &[f64]) -> [(f64, usize); LIMITS] {
+    pub(crate) fn excesses(&mut self, q: &[f64], u: f64, subgaps: &[f64], largest: &[f64]) -> [(f64, usize); LIMITS] {
         let mut out = [(f64::NEG_INFINITY, 0); LIMITS];
         let mut take = |limit: usize, excess: f64, place: usize| {
             if excess > out[limit].0 {
@@ -305,8 +311,11 @@ impl Monitor {
         // each joist's length between its pivot and its box (deck) end, and
         // its angle's sine and cosine, once per support (its bearings share
         // them)
-        let reach: Vec<f64> = g.supports.iter().map(|sup| open.hypot(sup.box_dy + uy)).collect();
-        let mut turned: Vec<Option<(f64, f64)>> = vec![None; g.supports.len()];
+        let (reach, turned) = (&mut self.reach, &mut self.turned);
+        reach.clear();
+        reach.extend(g.supports.iter().map(|sup| open.hypot(sup.box_dy + uy)));
+        turned.clear();
+        turned.resize(g.supports.len(), None);
         for (n, b) in self.bearings.iter().enumerate() {
             let sup = &g.supports[b.support];
             // distance along the support from its pivot (abutment) end, and

@@ -50,10 +50,12 @@ impl std::fmt::Debug for RunOptions {
 }
 
 mod coupled;
+mod observer;
 mod result;
 
 pub(crate) use crate::watch::DENSE_OUTPUT;
-pub use coupled::{simulate_records, simulate_scenario, CHECK_INTERVAL};
+pub use coupled::{simulate_records, simulate_scenario};
+pub use observer::CHECK_INTERVAL;
 pub use result::{FarSegment, JointResult, RunResult, Transverse, JOINT_FIELDS};
 
 /// Loads the records of a config (x, and y if given), with their hashes
