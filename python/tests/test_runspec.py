@@ -73,6 +73,17 @@ def test_a_record_passed_from_python_runs_as_the_command_lines_record(cli, confi
         assert np.float64(by_cli[k]).tobytes() == np.float64(getattr(by_python, k)).tobytes(), k
 
 
+def assert_same_reason(cli, cli_args, flag, value, python_call, keyword, reason):
+    """The command line refuses `flag value` (after `cli_args`) and Python
+    `python_call(keyword=value)` with the same reason, each naming the value
+    as its front end does (`--flag value: ...`, `keyword = value: ...`)."""
+    code, _, err = run_cli(cli, *cli_args, flag, value, check=False)
+    assert code == 2 and f"{flag} {value:g}{reason}" in err, err
+    with pytest.raises(qj.InputError) as python_error:
+        python_call(**{keyword: [value] if keyword == "amplitudes" else value})
+    assert str(python_error.value).startswith(f"{keyword} = {value:g}{reason}"), python_error.value
+
+
 def test_the_same_bad_service_override_gives_the_same_reason_everywhere(cli, configs):
     # (the service case's speed, amplitude and cycles are overrides of the
     # one run spec, checked by the same code from the command line and
@@ -84,26 +95,19 @@ def test_the_same_bad_service_override_gives_the_same_reason_everywhere(cli, con
         ("--speed", "speed", 2.0, ": must be within 0 < x <= 1 m/s"),
         ("--cycles", "cycles", 5000, ": must be within 1 <= x <= 1000"),
     ]:
-        code, _, err = run_cli(cli, "service", run, flag, value, check=False)
-        assert code == 2 and f"{flag} {value:g}{reason}" in err, err
-        with pytest.raises(qj.InputError) as python_error:
-            qj.service(cfg, **{keyword: value})
-        assert str(python_error.value).startswith(f"{keyword} = {value:g}{reason}"), python_error.value
+        service = lambda **kw: qj.service(cfg, **kw)  # noqa: E731
+        assert_same_reason(cli, ["service", run], flag, value, service, keyword, reason)
 
 
 def test_the_same_bad_calibration_option_gives_the_same_reason_everywhere(cli, configs, tmp_path):
     # (checked before any loop runs, each named as its front end names it)
     _, run, _, _ = configs
     cfg = qj.Config.from_file(run)
+    cli_args = ["calibrate", run, "--no-earthquake", "--output-dir", tmp_path]
     for flag, keyword, value, reason in [
         ("--speed", "speed", 3.0, ": must be within 0 < x <= 1 m/s"),
         ("--contact-force", "contact_force", 0.0, ": must be a force above 0 and at most 1e11 N"),
         ("--amplitudes", "amplitudes", 5.0, ": must be within 0 < x <= 2 m"),
     ]:
-        code, _, err = run_cli(
-            cli, "calibrate", run, flag, value, "--no-earthquake", "--output-dir", tmp_path, check=False
-        )
-        assert code == 2 and f"{flag} {value:g}{reason}" in err, err
-        with pytest.raises(qj.InputError) as python_error:
-            qj.calibrate(cfg, earthquake=False, **{keyword: [value] if keyword == "amplitudes" else value})
-        assert str(python_error.value).startswith(f"{keyword} = {value:g}{reason}"), python_error.value
+        calibrate = lambda **kw: qj.calibrate(cfg, earthquake=False, **kw)  # noqa: E731
+        assert_same_reason(cli, cli_args, flag, value, calibrate, keyword, reason)
