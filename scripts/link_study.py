@@ -1,10 +1,13 @@
 """The calibrated link element against the detailed joint on single-DOF
 decks (docs/link.md, "Where it holds"): configs/paper.toml's joint, its
 deck's mass and period changed, detailed and as its link, and the deck
-alone, under three records none of which calibrated the link.
+alone, under four records none of which calibrated the link (a strong
+record, a pulse-like one, El Centro and a weak aftershock).
 
     quakejoint calibrate configs/paper.toml \
-        --record ground_motions/RSN753_LOMAP_CLS000-hor1.AT2 --output-dir examples/link
+        --record ground_motions/RSN753_LOMAP_CLS000-hor1.AT2 \
+        --record ground_motions/RSN77_SFERN_PUL164-hor1.AT2 \
+        --record ground_motions/RSN6_IMPVALL.I_I-ELC270-hor2.AT2 --output-dir examples/link
     python3 scripts/link_study.py examples/link/link.toml --work /tmp/link_study [--opensees]
 
 Prints one markdown row per deck, period and record: Sa, the peak force on
@@ -25,6 +28,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 RECORDS = {
     "Corralitos 090": "RSN753_LOMAP_CLS090-hor2.AT2",
+    "Pacoima Dam 254 (pulse, 1.2 g)": "RSN77_SFERN_PUL254-hor2.AT2",
     "El Centro 180": "RSN6_IMPVALL.I_I-ELC180-hor1.AT2",
     "Sylmar 090 (M5 aftershock, 0.086 g)": "RSN1690_NORTH151_SYL090-hor1.AT2",
 }

@@ -2,33 +2,48 @@
 # units: N, m, kg, s
 # spring (stuck joint)      k   = 5.690202e7 N/m
 # slider (friction)         F   = 2.573247e5 N
-# moving mass               m   = 4.974967e3 kg
-# damper with the spring    c   = 1.000000e5 N s/m
+# moving mass               m   = 5.969961e3 kg
+# damper with the spring    c   = 1.000000e4 N s/m
 # closing movement (gap)    g   = 1.120000e0 m  (28 cells)
-# closed-joint stiffness    k_c = 5.165160e7 N/m (the closed cells' Hertz law as a secant at 1.000e6 N: rerun `quakejoint calibrate --contact-force` with the closed joint's force your model finds, until the two agree; docs/link.md)
+# closed-joint stiffness    k_c = 5.165160e7 N/m (the closed cells' Hertz law as a secant at 1.000e6 N, a default: the detailed joint did not close under the calibration suite: where your model's closed joint meets another force, rerun `quakejoint calibrate --contact-force` with it until the two agree; docs/link.md)
 # opening capacity              = 1.120000e0 m  (cells at joint.capacity.max_subgap)
 # the opening u is the deck's displacement away from the abutment; the element acts along it
 """The quakejoint link for openseespy (units N, m, kg, s)."""
 
 STIFFNESS = 5.690202221956255e7  # [N/m] spring (stuck joint)
 FRICTION = 2.5732466057310026e5  # [N] slider
-MASS = 4.974967377404348e3  # [kg] moving mass
-DAMPING = 1e5  # [N s/m] damper with the spring
+MASS = 5.969960852885217e3  # [kg] moving mass
+DAMPING = 1e4  # [N s/m] damper with the spring
 GAP = 1.12e0  # [m] closing movement until every cell is closed
 GAP_STIFFNESS = 5.1651597924325414e7  # [N/m] closed joint
 STICK_FACTOR = 1000  # the slider's stick stiffness over STIFFNESS
 
 
-def add_link(ops, abut_node, deck_node, new_node, first_tag):
-    """Adds the link between two existing nodes at the same place, the deck lying
-    toward +X of the joint (not for a deck toward -X: swapping the nodes reverses the
-    chain, the slider on the deck; docs/link.md); new_node: a new node tag (the
-    moving mass); first_tag: the first of 5 free material tags (and of 3 element tags).
-    2D or 3D: the new node takes the deck node's coordinates and DOFs, its mass
-    and freedom along the first (global X)."""
+def add_link_node(ops, deck_node, new_node):
+    """The link's mass node at the deck node, held along X until add_link frees it.
+    With modalDamping, call it before the eigen analysis and add_link after
+    modalDamping: a node with mass added after modalDamping makes OpenSees 3.7.1 end
+    the process without an error, and a link present at the eigen analysis has its
+    modes damped too (docs/link.md)."""
     ndf = len(ops.nodeDisp(deck_node))
     ops.node(new_node, *ops.nodeCoord(deck_node), "-mass", MASS, *([0.0] * (ndf - 1)))
-    ops.fix(new_node, 0, *([1] * (ndf - 1)))
+    ops.fix(new_node, *([1] * ndf))
+
+
+def add_link(ops, abut_node, deck_node, new_node, first_tag, side=1):
+    """Adds the link between two existing nodes at the same place (never swap
+    them). side: +1 where the deck lies toward +X (global X) of the joint, the
+    bridge's first end; -1 where it lies toward -X, the far end: the chain stays
+    abutment - slider - mass - spring - deck and the gap closes as the deck moves
+    toward the abutment. new_node: the moving mass's node tag (made here unless
+    add_link_node made it); first_tag: the first of 5 free material tags (and of 3
+    element tags). 2D or 3D: the new node takes the deck node's coordinates and
+    DOFs, its mass and freedom along the first (global X)."""
+    if side not in (1, -1):
+        raise ValueError(f"add_link: side must be 1 or -1, not {side!r}")
+    if new_node not in ops.getNodeTags():
+        add_link_node(ops, deck_node, new_node)
+    ops.remove("sp", new_node, 1)
     k_stick = STICK_FACTOR * STIFFNESS
     ops.uniaxialMaterial("Elastic", first_tag + 3, STIFFNESS)
     ops.uniaxialMaterial("Viscous", first_tag + 4, DAMPING, 1.0)
@@ -37,4 +52,6 @@ def add_link(ops, abut_node, deck_node, new_node, first_tag):
     ops.uniaxialMaterial("ElasticPPGap", first_tag + 2, GAP_STIFFNESS, -1.0e20, -GAP)
     ops.element("zeroLength", first_tag, new_node, deck_node, "-mat", first_tag, "-dir", 1)
     ops.element("zeroLength", first_tag + 1, abut_node, new_node, "-mat", first_tag + 1, "-dir", 1)
-    ops.element("zeroLength", first_tag + 2, abut_node, deck_node, "-mat", first_tag + 2, "-dir", 1)
+    # (the gap's deformation is the opening's sign: it closes toward the abutment)
+    gap_nodes = (abut_node, deck_node) if side == 1 else (deck_node, abut_node)
+    ops.element("zeroLength", first_tag + 2, *gap_nodes, "-mat", first_tag + 2, "-dir", 1)

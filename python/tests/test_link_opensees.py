@@ -1,9 +1,11 @@
 """The joint's link element (docs/link.md) proven in the engine its users
 run: `quakejoint.calibrate` on the reference joint (configs/paper.toml,
-calibration earthquake Corralitos 000), its exported openseespy element on
-a single-DOF deck run by OpenSees itself (scripts/opensees/link_sdof.py),
-against quakejoint's own `joint.model = "link"` and against the detailed
-joint, under records not used in the calibration.
+calibration suite Corralitos 000, Pacoima Dam 164 and El Centro 270), its
+exported openseespy element on a single-DOF deck run by OpenSees itself
+(scripts/opensees/link_sdof.py) and at both abutments of the three-span
+bridge (scripts/opensees/link_two_ends.py), against quakejoint's own
+`joint.model = "link"` and against the detailed joint, under records not
+used in the calibration.
 
 OpenSees parts need openseespy (`pip install openseespy`; on Debian libblas3
 and liblapack3); the README's test command installs it.
@@ -13,6 +15,7 @@ import os
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import quakejoint as qj
@@ -20,6 +23,9 @@ import quakejoint as qj
 ROOT = Path(__file__).resolve().parents[2]
 GM = ROOT / "ground_motions"
 sys.path.insert(0, str(ROOT / "scripts" / "opensees"))
+
+
+SUITE = ("RSN753_LOMAP_CLS000-hor1.AT2", "RSN77_SFERN_PUL164-hor1.AT2", "RSN6_IMPVALL.I_I-ELC270-hor2.AT2")
 
 
 def _openseespy():
@@ -36,8 +42,8 @@ def _openseespy():
 def link(tmp_path_factory):
     """The reference joint's calibration and its exported files."""
     cfg = qj.Config.from_file(ROOT / "configs" / "paper.toml")
-    record = qj.Record.read(GM / "RSN753_LOMAP_CLS000-hor1.AT2")
-    c = qj.calibrate(cfg, record=record)
+    suite = [qj.Record.read(GM / name) for name in SUITE]
+    c = qj.calibrate(cfg, record=suite)
     out = tmp_path_factory.mktemp("link")
     for name, text in c["exports"].items():
         (out / name).write_text(text)
@@ -59,12 +65,24 @@ def deck(link, mass, period, model, record):
 
 
 def test_calibration_of_the_reference_joint(link):
-    # nothing flagged: every loop used, the calibration earthquake taken
-    assert link["warnings"] == []
     # the slider within 10 % of the hand calculation (below it: the beams
     # lag at reversals), the closing movement 28 cells of 40 mm
     assert 0.85 * link["hand_friction"] < link["friction"] < link["hand_friction"]
     assert link["cells"] == 28 and abs(link["gap"] - 1.12) < 1e-9
+    # the mass at most the whole joint sliding at once; every record of the
+    # suite reported with the pair it alone calls for
+    assert 0.25 * link["kinetic_mass"] <= link["mass"] <= link["kinetic_mass"]
+    assert [e["record"] for e in link["suite"]] == [name.removesuffix(".AT2") for name in SUITE]
+    for e in link["suite"]:
+        assert 0.25 * link["kinetic_mass"] <= e["own_mass"] <= link["kinetic_mass"]
+        error = e["peak_link"] / e["peak_detailed"] - 1
+        # a force more than 5 % below the detailed joint's is said, with the record
+        below = [w for w in link["warnings"] if e["record"] in w and "below the detailed joint's" in w]
+        assert (error < -0.05) == bool(below), (e, link["warnings"])
+        assert -0.07 < error < 0.11, e
+    # the joint never closed under the suite: the exports' secant at the default, said so
+    assert link["contact_force"] == 1e6
+    assert "did not close under the calibration suite" in link["exports"]["link.toml"]
     # the equivalent damping ratio of the joint's own loop grows with the
     # amplitude towards 2 / pi (rigid-plastic), while what it adds to the
     # bridge falls: no single damping ratio stands for it
@@ -80,12 +98,20 @@ def test_calibration_of_the_reference_joint(link):
 
 @pytest.mark.parametrize(
     "mass, period, record",
-    [(1e6, 1.0, "RSN753_LOMAP_CLS090-hor2.AT2"), (1e7, 0.5, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2")],
+    [
+        (1e6, 1.0, "RSN753_LOMAP_CLS090-hor2.AT2"),
+        (1e7, 0.5, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"),
+        (3e6, 0.7, "RSN77_SFERN_PUL254-hor2.AT2"),  # pulse-like, 1.2 g
+        (1e6, 1.0, "RSN1690_NORTH151_SYL360-hor2.AT2"),  # weak: the joint mostly sticks
+        (1e7, 2.0, "RSN1690_NORTH151_SYL090-hor1.AT2"),
+    ],
 )
 def test_the_exported_element_in_opensees_is_quakejoints_link(link, mass, period, record):
-    """The same element in two engines: Sa to 1e-3, the friction energy to
-    1 %, the peak force on the deck to 2 % (quakejoint integrates a run of
-    links to 1e-10, where its stick-slip converges: docs/link.md)."""
+    """The same element in two engines, on every class of record (strong,
+    pulse-like, weak): Sa to 1e-3, the friction energy to 1 %, the peak
+    force on the deck to 2 % (quakejoint integrates a run of links to
+    1e-12, and its slider creeps at most at 1e-5 m/s where OpenSees'
+    ElasticPP sticks: docs/link.md)."""
     _openseespy()
     import link_sdof
 
@@ -96,18 +122,87 @@ def test_the_exported_element_in_opensees_is_quakejoints_link(link, mass, period
     assert abs(theirs["peak_joint_force"] / ours.peak_joint_force - 1) < 0.02
 
 
-def test_the_link_against_the_detailed_joint(link):
+@pytest.mark.parametrize(
+    "mass, period, record",
+    [(1e6, 1.0, "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"), (2e7, 1.5, "RSN77_SFERN_PUL254-hor2.AT2")],
+)
+def test_the_link_against_the_detailed_joint(link, mass, period, record):
     """Where the joint matters and the link holds (docs/link.md, "Where it
-    holds"): a 1e6 kg deck at 1 s under El Centro 180 (the joint takes 27 %
-    off Sa; the calibration earthquake was Corralitos 000)."""
-    record = "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
-    detailed = qj.simulate(deck(link, 1e6, 1.0, "detailed", record), history=False)
-    linked = qj.simulate(deck(link, 1e6, 1.0, "link", record), history=False)
-    alone = qj.simulate(deck(link, 1e6, 1.0, "detailed", record), joint=False, history=False)
+    holds"), under records outside the calibration suite: El Centro 180 on
+    a 1e6 kg deck at 1 s (the joint takes 27 % off Sa) and the pulse of
+    Pacoima Dam 254 on a 2e7 kg deck at 1.5 s (where the link calibrated
+    under one record gave a peak force 17 % low). The peak force on the
+    deck, what the abutment is designed for, never more than 5 % below the
+    detailed joint's and at most 15 % above (strong motion: +0.8 to +14.4 %
+    in the study)."""
+    detailed = qj.simulate(deck(link, mass, period, "detailed", record), history=False)
+    linked = qj.simulate(deck(link, mass, period, "link", record), history=False)
+    alone = qj.simulate(deck(link, mass, period, "detailed", record), joint=False, history=False)
     assert abs(linked.sa / detailed.sa - 1) < 0.03
     assert abs(linked.friction_energy / detailed.friction_energy - 1) < 0.10
-    assert abs(linked.peak_joint_force / detailed.peak_joint_force - 1) < 0.10
+    assert -0.05 < linked.peak_joint_force / detailed.peak_joint_force - 1 < 0.15
     # the joint's effect on Sa, in sign and within a third of its size
     effect_detailed, effect_link = detailed.sa - alone.sa, linked.sa - alone.sa
     assert effect_detailed * effect_link > 0
     assert abs(effect_link - effect_detailed) < abs(effect_detailed) / 3
+
+TWO_ENDS = """
+[bridge]
+damping = 0.05
+[bridge.modal]
+modes = "{modes}"
+modes_used = 20
+[record]
+file = "{record}"
+scale = 2.0
+[joint]
+model = "link"
+center_beams = 3            # 4 cells of 40 mm: the deck closes each joint in turn
+[joint.link]
+{link}
+[[joints]]
+name = "left abutment"
+deck_point = "left end"
+deck_side = "+x"
+[[joints]]
+name = "right abutment"
+deck_point = "right end"
+deck_side = "-x"
+"""
+
+
+def test_the_link_at_both_abutments_in_opensees(link, tmp_path):
+    """Both abutments (docs/link.md): the three-span bridge with the link
+    at its left end (the deck toward +X, `side=1`) and its right end
+    (toward -X, `side=-1`), under Pacoima Dam 164 x 2 for 12 s, in which
+    the deck closes the left joint (0.96 MN through it) and the right one
+    (2.5 MN). quakejoint's modal bridge (20 modes and the static
+    correction) against OpenSees' frame with modalDamping of every mode
+    and the exported element (scripts/opensees/link_two_ends.py): the deck
+    ends' displacement to 1e-3 of its peak, each joint's peak force on the
+    deck to 2 %. A slider on the deck instead (the nodes swapped) caps the
+    right joint's force near F."""
+    _openseespy()
+    import link_two_ends
+
+    keys = ("stiffness", "friction", "mass", "damping", "gap_stiffness")
+    text = TWO_ENDS.format(
+        modes=ROOT / "tests" / "data" / "three_span" / "modes.toml",
+        record=GM / "RSN77_SFERN_PUL164-hor1.AT2",
+        link="\n".join(f"{k} = {link[k]!r}" for k in keys),
+    )
+    (tmp_path / "two_ends.toml").write_text(text)
+    ours = qj.simulate(qj.Config.from_file(tmp_path / "two_ends.toml"))
+    t, u, force = link_two_ends.run(link["dir"] / "link_opensees.py", GM / "RSN77_SFERN_PUL164-hor1.AT2",
+                                    scale=2.0, duration=12.0, gap=4 * 0.04)
+    h = ours.history
+    window = h["t"] <= t[-1] + 1e-9
+    forces = (h["joint_force"], ours.joints[1]["history"]["joint_force"])
+    for j in range(2):
+        mine = h["points_u"][j][window]
+        theirs = np.interp(h["t"][window], t, u[:, j])
+        assert np.max(np.abs(mine - theirs)) < 1e-3 * np.max(np.abs(mine)), j
+        peak = np.max(np.abs(forces[j][window]))
+        assert abs(force[:, j].max() / peak - 1) < 0.02, (j, force[:, j].max(), peak)
+        # the gap closed at this end, on the right side
+        assert peak > 2 * link["friction"], (j, peak)

@@ -267,15 +267,16 @@ pub struct CalibrateArgs {
     /// The force at which the closed joint's Hertz stiffness is taken as a secant [N] (default 1e6).
     #[arg(long, allow_negative_numbers = true)]
     pub contact_force: Option<f64>,
-    /// The calibration earthquake for the link's mass and damper (default: the config's
-    /// [record]): a record file relative to the current directory, read with the options
-    /// below as `quakejoint record` reads it (a file of several channels needs --channel
-    /// or --azimuth).
+    /// A record of the calibration suite for the link's mass and damper, given once per
+    /// record (default: the config's [record] alone; give several, pulse-like ones among
+    /// them: docs/link.md): a file relative to the current directory, each read with the
+    /// options below as `quakejoint record` reads it (a file of several channels needs
+    /// --channel or --azimuth).
     #[arg(long)]
-    pub record: Option<PathBuf>,
+    pub record: Vec<PathBuf>,
     #[command(flatten)]
     pub read: RecordReadArgs,
-    /// Skip the calibration earthquake: the mass of the joint's kinetic energy, no damper.
+    /// Skip the calibration suite: the mass of the joint's kinetic energy, no damper.
     #[arg(long, conflicts_with = "record")]
     pub no_earthquake: bool,
     /// Folder for the exports: link.toml, link.tcl, link_opensees.py, link_sap2000.txt,

@@ -16,21 +16,29 @@ use crate::commands::read_config;
 /// Runs `quakejoint calibrate`.
 pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
     let (config, _) = read_config(&a.config)?;
-    // --record: relative to the current directory, replacing the config's
-    // whole [record]
-    let record = a.record.as_ref().map(|path| {
-        let file = std::path::absolute(path).unwrap_or_else(|_| path.clone());
-        RecordOverride::File(a.read.spec(&file))
-    });
-    if a.record.is_none() && a.read.any() {
+    if a.record.is_empty() && a.read.any() {
         return Err(crate::commands::InputError(
             "--format, --units, --dt, --column, --channel, --azimuth, --allow-vertical, --scale and --target-pga-g \
-             describe the file of --record; without --record, set them in the config's [record]"
+             describe the files of --record; without --record, set them in the config's [record]"
                 .into(),
         )
         .into());
     }
-    let spec = RunSpec::new(config, &Overrides { record, ..Overrides::default() })?;
+    // each --record: relative to the current directory, replacing the
+    // config's whole [record] (none: the config's own)
+    let overrides: Vec<Overrides> = if a.record.is_empty() {
+        vec![Overrides::default()]
+    } else {
+        a.record
+            .iter()
+            .map(|path| {
+                let file = std::path::absolute(path).unwrap_or_else(|_| path.clone());
+                Overrides { record: Some(RecordOverride::File(a.read.spec(&file))), ..Overrides::default() }
+            })
+            .collect()
+    };
+    let specs = overrides.iter().map(|o| RunSpec::new(config.clone(), o)).collect::<Result<Vec<_>, _>>()?;
+    let spec = &specs[0];
     let config = spec.config();
     let mut options = CalibrationOptions::default();
     if let Some(x) = a.amplitudes {
@@ -40,22 +48,24 @@ pub fn calibrate_cmd(a: CalibrateArgs) -> Result<ExitCode> {
         options.speed = s;
     }
     if let Some(f) = a.contact_force {
-        options.contact_force = f;
+        options.contact_force = Some(f);
     }
     // (each option named as typed: `--contact-force 0: ...`), before a
     // record is read or a loop runs
     options.check(|k| format!("--{}", k.replace('_', "-")))?;
     if !a.no_earthquake {
-        let (record, _) = spec.records(&quakejoint_model::config::base_dir(&a.config))?;
-        // (which channel of a file of several was read, a record not
-        // starting at rest, ...: as simulate says)
-        crate::commands::print_warnings(&[&record]);
-        options.record = Some(quakejoint_model::run::run_window(config, &record.record));
+        for spec in &specs {
+            let (record, _) = spec.records(&quakejoint_model::config::base_dir(&a.config))?;
+            // (which channel of a file of several was read, a record not
+            // starting at rest, ...: as simulate says)
+            crate::commands::print_warnings(&[&record]);
+            options.records.push(quakejoint_model::run::run_window(config, &record.record));
+        }
     }
     let dir = a.output_dir.clone().unwrap_or_else(|| default_dir(&a.config));
     let mut inputs = config.input_files(&quakejoint_model::config::base_dir(&a.config));
     inputs.push(a.config.clone());
-    inputs.extend(a.record.clone());
+    inputs.extend(a.record.iter().cloned());
     check_outputs(&dir, &inputs)?;
     let c = calibrate(&spec.scenario, &options)?;
     let written = write_exports(&c, &dir, &a.config.display().to_string())?;
@@ -156,8 +166,8 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
     let _ = writeln!(s, "  closing movement (gap)     {:>12.4e} m    ({} cells)", c.gap, c.cells);
     let _ = writeln!(
         s,
-        "  closed-joint stiffness     {:>12.4e} N/m  (secant at {:.3e} N)",
-        l.gap_stiffness, c.options.contact_force
+        "  closed-joint stiffness     {:>12.4e} N/m  (secant at {:.3e} N: {})",
+        l.gap_stiffness, c.secant_force, c.secant_from
     );
     let _ = writeln!(s, "  opening capacity           {:>12.4e} m", c.capacity);
     let _ = writeln!(
@@ -168,13 +178,32 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
         c.loops.len(),
         c.options.speed
     );
-    if let Some(d) = &c.dynamic {
+    if !c.dynamic.is_empty() {
         let _ = writeln!(
             s,
-            "  under {}: RMS force error {:.4e} N; peak force {:.4e} N (detailed {:.4e}), friction energy {:.4e} J \
-             (detailed {:.4e})",
-            d.record, d.rms, d.peak_link, d.peak_detailed, d.friction_link, d.friction_detailed
+            "under the calibration suite: the link's peak force on the deck and friction energy against the detailed \
+             joint's, and the mass and damper each record alone calls for"
         );
+        let _ = writeln!(
+            s,
+            "  {:<32} {:>11} {:>11} {:>7} {:>11} {:>11} {:>7} {:>11} {:>11}",
+            "record", "peak [N]", "detailed", "error", "E_f [J]", "detailed", "error", "own m [kg]", "own c"
+        );
+        for d in &c.dynamic {
+            let _ = writeln!(
+                s,
+                "  {:<32} {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e} {:>11.2e}",
+                d.record,
+                d.peak_link,
+                d.peak_detailed,
+                100.0 * (d.peak_link / d.peak_detailed - 1.0),
+                d.friction_link,
+                d.friction_detailed,
+                100.0 * (d.friction_link / d.friction_detailed - 1.0),
+                d.own_mass,
+                d.own_damping
+            );
+        }
     }
     let _ = writeln!(s, "equivalent viscous damping ratio E_D / (4 pi E_S) against the amplitude");
     let _ = writeln!(
@@ -216,14 +245,16 @@ fn json_of(c: &Calibration, written: &[PathBuf]) -> serde_json::Value {
         pairs.iter().map(|(k, v, _)| (k.to_string(), json!(v))).collect()
     };
     let mut out = numbers(&c.scalars());
-    out.insert(
-        "earthquake".into(),
-        c.dynamic.as_ref().map_or(serde_json::Value::Null, |d| {
+    let suite = c
+        .dynamic
+        .iter()
+        .map(|d| {
             let mut e = numbers(&d.scalars());
             e.insert("record".into(), json!(d.record));
             serde_json::Value::Object(e)
-        }),
-    );
+        })
+        .collect::<Vec<_>>();
+    out.insert("suite".into(), json!(suite));
     out.insert("gap_hertz".into(), json!(c.link.gap_hertz));
     out.insert("warnings".into(), json!(c.warnings));
     out.insert("cells".into(), json!(c.cells));

@@ -138,11 +138,11 @@ fn calibrations_the_model_cannot_stand_behind_say_so() {
     let window = quakejoint_model::run::run_window(&config, &x.record);
     let c = calibrate(
         &Scenario::new(config.clone()).unwrap(),
-        &CalibrationOptions { record: Some(window), ..CalibrationOptions::default() },
+        &CalibrationOptions { records: vec![window], ..CalibrationOptions::default() },
     )
     .unwrap();
     eprintln!("{:#?}", c.warnings);
     assert!(c.warnings.iter().any(|w| w.contains("0.05 m is left out") && w.contains("capacity_exceeded")));
-    assert!(c.warnings.iter().any(|w| w.contains("flagged under the calibration earthquake")));
+    assert!(c.warnings.iter().any(|w| w.contains("flagged under the calibration record")));
     assert!(c.loops.iter().all(|l| l.amplitude < 0.05));
 }

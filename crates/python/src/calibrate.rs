@@ -17,16 +17,20 @@ use crate::{config_error, model_error};
 /// Calibrates the link element of the config's (detailed) joint: service
 /// loops at `amplitudes` [m] (default 0.002 to 0.1 m) at `speed` [m/s]
 /// (default 0.02) for the spring and the slider, and, with `earthquake`
-/// (default True), a run of the config's bridge under `record` (a
-/// `quakejoint.Record`; default the config's) for the mass and the damper.
+/// (default True), runs of the config's bridge under `record` (a
+/// `quakejoint.Record` or a list of them, the calibration suite; default
+/// the config's record) for the mass and the damper.
 /// Returns a dict: stiffness [N/m], friction [N], hand_friction [N], mass
 /// and kinetic_mass [kg], damping [N s/m], gap [m], gap_stiffness [N/m],
 /// gap_hertz [N/m^1.5] (None for a joint with the linear contact law),
 /// capacity [m], cells, fit_rms [N], speed [m/s] and contact_force [N] (the
 /// options it ran with), loops (one dict per amplitude:
 /// amplitude, energy, link_energy [J], peak_force [N], damping_joint,
-/// damping_bridge, and the arrays t, u, force), earthquake (the dynamic
-/// fit, or None) and exports (the texts of link.toml, link.tcl,
+/// damping_bridge, and the arrays t, u, force), suite (per record of the
+/// calibration suite: record, rms, peak_link, peak_detailed [N],
+/// friction_link, friction_detailed [J], own_mass [kg] and own_damping
+/// [N s/m], the pair that record alone calls for; empty without
+/// earthquake) and exports (the texts of link.toml, link.tcl,
 /// link_opensees.py and link_sap2000.txt by those names), warnings (what
 /// the calibration cannot stand behind: loops left out, a poor fit, a
 /// flagged calibration earthquake). GIL released.
@@ -38,11 +42,34 @@ fn calibrate<'py>(
     amplitudes: Option<&Bound<'py, PyAny>>,
     speed: Option<&Bound<'py, PyAny>>,
     contact_force: Option<&Bound<'py, PyAny>>,
-    record: Option<&PyRecord>,
+    record: Option<&Bound<'py, PyAny>>,
     earthquake: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let record = record.map(|r| RecordOverride::Loaded(Box::new(r.loaded.clone())));
-    let Spec { spec, base, source } = Spec::new(config, &Overrides { record, ..Overrides::default() })?;
+    // one Record or a list of them; none: the config's
+    let records: Vec<Option<RecordOverride>> = match record {
+        None => vec![None],
+        Some(r) => match r.extract::<PyRef<PyRecord>>() {
+            Ok(one) => vec![Some(RecordOverride::Loaded(Box::new(one.loaded.clone())))],
+            Err(_) => {
+                let list: Vec<PyRef<PyRecord>> = r.extract().map_err(|_| {
+                    pyo3::exceptions::PyTypeError::new_err(
+                        "calibrate: record must be a quakejoint.Record or a list of them",
+                    )
+                })?;
+                if list.is_empty() {
+                    return Err(pyo3::exceptions::PyValueError::new_err(
+                        "calibrate: record = []: give at least one record, or earthquake=False",
+                    ));
+                }
+                list.iter().map(|one| Some(RecordOverride::Loaded(Box::new(one.loaded.clone())))).collect()
+            }
+        },
+    };
+    let mut specs = Vec::with_capacity(records.len());
+    for record in records {
+        specs.push(Spec::new(config, &Overrides { record, ..Overrides::default() })?);
+    }
+    let Spec { spec, source, .. } = &specs[0];
     let mut options = CalibrationOptions::default();
     if let Some(a) = amplitudes {
         options.amplitudes = Numbers::at_most_1d(a, "calibrate", "amplitudes")?.values;
@@ -51,12 +78,14 @@ fn calibrate<'py>(
         options.speed = s;
     }
     if let Some(f) = real_opt(contact_force, "calibrate", "contact_force")? {
-        options.contact_force = f;
+        options.contact_force = Some(f);
     }
     options.check(|k| k.to_string()).map_err(model_error)?;
     if earthquake {
-        let (loaded, _) = spec.records(&base).map_err(|e| config_error(e, &source))?;
-        options.record = Some(run_window(spec.config(), &loaded.record));
+        for s in &specs {
+            let (loaded, _) = s.spec.records(&s.base).map_err(|e| config_error(e, &s.source))?;
+            options.records.push(run_window(spec.config(), &loaded.record));
+        }
     }
     let c = py.detach(|| run_calibration(&spec.scenario, &options)).map_err(model_error)?;
     let d = PyDict::new(py);
@@ -80,23 +109,21 @@ fn calibrate<'py>(
         loops.append(e)?;
     }
     d.set_item("loops", loops)?;
-    let quake = match &c.dynamic {
-        Some(f) => {
-            let e = PyDict::new(py);
-            e.set_item("record", f.record.clone())?;
-            for (k, v, _) in f.scalars() {
-                e.set_item(k, v)?;
-            }
-            e.into_any()
+    let suite = PyList::empty(py);
+    for f in &c.dynamic {
+        let e = PyDict::new(py);
+        e.set_item("record", f.record.clone())?;
+        for (k, v, _) in f.scalars() {
+            e.set_item(k, v)?;
         }
-        None => py.None().into_bound(py),
-    };
-    d.set_item("earthquake", quake)?;
+        suite.append(e)?;
+    }
+    d.set_item("suite", suite)?;
     let exports = PyDict::new(py);
-    exports.set_item("link.toml", export::toml(&c, &source))?;
-    exports.set_item("link.tcl", export::opensees_tcl(&c, &source))?;
-    exports.set_item("link_opensees.py", export::opensees_py(&c, &source))?;
-    exports.set_item("link_sap2000.txt", export::sap2000(&c, &source))?;
+    exports.set_item("link.toml", export::toml(&c, source))?;
+    exports.set_item("link.tcl", export::opensees_tcl(&c, source))?;
+    exports.set_item("link_opensees.py", export::opensees_py(&c, source))?;
+    exports.set_item("link_sap2000.txt", export::sap2000(&c, source))?;
     d.set_item("exports", exports)?;
     Ok(d)
 }

@@ -22,15 +22,20 @@
 //!   secant stiffness at the force `contact_force`, `F_c / ((Nc + 1) (F_c /
 //!   2 k)^(2/3))`.
 //! - Mass and damper, dynamically: the detailed joint on the config's
-//!   bridge under the calibration record (the config's, or another given),
-//!   against the link with the kinetic-energy mass times 1/8 to 2 and a
-//!   damper in parallel with its spring from 0 to 1e7 N s/m (a grid): the
-//!   pair whose force on the deck follows the detailed joint's history
-//!   best: least RMS of the difference plus difference of the peaks, each
-//!   over the detailed joint's peak (the peak is what the abutment is
-//!   designed for). The mass of the kinetic energy is that of a joint
-//!   sliding as a whole; its beams lag and ring apart, which the damper
-//!   stands for.
+//!   bridge under each record of the calibration suite, against the link
+//!   with the kinetic-energy mass times 1/4 to 1 (no part of the joint
+//!   moves more mass than all of it sliding at once) and a damper in
+//!   parallel with its spring from 0 to 1e6 N s/m (a grid, [`MASS_FACTORS`] and
+//!   [`DAMPERS`]). The pair chosen holds the peak force on the deck (what
+//!   the abutment is designed for) in the band [`BAND`] of the detailed
+//!   joint's under every record, a force below it counted double: least
+//!   sum of the records' distances outside the band, then least mean of
+//!   each record's RMS of the force difference plus difference of the
+//!   peaks, each over the detailed joint's peak. Each record's own best
+//!   pair is reported beside it: their spread says how much the pair
+//!   belongs to the joint and how much to the record. The mass of the
+//!   kinetic energy is that of a joint sliding as a whole; its beams lag
+//!   and ring apart, which the smaller mass and the damper stand for.
 //! - The equivalent viscous damping ratio of each loop, `E_D / (4 pi E_S)`:
 //!   the joint's own (its secant stiffness) and, on a single-DOF bridge,
 //!   the bridge's added damping at that deck amplitude.
@@ -52,12 +57,14 @@ pub struct CalibrationOptions {
     pub speed: f64,
     /// Cycles per loop (the first starts from rest).
     pub cycles: u32,
-    /// The force at which a Hertz contact's secant stiffness is taken \[N\].
-    pub contact_force: f64,
-    /// The calibration earthquake (the mass and the damper): a record to
-    /// run the config's bridge under; none: they are not identified (the
+    /// The force at which a Hertz contact's secant stiffness is taken \[N\]
+    /// (none: the detailed joint's largest closed-joint force under the
+    /// calibration suite, or [`DEFAULT_CONTACT_FORCE`] where none closes it).
+    pub contact_force: Option<f64>,
+    /// The calibration suite (the mass and the damper): records to run
+    /// the config's bridge under; none: they are not identified (the
     /// kinetic-energy mass, no damper).
-    pub record: Option<quakejoint_motion::Record>,
+    pub records: Vec<quakejoint_motion::Record>,
 }
 
 impl Default for CalibrationOptions {
@@ -66,11 +73,15 @@ impl Default for CalibrationOptions {
             amplitudes: vec![0.002, 0.005, 0.01, 0.02, 0.05, 0.1],
             speed: 0.02,
             cycles: 2,
-            contact_force: 1e6,
-            record: None,
+            contact_force: None,
+            records: Vec::new(),
         }
     }
 }
+
+/// The force of the exports' closing secant where neither the user nor the
+/// calibration suite gives one \[N\].
+pub const DEFAULT_CONTACT_FORCE: f64 = 1e6;
 
 /// The largest closed-joint force at which a secant may be taken \[N\]
 /// (100 GN: far beyond any abutment).
@@ -94,7 +105,7 @@ impl CalibrationOptions {
             crate::runspec::check_override("service.amplitude", &name("amplitudes"), a)?;
         }
         crate::runspec::check_override("service.speed", &name("speed"), self.speed)?;
-        let f = self.contact_force;
+        let Some(f) = self.contact_force else { return Ok(()) };
         if !(f.is_finite() && f > 0.0 && f <= MAX_CONTACT_FORCE) {
             return Err(ModelError::Override {
                 name: name("contact_force"),
@@ -139,7 +150,8 @@ pub struct LoopSummary {
     pub last_cycle: usize,
 }
 
-/// The mass and damper identified under the calibration earthquake.
+/// The chosen link under one record of the calibration suite, and that
+/// record's own best mass and damper.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DynamicFit {
     /// The record's name.
@@ -155,7 +167,23 @@ pub struct DynamicFit {
     pub friction_detailed: f64,
     /// The link's \[J\].
     pub friction_link: f64,
+    /// The detailed joint's largest force on the deck through its closed
+    /// cells \[N\] (0: it did not close).
+    pub closed_detailed: f64,
+    /// The mass that fits this record alone best \[kg\].
+    pub own_mass: f64,
+    /// The damper that fits this record alone best \[N s/m\].
+    pub own_damping: f64,
 }
+
+/// The mass factors of the search (times the kinetic-energy mass) [-]: at
+/// most the whole joint sliding at once, which no part of it can exceed.
+pub const MASS_FACTORS: [f64; 10] = [0.25, 0.375, 0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.85, 1.0];
+/// The dampers of the search \[N s/m\].
+pub const DAMPERS: [f64; 9] = [0.0, 1e4, 3e4, 6e4, 1e5, 1.5e5, 2e5, 3e5, 1e6];
+/// The band the link's peak force on the deck is held in, relative to the
+/// detailed joint's [-]: at most 5 % below, at most 10 % above.
+pub const BAND: [f64; 2] = [-0.05, 0.10];
 
 /// The calibrated link and how well it fits.
 #[derive(Debug, Clone, PartialEq)]
@@ -176,8 +204,14 @@ pub struct Calibration {
     pub loops: Vec<LoopSummary>,
     /// The mass of the joint's kinetic energy sliding as a whole \[kg\].
     pub kinetic_mass: f64,
-    /// The calibration earthquake's fit, if one ran.
-    pub dynamic: Option<DynamicFit>,
+    /// The chosen link under each record of the calibration suite (none:
+    /// no suite ran).
+    pub dynamic: Vec<DynamicFit>,
+    /// The closed-joint force the exports' linear gap is the Hertz law's
+    /// secant at \[N\].
+    pub secant_force: f64,
+    /// Where [`Calibration::secant_force`] comes from, in words.
+    pub secant_from: String,
     /// The options it ran with.
     pub options: CalibrationOptions,
     /// What the calibration cannot stand behind: loops left out, a poor
@@ -203,7 +237,7 @@ impl Calibration {
             ("capacity", self.capacity, "m"),
             ("fit_rms", self.fit_rms, "N"),
             ("speed", self.options.speed, "m/s"),
-            ("contact_force", self.options.contact_force, "N"),
+            ("contact_force", self.secant_force, "N"),
         ]
     }
 }
@@ -224,9 +258,12 @@ impl LoopSummary {
 
 impl DynamicFit {
     /// Its numbers, as [`Calibration::scalars`] lists the calibration's.
-    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 5] {
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 8] {
         [
             ("rms", self.rms, "N"),
+            ("own_mass", self.own_mass, "kg"),
+            ("own_damping", self.own_damping, "N s/m"),
+            ("closed_detailed", self.closed_detailed, "N"),
             ("peak_link", self.peak_link, "N"),
             ("peak_detailed", self.peak_detailed, "N"),
             ("friction_link", self.friction_link, "J"),
@@ -289,7 +326,6 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
         ));
     }
     let mass = moving_mass(config, &geo);
-    let gap_stiffness = closed_stiffness(config, options.contact_force);
     let bridge = config.bridge.modal.is_none().then(|| config.bridge.mass * config.bridge.omega().powi(2));
     for l in &mut loops {
         let a = l.amplitude;
@@ -301,11 +337,30 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
     let cells = j.cells();
     let gap_hertz = (j.contact.law == ContactLawConfig::Hertz)
         .then(|| 2.0 * j.contact.hertz_stiffness / (j.cells() as f64).powf(1.5));
+    let gap_stiffness = closed_stiffness(config, DEFAULT_CONTACT_FORCE);
     let mut link = LinkConfig { stiffness, friction, mass, gap_stiffness, gap_hertz, damping: None, v_eps: None };
-    let dynamic = match &options.record {
-        Some(record) => Some(identify(config, record, &mut link, &mut warnings)?),
-        None => None,
+    let dynamic = if options.records.is_empty() {
+        Vec::new()
+    } else {
+        identify(config, &options.records, &mut link, &mut warnings)?
     };
+    // the exports' closing secant at the force the closed joint meets
+    let closed = dynamic.iter().max_by(|a, b| a.closed_detailed.total_cmp(&b.closed_detailed));
+    let (secant_force, secant_from) = match (options.contact_force, closed) {
+        (Some(f), _) => (f, "given".to_string()),
+        (None, Some(d)) if d.closed_detailed > 0.0 => (
+            d.closed_detailed,
+            format!(
+                "the detailed joint's largest closed-joint force on the deck under the calibration suite ({})",
+                d.record
+            ),
+        ),
+        (None, _) => (
+            DEFAULT_CONTACT_FORCE,
+            "a default: the detailed joint did not close under the calibration suite".to_string(),
+        ),
+    };
+    link.gap_stiffness = closed_stiffness(config, secant_force);
     check_fitted(&link)?;
     Ok(Calibration {
         link,
@@ -317,6 +372,8 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
         capacity: cells as f64 * (j.capacity.max_subgap - j.clear_subgap()),
         cells,
         loops,
+        secant_force,
+        secant_from,
         options: options.clone(),
         warnings,
     })
@@ -425,68 +482,146 @@ fn check_fitted(link: &LinkConfig) -> Result<(), ModelError> {
     Ok(())
 }
 
-/// The joint's force on the deck and friction energy in a run of `config`
-/// under `record`: (force history, peak, friction energy).
-fn joint_force(config: &Config, record: &quakejoint_motion::Record) -> Result<(Vec<f64>, f64, f64), ModelError> {
+/// The joint's force on the deck in a run of `config` under `record`:
+/// (force history, peak, friction energy, the closed joint's peak force on
+/// the deck, the run's flags if any).
+fn joint_force(config: &Config, record: &quakejoint_motion::Record) -> Result<JointForce, ModelError> {
     let options = crate::run::RunOptions { histories: true, ..Default::default() };
     let r = crate::run::simulate_records(config, record, None, &options)?;
+    let flags = r.validity.flags.is_flagged().then(|| r.validity.flags.label());
+    let closed = r.pounding.peak_deck_contact_force;
     let h = r.histories.map(|h| h.joint_force).unwrap_or_default();
-    Ok((h, r.peak_joint_force, r.friction_energy))
+    Ok((h, r.peak_joint_force, r.friction_energy, closed, flags))
 }
 
-/// Identifies the link's mass and damper (see the module documentation)
-/// and sets them in `link`.
+/// What [`joint_force`] gives.
+type JointForce = (Vec<f64>, f64, f64, f64, Option<String>);
+
+/// One candidate link under one record: (RMS of the force difference,
+/// peak, friction energy).
+type Trial = (f64, f64, f64);
+
+/// How far the peak's error `e` (link over detailed, minus 1) lies outside
+/// [`BAND`], a force below it counted double [-].
+fn outside_band(e: f64) -> f64 {
+    (e - BAND[1]).max(2.0 * (BAND[0] - e)).max(0.0)
+}
+
+/// Identifies the link's mass and damper under the suite `records` (see
+/// the module documentation), sets them in `link` and returns how the
+/// chosen link does under each record.
 fn identify(
     config: &Config,
-    record: &quakejoint_motion::Record,
+    records: &[quakejoint_motion::Record],
     link: &mut LinkConfig,
     warnings: &mut Vec<String>,
-) -> Result<DynamicFit, ModelError> {
-    let options = crate::run::RunOptions { histories: true, ..Default::default() };
-    let r = crate::run::simulate_records(config, record, None, &options)?;
-    if r.validity.flags.is_flagged() {
+) -> Result<Vec<DynamicFit>, ModelError> {
+    let mut detailed = Vec::with_capacity(records.len());
+    for record in records {
+        let (force, peak, friction, closed, flags) = joint_force(config, record)?;
+        if let Some(flags) = flags {
+            warnings.push(format!(
+                "the detailed joint is flagged under the calibration record {} ({flags}): the mass and damper rest \
+                 on a run the model cannot stand behind (choose a record it takes)",
+                record.name
+            ));
+        }
+        detailed.push((force, peak, friction, closed));
+    }
+    let kinetic = link.mass;
+    let candidates: Vec<LinkConfig> = MASS_FACTORS
+        .iter()
+        .flat_map(|f| DAMPERS.iter().map(move |&c| (f * kinetic, c)))
+        .map(|(mass, c)| LinkConfig { mass, damping: Some(c), ..link.clone() })
+        .collect();
+    // trials[candidate][record]
+    let mut trials: Vec<Vec<Trial>> = Vec::with_capacity(candidates.len());
+    for candidate in &candidates {
+        let mut lc = config.clone();
+        lc.joint.model = Some(crate::config::JointKind::Link);
+        lc.joint.link = Some(candidate.clone());
+        let mut row = Vec::with_capacity(records.len());
+        for (record, (reference, ..)) in records.iter().zip(&detailed) {
+            let (f, peak, friction, ..) = joint_force(&lc, record)?;
+            let n = f.len().min(reference.len()).max(1);
+            let rms = (f.iter().zip(reference).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / n as f64).sqrt();
+            row.push((rms, peak, friction));
+        }
+        trials.push(row);
+    }
+    // a record's fit: the history and its peak alike
+    let fit = |t: &Trial, peak_detailed: f64| t.0 / peak_detailed + (t.1 - peak_detailed).abs() / peak_detailed;
+    let suite_score = |row: &[Trial]| {
+        let (mut outside, mut mean) = (0.0, 0.0);
+        for (t, (_, peak, ..)) in row.iter().zip(&detailed) {
+            outside += outside_band(t.1 / peak - 1.0);
+            mean += fit(t, *peak) / row.len() as f64;
+        }
+        10.0 * outside + mean
+    };
+    let argmin = |score: &dyn Fn(&[Trial]) -> f64| {
+        (0..candidates.len()).min_by(|&a, &b| score(&trials[a]).total_cmp(&score(&trials[b]))).unwrap_or(0)
+    };
+    let chosen = argmin(&suite_score);
+    let at_edge = |l: &LinkConfig| {
+        l.mass <= MASS_FACTORS[0] * kinetic * (1.0 + 1e-12)
+            || l.mass >= MASS_FACTORS[MASS_FACTORS.len() - 1] * kinetic * (1.0 - 1e-12)
+            || l.damping == Some(DAMPERS[DAMPERS.len() - 1])
+    };
+    let edges = format!(
+        "the search: mass {} to {} times {kinetic:.4e} kg, damper 0 to {:.0e} N s/m",
+        MASS_FACTORS[0],
+        MASS_FACTORS[MASS_FACTORS.len() - 1],
+        DAMPERS[DAMPERS.len() - 1]
+    );
+    let mut fits = Vec::with_capacity(records.len());
+    for (r, (record, (_, peak_detailed, friction_detailed, closed))) in records.iter().zip(&detailed).enumerate() {
+        let own = &candidates[argmin(&|row: &[Trial]| fit(&row[r], *peak_detailed))];
+        if at_edge(own) && records.len() > 1 {
+            warnings.push(format!(
+                "{} alone pulls the mass to {:.4e} kg and the damper to {:.1e} N s/m, at the edge of {edges}: it \
+                 calls for a link the others do not",
+                record.name,
+                own.mass,
+                own.damping.unwrap_or(0.0)
+            ));
+        }
+        let (rms, peak_link, friction_link) = trials[chosen][r];
+        fits.push(DynamicFit {
+            record: record.name.clone(),
+            rms,
+            peak_detailed: *peak_detailed,
+            peak_link,
+            friction_detailed: *friction_detailed,
+            friction_link,
+            closed_detailed: *closed,
+            own_mass: own.mass,
+            own_damping: own.damping.unwrap_or(0.0),
+        });
+    }
+    let choice = candidates[chosen].clone();
+    if at_edge(&choice) {
         warnings.push(format!(
-            "the detailed joint is flagged under the calibration earthquake {} ({}): the mass and damper rest on a \
-             run the model cannot stand behind (choose a record it takes)",
-            record.name,
-            r.validity.flags.label()
+            "the mass ({:.4e} kg) or the damper ({:.1e} N s/m) found is at the edge of {edges}",
+            choice.mass,
+            choice.damping.unwrap_or(0.0)
         ));
     }
-    let (detailed, peak_detailed, friction_detailed) =
-        (r.histories.map(|h| h.joint_force).unwrap_or_default(), r.peak_joint_force, r.friction_energy);
-    let kinetic = link.mass;
-    let mut best: Option<(f64, LinkConfig, f64, f64, f64)> = None;
-    for factor in [0.125, 0.25, 0.5, 1.0, 2.0] {
-        for c in [0.0, 1e4, 3e4, 1e5, 3e5, 1e6, 3e6, 1e7] {
-            let candidate = LinkConfig { mass: factor * kinetic, damping: Some(c), ..link.clone() };
-            let mut lc = config.clone();
-            lc.joint.model = Some(crate::config::JointKind::Link);
-            lc.joint.link = Some(candidate.clone());
-            let (f, peak, fe) = joint_force(&lc, record)?;
-            let n = f.len().min(detailed.len()).max(1);
-            let rms = (f.iter().zip(&detailed).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / n as f64).sqrt();
-            // (the history and its peak, the force the abutment is designed for, alike)
-            let score = rms / peak_detailed + (peak - peak_detailed).abs() / peak_detailed;
-            if best.as_ref().is_none_or(|b| score < b.0) {
-                best = Some((score, candidate, peak, fe, rms));
-            }
+    for f in &fits {
+        let e = f.peak_link / f.peak_detailed - 1.0;
+        if e < BAND[0] {
+            warnings.push(format!(
+                "under {} the link's peak force on the deck is {:.1} % below the detailed joint's ({:.4e} against \
+                 {:.4e} N): no mass and damper of {edges} holds every record of the suite",
+                f.record,
+                -100.0 * e,
+                f.peak_link,
+                f.peak_detailed
+            ));
         }
     }
-    let (_, chosen, peak_link, friction_link, rms) = best.expect("the grid is not empty");
-    let at_edge = chosen.mass <= 0.125 * kinetic * (1.0 + 1e-12)
-        || chosen.mass >= 2.0 * kinetic * (1.0 - 1e-12)
-        || chosen.damping == Some(1e7);
-    if at_edge {
-        warnings.push(format!(
-            "the mass ({:.4e} kg) or the damper ({:.1e} N s/m) found under {} is at the edge of the search (mass 1/8 \
-             to 2 times {kinetic:.4e} kg, damper 0 to 1e7 N s/m)",
-            chosen.mass,
-            chosen.damping.unwrap_or(0.0),
-            record.name
-        ));
-    }
-    *link = chosen;
-    Ok(DynamicFit { record: record.name.clone(), rms, peak_detailed, peak_link, friction_detailed, friction_link })
+    *link = choice;
+    Ok(fits)
 }
 
 /// The elastic-perfectly-plastic force on the deck (resisting the opening)
