@@ -69,8 +69,10 @@ def test_calibration_of_the_reference_joint(link):
     # lag at reversals), the closing movement 28 cells of 40 mm
     assert 0.85 * link["hand_friction"] < link["friction"] < link["hand_friction"]
     assert link["cells"] == 28 and abs(link["gap"] - 1.12) < 1e-9
-    # the mass at most the whole joint sliding at once; every record of the
-    # suite reported with the pair it alone calls for
+    # the damper the stuck joint's own (the bushings' cx / kx = 2e-4 s times
+    # k); the mass at most the whole joint sliding at once; every record of
+    # the suite reported with the mass it alone calls for
+    assert link["damping"] == pytest.approx(link["stiffness"] * 2.0e3 / 1.0e7, rel=1e-12)
     assert 0.25 * link["kinetic_mass"] <= link["mass"] <= link["kinetic_mass"]
     assert [e["record"] for e in link["suite"]] == [name.removesuffix(".AT2") for name in SUITE]
     for e in link["suite"]:
@@ -79,7 +81,7 @@ def test_calibration_of_the_reference_joint(link):
         # a force more than 5 % below the detailed joint's is said, with the record
         below = [w for w in link["warnings"] if e["record"] in w and "below the detailed joint's" in w]
         assert (error < -0.05) == bool(below), (e, link["warnings"])
-        assert -0.07 < error < 0.11, e
+        assert -0.07 < error < 0.15, e
     # the joint never closed under the suite: the exports' secant at the default, said so
     assert link["contact_force"] == 1e6
     assert "did not close under the calibration suite" in link["exports"]["link.toml"]
@@ -206,3 +208,26 @@ def test_the_link_at_both_abutments_in_opensees(link, tmp_path):
         assert abs(force[:, j].max() / peak - 1) < 0.02, (j, force[:, j].max(), peak)
         # the gap closed at this end, on the right side
         assert peak > 2 * link["friction"], (j, peak)
+
+
+def test_the_link_releases_as_the_rigid_plastic_element(link):
+    """The link's slider letting go, against the element without
+    regularisation integrated event to event (scripts/link_exact.py): the
+    reference joint's link, undamped, on a 1e7 kg deck at 1 s under El
+    Centro 180. The step control does not see the release's error, and at
+    every tolerance from 1e-10 to 1e-12 the peak force was 3 % high; with
+    the steps the model sets for a run of links (docs/link.md) the force on
+    the deck follows the event-driven one to 0.2 % of its peak at every
+    record step."""
+    sys.path.insert(0, str(ROOT / "scripts"))
+    import link_exact
+
+    record = "RSN6_IMPVALL.I_I-ELC180-hor1.AT2"
+    cfg = deck(link, 1e7, 1.0, "link", record).replace({"joint.link.damping": 0.0})
+    ours = qj.simulate(cfg)
+    exact = link_exact.forces(link["stiffness"], link["friction"], link["mass"], 1e7, 1.0, GM / record)
+    n = min(len(exact), len(ours.history["joint_force"]))
+    # (the link's force on the deck resists the opening: the opposite sign)
+    difference = np.abs(ours.history["joint_force"][:n] + exact[:n])
+    assert difference.max() < 2e-3 * np.abs(exact).max(), difference.max()
+    assert abs(ours.peak_joint_force / np.abs(exact).max() - 1) < 1e-3

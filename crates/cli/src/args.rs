@@ -276,7 +276,7 @@ pub struct CalibrateArgs {
     pub record: Vec<PathBuf>,
     #[command(flatten)]
     pub read: RecordReadArgs,
-    /// Skip the calibration suite: the mass of the joint's kinetic energy, no damper.
+    /// Skip the calibration suite: the mass of the joint's kinetic energy (the damper is the bushings').
     #[arg(long, conflicts_with = "record")]
     pub no_earthquake: bool,
     /// Folder for the exports: link.toml, link.tcl, link_opensees.py, link_sap2000.txt,

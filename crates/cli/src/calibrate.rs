@@ -182,17 +182,17 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
         let _ = writeln!(
             s,
             "under the calibration suite: the link's peak force on the deck and friction energy against the detailed \
-             joint's, and the mass and damper each record alone calls for"
+             joint's, and the mass each record alone calls for"
         );
         let _ = writeln!(
             s,
-            "  {:<32} {:>11} {:>11} {:>7} {:>11} {:>11} {:>7} {:>11} {:>11}",
-            "record", "peak [N]", "detailed", "error", "E_f [J]", "detailed", "error", "own m [kg]", "own c"
+            "  {:<32} {:>11} {:>11} {:>7} {:>11} {:>11} {:>7} {:>11}",
+            "record", "peak [N]", "detailed", "error", "E_f [J]", "detailed", "error", "own m [kg]"
         );
         for d in &c.dynamic {
             let _ = writeln!(
                 s,
-                "  {:<32} {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e} {:>11.2e}",
+                "  {:<32} {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e}",
                 d.record,
                 d.peak_link,
                 d.peak_detailed,
@@ -200,8 +200,7 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
                 d.friction_link,
                 d.friction_detailed,
                 100.0 * (d.friction_link / d.friction_detailed - 1.0),
-                d.own_mass,
-                d.own_damping
+                d.own_mass
             );
         }
     }

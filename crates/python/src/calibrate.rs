@@ -19,21 +19,23 @@ use crate::{config_error, model_error};
 /// (default 0.02) for the spring and the slider, and, with `earthquake`
 /// (default True), runs of the config's bridge under `record` (a
 /// `quakejoint.Record` or a list of them, the calibration suite; default
-/// the config's record) for the mass and the damper.
+/// the config's record) for the mass (the damper is the bushings').
 /// Returns a dict: stiffness [N/m], friction [N], hand_friction [N], mass
 /// and kinetic_mass [kg], damping [N s/m], gap [m], gap_stiffness [N/m],
 /// gap_hertz [N/m^1.5] (None for a joint with the linear contact law),
 /// capacity [m], cells, fit_rms [N], speed [m/s] and contact_force [N] (the
-/// options it ran with), loops (one dict per amplitude:
+/// force of the exports' closing secant), loops (one dict per amplitude:
 /// amplitude, energy, link_energy [J], peak_force [N], damping_joint,
 /// damping_bridge, and the arrays t, u, force), suite (per record of the
 /// calibration suite: record, rms, peak_link, peak_detailed [N],
-/// friction_link, friction_detailed [J], own_mass [kg] and own_damping
-/// [N s/m], the pair that record alone calls for; empty without
-/// earthquake) and exports (the texts of link.toml, link.tcl,
+/// friction_link, friction_detailed [J], own_mass [kg] (the mass that
+/// record alone calls for), closed_detailed [N] (the detailed joint's
+/// closed-joint force on the deck); empty without earthquake) and exports (the texts of link.toml, link.tcl,
 /// link_opensees.py and link_sap2000.txt by those names), warnings (what
 /// the calibration cannot stand behind: loops left out, a poor fit, a
-/// flagged calibration earthquake). GIL released.
+/// flagged calibration record, a mass at the edge of the search, a record
+/// under which the link's peak force stays more than 5 % below the
+/// detailed joint's). GIL released.
 #[pyfunction]
 #[pyo3(signature = (config=None, *, amplitudes=None, speed=None, contact_force=None, record=None, earthquake=true))]
 fn calibrate<'py>(

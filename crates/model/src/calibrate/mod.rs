@@ -21,21 +21,25 @@
 //!   1)^1.5` (quakejoint's link) and, for the exports' linear gaps, its
 //!   secant stiffness at the force `contact_force`, `F_c / ((Nc + 1) (F_c /
 //!   2 k)^(2/3))`.
-//! - Mass and damper, dynamically: the detailed joint on the config's
-//!   bridge under each record of the calibration suite, against the link
-//!   with the kinetic-energy mass times 1/4 to 1 (no part of the joint
-//!   moves more mass than all of it sliding at once) and a damper in
-//!   parallel with its spring from 0 to 1e6 N s/m (a grid, [`MASS_FACTORS`] and
-//!   [`DAMPERS`]). The pair chosen holds the peak force on the deck (what
-//!   the abutment is designed for) in the band [`BAND`] of the detailed
-//!   joint's under every record, a force below it counted double: least
-//!   sum of the records' distances outside the band, then least mean of
-//!   each record's RMS of the force difference plus difference of the
-//!   peaks, each over the detailed joint's peak. Each record's own best
-//!   pair is reported beside it: their spread says how much the pair
-//!   belongs to the joint and how much to the record. The mass of the
-//!   kinetic energy is that of a joint sliding as a whole; its beams lag
-//!   and ring apart, which the smaller mass and the damper stand for.
+//! - Damper `c`: the stuck joint's own, the bushings' damping in the same
+//!   proportion to their stiffness as the link's spring to the stuck joint
+//!   (`c = k joint.bushing.cx / joint.bushing.kx`). A damper beside the
+//!   spring acts on the bridge whenever the joint sticks: one larger than
+//!   the joint's own adds damping to the bridge that the joint does not.
+//! - Mass, dynamically: the detailed joint on the config's bridge under
+//!   each record of the calibration suite, against the link with the
+//!   kinetic-energy mass times 1/4 to 1 ([`MASS_FACTORS`]: no part of the
+//!   joint moves more mass than all of it sliding at once). The mass chosen
+//!   holds the peak force on the deck (what the abutment is designed for)
+//!   in the band [`BAND`] of the detailed joint's under every record, a
+//!   force below it counted double: least sum of the records' distances
+//!   outside the band, then least mean of each record's RMS of the force
+//!   difference plus difference of the peaks, each over the detailed
+//!   joint's peak. Each record's own best mass is reported beside it: their
+//!   spread says how much the mass belongs to the joint and how much to
+//!   the record. The mass of the kinetic energy is that of a joint sliding
+//!   as a whole; its beams lag and ring apart, which a smaller mass stands
+//!   for.
 //! - The equivalent viscous damping ratio of each loop, `E_D / (4 pi E_S)`:
 //!   the joint's own (its secant stiffness) and, on a single-DOF bridge,
 //!   the bridge's added damping at that deck amplitude.
@@ -172,15 +176,11 @@ pub struct DynamicFit {
     pub closed_detailed: f64,
     /// The mass that fits this record alone best \[kg\].
     pub own_mass: f64,
-    /// The damper that fits this record alone best \[N s/m\].
-    pub own_damping: f64,
 }
 
 /// The mass factors of the search (times the kinetic-energy mass) [-]: at
 /// most the whole joint sliding at once, which no part of it can exceed.
 pub const MASS_FACTORS: [f64; 10] = [0.25, 0.375, 0.5, 0.55, 0.6, 0.65, 0.7, 0.75, 0.85, 1.0];
-/// The dampers of the search \[N s/m\].
-pub const DAMPERS: [f64; 9] = [0.0, 1e4, 3e4, 6e4, 1e5, 1.5e5, 2e5, 3e5, 1e6];
 /// The band the link's peak force on the deck is held in, relative to the
 /// detailed joint's [-]: at most 5 % below, at most 10 % above.
 pub const BAND: [f64; 2] = [-0.05, 0.10];
@@ -258,11 +258,10 @@ impl LoopSummary {
 
 impl DynamicFit {
     /// Its numbers, as [`Calibration::scalars`] lists the calibration's.
-    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 8] {
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 7] {
         [
             ("rms", self.rms, "N"),
             ("own_mass", self.own_mass, "kg"),
-            ("own_damping", self.own_damping, "N s/m"),
             ("closed_detailed", self.closed_detailed, "N"),
             ("peak_link", self.peak_link, "N"),
             ("peak_detailed", self.peak_detailed, "N"),
@@ -338,7 +337,10 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
     let gap_hertz = (j.contact.law == ContactLawConfig::Hertz)
         .then(|| 2.0 * j.contact.hertz_stiffness / (j.cells() as f64).powf(1.5));
     let gap_stiffness = closed_stiffness(config, DEFAULT_CONTACT_FORCE);
-    let mut link = LinkConfig { stiffness, friction, mass, gap_stiffness, gap_hertz, damping: None, v_eps: None };
+    // the stuck joint's own damping: the bushings' time constant
+    let b = &j.bushing;
+    let damping = (b.kx > 0.0).then(|| stiffness * b.cx / b.kx);
+    let mut link = LinkConfig { stiffness, friction, mass, gap_stiffness, gap_hertz, damping, v_eps: None };
     let dynamic = if options.records.is_empty() {
         Vec::new()
     } else {
@@ -531,8 +533,7 @@ fn identify(
     let kinetic = link.mass;
     let candidates: Vec<LinkConfig> = MASS_FACTORS
         .iter()
-        .flat_map(|f| DAMPERS.iter().map(move |&c| (f * kinetic, c)))
-        .map(|(mass, c)| LinkConfig { mass, damping: Some(c), ..link.clone() })
+        .map(|f| LinkConfig { mass: f * kinetic, ..link.clone() })
         .collect();
     // trials[candidate][record]
     let mut trials: Vec<Vec<Trial>> = Vec::with_capacity(candidates.len());
@@ -566,24 +567,20 @@ fn identify(
     let at_edge = |l: &LinkConfig| {
         l.mass <= MASS_FACTORS[0] * kinetic * (1.0 + 1e-12)
             || l.mass >= MASS_FACTORS[MASS_FACTORS.len() - 1] * kinetic * (1.0 - 1e-12)
-            || l.damping == Some(DAMPERS[DAMPERS.len() - 1])
     };
     let edges = format!(
-        "the search: mass {} to {} times {kinetic:.4e} kg, damper 0 to {:.0e} N s/m",
+        "the search: {} to {} times {kinetic:.4e} kg",
         MASS_FACTORS[0],
-        MASS_FACTORS[MASS_FACTORS.len() - 1],
-        DAMPERS[DAMPERS.len() - 1]
+        MASS_FACTORS[MASS_FACTORS.len() - 1]
     );
     let mut fits = Vec::with_capacity(records.len());
     for (r, (record, (_, peak_detailed, friction_detailed, closed))) in records.iter().zip(&detailed).enumerate() {
         let own = &candidates[argmin(&|row: &[Trial]| fit(&row[r], *peak_detailed))];
         if at_edge(own) && records.len() > 1 {
             warnings.push(format!(
-                "{} alone pulls the mass to {:.4e} kg and the damper to {:.1e} N s/m, at the edge of {edges}: it \
-                 calls for a link the others do not",
-                record.name,
-                own.mass,
-                own.damping.unwrap_or(0.0)
+                "{} alone pulls the mass to {:.4e} kg, at the edge of {edges}: it calls for a link the others do \
+                 not",
+                record.name, own.mass
             ));
         }
         let (rms, peak_link, friction_link) = trials[chosen][r];
@@ -596,23 +593,18 @@ fn identify(
             friction_link,
             closed_detailed: *closed,
             own_mass: own.mass,
-            own_damping: own.damping.unwrap_or(0.0),
         });
     }
     let choice = candidates[chosen].clone();
     if at_edge(&choice) {
-        warnings.push(format!(
-            "the mass ({:.4e} kg) or the damper ({:.1e} N s/m) found is at the edge of {edges}",
-            choice.mass,
-            choice.damping.unwrap_or(0.0)
-        ));
+        warnings.push(format!("the mass found ({:.4e} kg) is at the edge of {edges}", choice.mass));
     }
     for f in &fits {
         let e = f.peak_link / f.peak_detailed - 1.0;
         if e < BAND[0] {
             warnings.push(format!(
                 "under {} the link's peak force on the deck is {:.1} % below the detailed joint's ({:.4e} against \
-                 {:.4e} N): no mass and damper of {edges} holds every record of the suite",
+                 {:.4e} N): no mass of {edges} holds every record of the suite",
                 f.record,
                 -100.0 * e,
                 f.peak_link,

@@ -108,8 +108,12 @@ pub fn integrator_options(config: &Config) -> IntegratorOptions {
         o.atol_translation = o.atol_translation.min(crate::link::TOLERANCE);
         o.atol_velocity = o.atol_velocity.min(crate::link::TOLERANCE);
     }
+    if let Some(h) = crate::link::step_limit(config) {
+        // (every run with a link: its release converges in steps only)
+        o.h_max = o.h_max.min(h);
+    }
     if let Some(h) = s.h_max {
-        o.h_max = h;
+        o.h_max = o.h_max.min(h);
     }
     if let Some(n) = s.max_steps {
         o.max_steps = n;
