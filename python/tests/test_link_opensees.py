@@ -111,9 +111,9 @@ def test_calibration_of_the_reference_joint(link):
 def test_the_exported_element_in_opensees_is_quakejoints_link(link, mass, period, record):
     """The same element in two engines, on every class of record (strong,
     pulse-like, weak): Sa to 1e-3, the friction energy to 1 %, the peak
-    force on the deck to 2 % (quakejoint integrates a run of links to
-    1e-12, and its slider creeps at most at 1e-5 m/s where OpenSees'
-    ElasticPP sticks: docs/link.md)."""
+    force on the deck to 2 % (quakejoint integrates a run of links in
+    steps of at most 0.05 sqrt(m/k), and its slider creeps at most at 1e-5
+    m/s where OpenSees' ElasticPP sticks: docs/link.md)."""
     _openseespy()
     import link_sdof
 
