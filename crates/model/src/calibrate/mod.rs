@@ -531,10 +531,8 @@ fn identify(
         detailed.push((force, peak, friction, closed));
     }
     let kinetic = link.mass;
-    let candidates: Vec<LinkConfig> = MASS_FACTORS
-        .iter()
-        .map(|f| LinkConfig { mass: f * kinetic, ..link.clone() })
-        .collect();
+    let candidates: Vec<LinkConfig> =
+        MASS_FACTORS.iter().map(|f| LinkConfig { mass: f * kinetic, ..link.clone() }).collect();
     // trials[candidate][record]
     let mut trials: Vec<Vec<Trial>> = Vec::with_capacity(candidates.len());
     for candidate in &candidates {
@@ -568,11 +566,8 @@ fn identify(
         l.mass <= MASS_FACTORS[0] * kinetic * (1.0 + 1e-12)
             || l.mass >= MASS_FACTORS[MASS_FACTORS.len() - 1] * kinetic * (1.0 - 1e-12)
     };
-    let edges = format!(
-        "the search: {} to {} times {kinetic:.4e} kg",
-        MASS_FACTORS[0],
-        MASS_FACTORS[MASS_FACTORS.len() - 1]
-    );
+    let edges =
+        format!("the search: {} to {} times {kinetic:.4e} kg", MASS_FACTORS[0], MASS_FACTORS[MASS_FACTORS.len() - 1]);
     let mut fits = Vec::with_capacity(records.len());
     for (r, (record, (_, peak_detailed, friction_detailed, closed))) in records.iter().zip(&detailed).enumerate() {
         let own = &candidates[argmin(&|row: &[Trial]| fit(&row[r], *peak_detailed))];
