@@ -523,8 +523,8 @@ fn identify(
         let (force, peak, friction, closed, flags) = joint_force(config, record)?;
         if let Some(flags) = flags {
             warnings.push(format!(
-                "the detailed joint is flagged under the calibration record {} ({flags}): the mass and damper rest \
-                 on a run the model cannot stand behind (choose a record it takes)",
+                "the detailed joint is flagged under the calibration record {} ({flags}): the mass rests on a run \
+                 the model cannot stand behind (choose a record it takes)",
                 record.name
             ));
         }
