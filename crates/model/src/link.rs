@@ -23,12 +23,15 @@ use quakejoint_solver::{
     Body, BodyId, Bushing, Contact, ContactLaw, Coord, ForceElement, Friction, FrictionLaw, System,
 };
 
-use crate::config::{Config, JointConfig};
+use quakejoint_solver::IntegratorOptions;
+
+use crate::config::JointConfig;
 use crate::error::ModelError;
+use crate::placement::Place;
 
 /// The relative and absolute tolerance a run whose joints are all links is
 /// integrated to at least [-, m, m/s] (with its steps limited by
-/// [`step_limit`]: at 1e-10 and 1e-12 the peak forces agree to 0.01 %;
+/// [`STEP_FRACTION`]: at 1e-10 and 1e-12 the peak forces agree to 0.01 %;
 /// docs/link.md).
 pub const TOLERANCE: f64 = 1e-10;
 
@@ -43,29 +46,25 @@ pub const TOLERANCE: f64 = 1e-10;
 /// rigid-plastic solution 436.49 kN and OpenSees 435.9 kN.
 pub const STEP_FRACTION: f64 = 0.05;
 
-/// Whether every joint of `config` is a link element (a run is then
-/// integrated to [`TOLERANCE`] in steps of at most [`step_limit`]).
-pub fn all_links(config: &Config) -> bool {
-    if config.joints.is_empty() {
-        return config.joint.enabled && config.joint.is_link();
+/// Tightens `options` for a run with the joints of `places` (each resolved
+/// alike): where every joint is a link, the tolerances to at most
+/// [`TOLERANCE`]; where any is, the steps to at most [`STEP_FRACTION`] of
+/// the shortest `sqrt(m / k)` among them.
+pub(crate) fn tighten(options: &mut IntegratorOptions, places: &[Place]) {
+    let joints = || places.iter().map(|p| &p.config.joint).filter(|j| j.enabled);
+    // (a detailed joint's tolerances stay the config's, beside a link too)
+    if joints().count() > 0 && joints().all(JointConfig::is_link) {
+        options.rtol = options.rtol.min(TOLERANCE);
+        options.atol_translation = options.atol_translation.min(TOLERANCE);
+        options.atol_velocity = options.atol_velocity.min(TOLERANCE);
     }
-    config.joints.iter().all(|j| j.joint.as_ref().unwrap_or(&config.joint).is_link())
-}
-
-/// The largest step of a run with `config`'s links \[s\]: [`STEP_FRACTION`]
-/// of the shortest `sqrt(m / k)` among them (none without a link).
-pub fn step_limit(config: &Config) -> Option<f64> {
-    let joints: Vec<&JointConfig> = if config.joints.is_empty() {
-        vec![&config.joint]
-    } else {
-        config.joints.iter().map(|j| j.joint.as_ref().unwrap_or(&config.joint)).collect()
-    };
-    joints
-        .into_iter()
-        .filter(|j| j.enabled && j.is_link())
-        .filter_map(|j| j.link.as_ref())
+    let shortest = joints()
+        .filter_map(|j| j.link.as_ref().filter(|_| j.is_link()))
         .map(|l| STEP_FRACTION * (l.mass / l.stiffness).sqrt())
-        .reduce(f64::min)
+        .reduce(f64::min);
+    if let Some(h) = shortest {
+        options.h_max = options.h_max.min(h);
+    }
 }
 
 /// The link's parts in the solver system.

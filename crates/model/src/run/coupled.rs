@@ -47,7 +47,10 @@ pub fn simulate_scenario(
     let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default())?);
     let start = Clock::now();
     let cpu = crate::resources::CpuClock::start();
-    let mut sim = Radau5::new(asm.clone(), integrator_options(config))?;
+    let mut solver_options = integrator_options(config);
+    // (a link's stick-slip converges only in short steps; docs/link.md)
+    crate::link::tighten(&mut solver_options, &scenario.places);
+    let mut sim = Radau5::new(asm.clone(), solver_options)?;
     let ground = Ground { x: gx, y: gy, dt: record_x.dt };
     let mut obs = Observers::new(scenario, &model, &asm, &sim, &ground, options)?;
     obs.joints[0].deadline = config.simulation.max_wall_time.map(|s| (start, s));

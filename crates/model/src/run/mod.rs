@@ -102,16 +102,6 @@ pub fn integrator_options(config: &Config) -> IntegratorOptions {
         newton_tolerance: Some(0.2),
         ..IntegratorOptions::default()
     };
-    if crate::link::all_links(config) {
-        // (a link's stick-slip converges only there; docs/link.md)
-        o.rtol = o.rtol.min(crate::link::TOLERANCE);
-        o.atol_translation = o.atol_translation.min(crate::link::TOLERANCE);
-        o.atol_velocity = o.atol_velocity.min(crate::link::TOLERANCE);
-    }
-    if let Some(h) = crate::link::step_limit(config) {
-        // (every run with a link: its release converges in steps only)
-        o.h_max = o.h_max.min(h);
-    }
     if let Some(h) = s.h_max {
         o.h_max = o.h_max.min(h);
     }
