@@ -76,6 +76,13 @@ pub enum BuildError {
     /// The system has no free coordinate at all.
     #[error("the system has no free coordinate")]
     EmptySystem,
+    /// A run cannot be resumed in a system that does not extend its own
+    /// ([`crate::Radau5::resume`]).
+    #[error("a run cannot be resumed in this system: {detail}")]
+    NotAnExtension {
+        /// What differs.
+        detail: String,
+    },
 }
 
 /// Failure of a linear solve.

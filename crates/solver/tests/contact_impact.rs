@@ -80,6 +80,7 @@ fn run(sys: &System, bodies: &[BodyId], t_end: f64) -> Outcome {
                 onset.insert(e.contact, e.time);
             }
             ContactEventKind::Release { .. } => durations.push(e.time - onset.remove(&e.contact).unwrap()),
+            ContactEventKind::Threshold { .. } => unreachable!("no contact has a force threshold"),
         }
     }
     Outcome {

@@ -51,6 +51,11 @@ impl Workspace {
         self.v0[i] = v0;
     }
 
+    /// The approach speed contact `i` closed with [m/s].
+    pub(crate) fn contact_speed(&self, i: usize) -> f64 {
+        self.v0[i]
+    }
+
     /// Copies the contact modes of another workspace.
     pub(crate) fn copy_contacts(&mut self, other: &Workspace) {
         self.closed.copy_from_slice(&other.closed);

@@ -18,6 +18,13 @@
 //! to zero first) loses its stored elastic energy, which is booked as
 //! contact dissipation so that the energy balance closes.
 //!
+//! A closed contact may also carry a force threshold
+//! ([`crate::Radau5::set_force_threshold`]): the first time its force rises
+//! through it is located the same way, the step ends there and the event
+//! ([`ContactEventKind::Threshold`]) is reported without a change of mode
+//! (a fuse that breaks there: the caller stops and continues with the
+//! broken system, [`crate::Radau5::resume`]); it is reported once.
+//!
 //! Sampling: 8 points per step for every closed contact and every open
 //! contact that could reach zero penetration within the step (its
 //! penetration at either end plus half the step times its largest rate);
@@ -55,6 +62,13 @@ pub enum ContactEventKind {
         penetration: f64,
         /// Rate of penetration at release [m/s].
         speed: f64,
+    },
+    /// The closed contact's force reached its threshold
+    /// ([`crate::Radau5::set_force_threshold`]); its mode is unchanged.
+    Threshold {
+        /// The force at the event \[N\] (the threshold to within the
+        /// step's local error).
+        force: f64,
     },
 }
 
@@ -113,6 +127,8 @@ pub(crate) struct Events {
     pub last: Vec<ContactEvent>,
     /// The contacts changed at the very start of the step at this time.
     now: (f64, Vec<usize>),
+    /// Each contact's force threshold \[N\] (infinite: none, or reported).
+    threshold: Vec<f64>,
     /// Contacts left closed and unchecked during the step starting at this
     /// time: each had to change back at once, so it sits at zero force
     /// (a resting contact) where either mode is wrong a moment later.
@@ -147,6 +163,7 @@ impl Events {
             pending: None,
             last: Vec::new(),
             now: (f64::NAN, Vec::new()),
+            threshold: vec![f64::INFINITY; n],
             frozen: (f64::NAN, Vec::new()),
         }
     }
@@ -158,6 +175,23 @@ impl Events {
     /// The time the current step must end at, if a change is pending.
     pub fn pending_time(&self) -> Option<f64> {
         self.pending.as_ref().map(|p| p.0)
+    }
+
+    /// Sets contact `i`'s force threshold \[N\] (see the module
+    /// documentation).
+    pub fn set_threshold(&mut self, i: usize, force: f64) {
+        self.threshold[i] = force;
+    }
+
+    /// Contact `i`'s force threshold \[N\].
+    pub fn threshold(&self, i: usize) -> f64 {
+        self.threshold[i]
+    }
+
+    /// Whether contact `i` in state `c` must change mode ([`Events::wrong`])
+    /// or has reached its force threshold.
+    fn due(&self, i: usize, c: &ContactValue) -> bool {
+        Self::wrong(c) || (c.closed && c.force >= self.threshold[i])
     }
 
     /// Records the contact states at the start of a step.
@@ -209,7 +243,7 @@ impl Events {
                 }
                 let (a, b) = (&self.start[i], &self.end[i]);
                 let reach = 0.5 * h * a.rate.abs().max(b.rate.abs());
-                a.closed || Self::wrong(b) || a.penetration.max(b.penetration) + reach > 0.0
+                a.closed || self.due(i, b) || a.penetration.max(b.penetration) + reach > 0.0
             })
             .collect();
         if watch.is_empty() {
@@ -226,7 +260,7 @@ impl Events {
             } else {
                 self.at.copy_from_slice(&self.end);
             }
-            let bad: Vec<usize> = watch.iter().copied().filter(|&i| Self::wrong(&self.at[i]) && fresh(i, s)).collect();
+            let bad: Vec<usize> = watch.iter().copied().filter(|&i| self.due(i, &self.at[i]) && fresh(i, s)).collect();
             if bad.is_empty() {
                 s_ok = s;
                 continue;
@@ -238,7 +272,7 @@ impl Events {
                 let mid = 0.5 * (lo + hi);
                 self.sample(asm, ws, trial, mid);
                 let now: Vec<usize> =
-                    watch.iter().copied().filter(|&i| Self::wrong(&self.at[i]) && fresh(i, mid)).collect();
+                    watch.iter().copied().filter(|&i| self.due(i, &self.at[i]) && fresh(i, mid)).collect();
                 if now.is_empty() {
                     lo = mid;
                 } else {
@@ -325,7 +359,15 @@ impl Events {
         asm.contacts(ws, at.q, at.v, &mut self.at);
         for &i in contacts {
             let c = self.at[i];
-            if c.closed {
+            // (a release comes at a force near zero, a threshold well above)
+            if c.closed && !Self::wrong(&c) && c.force >= 0.5 * self.threshold[i] {
+                self.threshold[i] = f64::INFINITY;
+                self.last.push(ContactEvent {
+                    contact: i,
+                    time: t,
+                    kind: ContactEventKind::Threshold { force: c.force },
+                });
+            } else if c.closed {
                 // the elastic energy still stored is lost with the contact
                 energy.contact += asm.contact_energy(i, c.penetration);
                 ws.set_contact(i, false, 0.0);

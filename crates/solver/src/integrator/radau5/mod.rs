@@ -73,6 +73,7 @@ pub mod coefficients;
 mod estimate;
 mod matrices;
 mod newton;
+mod resume;
 mod step;
 
 use coefficients::*;
@@ -482,6 +483,14 @@ impl Radau5 {
     /// Projects the given initial state onto the constraints and computes
     /// consistent multipliers from `[M G^T; G 0] [a; lambda] = [Q; -gamma]`.
     fn initialise(&mut self) -> Result<(), SolverError> {
+        self.consistent_state(true)
+    }
+
+    /// [`Radau5::initialise`] at the current state; `fresh`: the start of
+    /// a run (contacts penetrating are closed and the energy balance
+    /// starts here), else a resumed run ([`Radau5::resume`]: its modes
+    /// and energies carried over).
+    fn consistent_state(&mut self, fresh: bool) -> Result<(), SolverError> {
         let asm = Arc::clone(&self.asm);
         let (n, m) = (self.n, self.m);
         asm.jacobian(&mut self.ws, self.t, &self.q, &self.v, &self.lam, &mut self.jac);
@@ -549,7 +558,7 @@ impl Radau5 {
         self.lam.copy_from_slice(&self.bl);
         self.stats.residual_evaluations += 3;
         // contacts penetrating at the start are closed
-        if !self.events.is_empty() {
+        if fresh && !self.events.is_empty() {
             let asm2 = Arc::clone(&self.asm);
             let mut cv = vec![crate::assembly::ContactValue::default(); asm2.contact_count()];
             asm2.contacts(&mut self.ws, &self.q, &self.v, &mut cv);
@@ -562,8 +571,10 @@ impl Radau5 {
         // start-of-step residual, energy, constraint residuals
         self.update_y0();
         self.energy.kinetic = asm.kinetic_energy(&self.v);
-        self.energy.initial = self.energy.kinetic + self.energy.potential;
-        self.potential0 = self.energy.potential;
+        if fresh {
+            self.energy.initial = self.energy.kinetic + self.energy.potential;
+            self.potential0 = self.energy.potential;
+        }
         self.energy.record(self.potential0);
         self.track_constraint_residuals();
         self.events.record_start(&asm, &mut self.ws, &self.q, &self.v);

@@ -1,0 +1,76 @@
+//! A run continued in a changed system: a fuse that broke at a located
+//! event ([`Radau5::set_force_threshold`]) frees a body the intact system
+//! did not have, and the run goes on from the event's state
+//! ([`Radau5::resume`]).
+
+use std::sync::Arc;
+
+use super::Radau5;
+use crate::assembly::Assembly;
+use crate::error::{BuildError, SolverError};
+use crate::integrator::IntegratorOptions;
+
+impl Radau5 {
+    /// Sets contact `contact`'s force threshold `force` \[N\]: the first
+    /// time the closed contact's force rises through it, the step ends
+    /// there and reports a [`crate::ContactEventKind::Threshold`] event
+    /// (once; the contact's mode is unchanged). A fuse held by the contact's
+    /// force breaks there.
+    pub fn set_force_threshold(&mut self, contact: usize, force: f64) -> Result<(), SolverError> {
+        if contact >= self.asm.contact_count() || force.is_nan() || force <= 0.0 {
+            return Err(SolverError::Build(BuildError::InvalidParameter {
+                what: format!("contact {contact}"),
+                name: "force threshold",
+                value: force,
+                reason: "a positive force on one of the system's contacts",
+            }));
+        }
+        self.events.set_threshold(contact, force);
+        Ok(())
+    }
+
+    /// Continues the run of `from` in the system `asm`, which has `from`'s
+    /// bodies, constraints, force elements and contacts first, in the same
+    /// order, and may add bodies and force elements after them (their
+    /// coordinates follow `from`'s and start at their reference state, at
+    /// rest). The time, the state, the contacts' modes, the energy balance,
+    /// the counters and the step size carry over; the multipliers are made
+    /// consistent again and the integrator starts afresh (a new Jacobian, no
+    /// extrapolated starting values), as after a contact event.
+    pub fn resume(asm: Arc<Assembly>, opt: IntegratorOptions, from: &Radau5) -> Result<Self, SolverError> {
+        let (n0, contacts0) = (from.n, from.asm.contact_count());
+        if asm.coordinates() < n0 || asm.equations() != from.m || asm.contact_count() < contacts0 {
+            return Err(SolverError::Build(BuildError::NotAnExtension {
+                detail: format!(
+                    "{} coordinates, {} equations, {} contacts; the run has {n0}, {}, {contacts0}",
+                    asm.coordinates(),
+                    asm.equations(),
+                    asm.contact_count(),
+                    from.m
+                ),
+            }));
+        }
+        let mut s = Radau5::new(asm, opt)?;
+        s.t = from.t;
+        s.t_prev = from.t;
+        s.q[..n0].copy_from_slice(&from.q);
+        s.v[..n0].copy_from_slice(&from.v);
+        s.v[n0..].iter_mut().for_each(|v| *v = 0.0);
+        for i in 0..contacts0 {
+            s.ws.set_contact(i, from.ws.closed_contacts()[i], from.ws.contact_speed(i));
+            s.events.set_threshold(i, from.events.threshold(i));
+        }
+        s.energy = from.energy;
+        s.potential0 = from.potential0;
+        s.stats = from.stats;
+        s.stats.jacobian_evaluations += 1;
+        for (g, f) in s.group_friction.iter_mut().zip(&from.group_friction) {
+            *g = *f;
+        }
+        s.max_residual = from.max_residual;
+        s.h = from.h;
+        s.started = from.started;
+        s.consistent_state(false)?;
+        Ok(s)
+    }
+}
