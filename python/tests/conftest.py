@@ -177,6 +177,17 @@ def one_record_sweep(cli, tmp_path_factory):
     return d / "one.h5"
 
 
+#: a joint at each abutment of the three-span bridge of tests/data/three_span
+TWO_ABUTMENTS = """[[joints]]
+name = "left abutment"
+deck_point = "left end"
+deck_side = "+x"
+[[joints]]
+name = "right abutment"
+deck_point = "right end"
+deck_side = "-x"
+"""
+
 #: the small joint at both ends of the three-span bridge of
 #: tests/data/three_span (OpenSees' modes), under 6 s of Corralitos at 0.6
 #: times its strength: the joints pound
@@ -188,15 +199,7 @@ duration = 6.0
 [bridge.modal]
 modes = "{ROOT / 'tests' / 'data' / 'three_span' / 'modes.toml'}"
 modes_used = 20
-[[joints]]
-name = "left abutment"
-deck_point = "left end"
-deck_side = "+x"
-[[joints]]
-name = "right abutment"
-deck_point = "right end"
-deck_side = "-x"
-"""
+""" + TWO_ABUTMENTS
 
 
 @pytest.fixture(scope="session")

@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 import quakejoint as qj
+from conftest import TWO_ABUTMENTS
 
 ROOT = Path(__file__).resolve().parents[2]
 GM = ROOT / "ground_motions"
@@ -164,15 +165,7 @@ model = "link"
 center_beams = 3            # 4 cells of 40 mm: the deck closes each joint in turn
 [joint.link]
 {link}
-[[joints]]
-name = "left abutment"
-deck_point = "left end"
-deck_side = "+x"
-[[joints]]
-name = "right abutment"
-deck_point = "right end"
-deck_side = "-x"
-"""
+""" + TWO_ABUTMENTS  # (no braces: format leaves it as it is)
 
 
 def test_the_link_at_both_abutments_in_opensees(link, tmp_path):
