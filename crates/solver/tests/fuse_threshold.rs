@@ -28,6 +28,12 @@ fn options() -> IntegratorOptions {
 /// The mass and the wall's contact (on the ground, or on a freed `wall`
 /// body sliding against `friction` \[N\]).
 fn system(wall: Option<(f64, f64)>) -> System {
+    system_of(wall, 1)
+}
+
+/// [`system`] with the wall's contact split into `parts` parallel
+/// contacts of `K / parts` each.
+fn system_of(wall: Option<(f64, f64)>, parts: usize) -> System {
     let mut sys = System::new();
     let mass = sys.add_body(Body::new("mass", M, 1.0, [0.0; 3]).with_velocity([-V0, 0.0, 0.0]).only(&[Coord::X]));
     // (the wall's body after the mass: the intact system's coordinates first)
@@ -35,15 +41,17 @@ fn system(wall: Option<(f64, f64)>) -> System {
         None => BodyId::GROUND,
         Some((m_wall, _)) => sys.add_body(Body::new("wall", m_wall, 1.0, [0.0; 3]).only(&[Coord::X])),
     };
-    sys.add_force(ForceElement::Contact(Contact {
-        body: mass,
-        point: [0.0, 0.0],
-        base,
-        edge_point: [-GAP, 0.0],
-        edge_normal: [1.0, 0.0],
-        law: ContactLaw::Linear { stiffness: K, restitution: 1.0 },
-        reduced_mass: None,
-    }));
+    for _ in 0..parts {
+        sys.add_force(ForceElement::Contact(Contact {
+            body: mass,
+            point: [0.0, 0.0],
+            base,
+            edge_point: [-GAP, 0.0],
+            edge_normal: [1.0, 0.0],
+            law: ContactLaw::Linear { stiffness: K / parts as f64, restitution: 1.0 },
+            reduced_mass: None,
+        }));
+    }
     if let Some((_, friction)) = wall {
         sys.add_force(ForceElement::Friction(Friction {
             slider: base,
@@ -66,9 +74,15 @@ fn assembly(sys: &System) -> Arc<Assembly> {
 /// Runs the intact system with a fuse of `threshold` \[N\] on the contact
 /// to `t_end`, stopping at the break: the solver and the break event.
 fn until_break(threshold: Option<f64>, t_end: f64) -> (Radau5, Option<ContactEvent>) {
-    let mut sim = Radau5::new(assembly(&system(None)), options()).unwrap();
+    until_break_of(threshold, t_end, 1)
+}
+
+/// [`until_break`] with the contact split into `parts`, the fuse held by
+/// their summed force.
+fn until_break_of(threshold: Option<f64>, t_end: f64, parts: usize) -> (Radau5, Option<ContactEvent>) {
+    let mut sim = Radau5::new(assembly(&system_of(None, parts)), options()).unwrap();
     if let Some(f) = threshold {
-        sim.set_force_threshold(0, f).unwrap();
+        sim.set_force_threshold(&(0..parts).collect::<Vec<_>>(), f).unwrap();
     }
     let mut event = None;
     while let Some(view) = sim.advance(t_end).unwrap() {
@@ -121,4 +135,17 @@ fn a_fuse_that_is_never_reached_changes_nothing() {
         (without.time(), without.positions(), without.velocities())
     );
     assert_eq!(with.stats(), without.stats());
+}
+
+#[test]
+fn a_fuse_held_by_two_contacts_breaks_on_their_sum() {
+    // the wall's contact as two of K/2 each: the same motion, the same
+    // break, reported on the first of the two
+    let (_, one) = until_break(Some(5.0e4), 0.05);
+    let (_, two) = until_break_of(Some(5.0e4), 0.05, 2);
+    let (one, two) = (one.unwrap(), two.unwrap());
+    assert!((one.time - two.time).abs() < 1e-9, "{} against {} s", one.time, two.time);
+    assert_eq!(two.contact, 0);
+    let ContactEventKind::Threshold { force } = two.kind else { unreachable!() };
+    assert!((force / 5.0e4 - 1.0).abs() < 1e-5, "break force {force} N");
 }

@@ -18,12 +18,14 @@
 //! to zero first) loses its stored elastic energy, which is booked as
 //! contact dissipation so that the energy balance closes.
 //!
-//! A closed contact may also carry a force threshold
-//! ([`crate::Radau5::set_force_threshold`]): the first time its force rises
-//! through it is located the same way, the step ends there and the event
-//! ([`ContactEventKind::Threshold`]) is reported without a change of mode
-//! (a fuse that breaks there: the caller stops and continues with the
-//! broken system, [`crate::Radau5::resume`]); it is reported once.
+//! A set of contacts may also carry a force threshold
+//! ([`crate::Radau5::set_force_threshold`]): the first time the sum of its
+//! closed contacts' forces rises through it is located the same way, the
+//! step ends there and the event ([`ContactEventKind::Threshold`], on the
+//! set's first contact) is reported without a change of mode (a fuse that
+//! breaks there: the caller stops and continues with the broken system,
+//! [`crate::Radau5::resume`]); it is reported once. In the located lists a
+//! watch `w` is numbered `n + w` after the `n` contacts.
 //!
 //! Sampling: 8 points per step for every closed contact and every open
 //! contact that could reach zero penetration within the step (its
@@ -63,11 +65,12 @@ pub enum ContactEventKind {
         /// Rate of penetration at release [m/s].
         speed: f64,
     },
-    /// The closed contact's force reached its threshold
-    /// ([`crate::Radau5::set_force_threshold`]); its mode is unchanged.
+    /// The sum of the closed contacts' forces of a watched set reached its
+    /// threshold ([`crate::Radau5::set_force_threshold`]; the event names
+    /// the set's first contact); no mode changes.
     Threshold {
-        /// The force at the event \[N\] (the threshold to within the
-        /// step's local error).
+        /// The summed force at the event \[N\] (the threshold to within
+        /// the step's local error).
         force: f64,
     },
 }
@@ -95,6 +98,22 @@ pub(crate) struct Trial<'a> {
     pub zq: &'a [Vec<f64>; 3],
     /// Stage increments of the velocities.
     pub zv: &'a [Vec<f64>; 3],
+}
+
+/// A set of contacts whose summed force is watched for a threshold.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ForceWatch {
+    /// The contacts (at least one).
+    pub contacts: Vec<usize>,
+    /// The threshold \[N\] (infinite once reported).
+    pub force: f64,
+}
+
+impl ForceWatch {
+    /// The summed force of the closed contacts among `values` \[N\].
+    fn force_of(&self, values: &[ContactValue]) -> f64 {
+        self.contacts.iter().map(|&i| values[i]).filter(|c| c.closed).map(|c| c.force).sum()
+    }
 }
 
 /// Samples per step at which a contact that may change is checked.
@@ -127,8 +146,8 @@ pub(crate) struct Events {
     pub last: Vec<ContactEvent>,
     /// The contacts changed at the very start of the step at this time.
     now: (f64, Vec<usize>),
-    /// Each contact's force threshold \[N\] (infinite: none, or reported).
-    threshold: Vec<f64>,
+    /// The watched sets of contacts and their force thresholds.
+    watches: Vec<ForceWatch>,
     /// Contacts left closed and unchecked during the step starting at this
     /// time: each had to change back at once, so it sits at zero force
     /// (a resting contact) where either mode is wrong a moment later.
@@ -163,7 +182,7 @@ impl Events {
             pending: None,
             last: Vec::new(),
             now: (f64::NAN, Vec::new()),
-            threshold: vec![f64::INFINITY; n],
+            watches: Vec::new(),
             frozen: (f64::NAN, Vec::new()),
         }
     }
@@ -177,21 +196,44 @@ impl Events {
         self.pending.as_ref().map(|p| p.0)
     }
 
-    /// Sets contact `i`'s force threshold \[N\] (see the module
-    /// documentation).
-    pub fn set_threshold(&mut self, i: usize, force: f64) {
-        self.threshold[i] = force;
+    /// Watches the summed force of `contacts` for `force` \[N\] (see the
+    /// module documentation).
+    pub fn add_watch(&mut self, contacts: Vec<usize>, force: f64) {
+        self.watches.push(ForceWatch { contacts, force });
     }
 
-    /// Contact `i`'s force threshold \[N\].
-    pub fn threshold(&self, i: usize) -> f64 {
-        self.threshold[i]
+    /// The watched sets (to carry over to a resumed run).
+    pub fn watches(&self) -> &[ForceWatch] {
+        &self.watches
     }
 
-    /// Whether contact `i` in state `c` must change mode ([`Events::wrong`])
-    /// or has reached its force threshold.
-    fn due(&self, i: usize, c: &ContactValue) -> bool {
-        Self::wrong(c) || (c.closed && c.force >= self.threshold[i])
+    /// The watched sets, carried over from another run.
+    pub fn set_watches(&mut self, watches: Vec<ForceWatch>) {
+        self.watches = watches;
+    }
+
+    /// Whether contact `i` in `values` must change mode ([`Events::wrong`]),
+    /// or watch `i - n` has reached its force threshold.
+    fn due(&self, i: usize, values: &[ContactValue]) -> bool {
+        match i.checked_sub(self.n) {
+            None => Self::wrong(&values[i]),
+            Some(w) => self.watches[w].force_of(values) >= self.watches[w].force,
+        }
+    }
+
+    /// Whether entry `i` (a contact, or watch `i - n`) may change within a
+    /// step of length `h`: a closed contact, one that could reach zero
+    /// penetration, one due at the step's end; a watch with a closed
+    /// contact at either end.
+    fn near(&self, i: usize, h: f64) -> bool {
+        if let Some(w) = i.checked_sub(self.n) {
+            let watch = &self.watches[w];
+            return watch.force.is_finite()
+                && watch.contacts.iter().any(|&c| self.start[c].closed || self.end[c].closed);
+        }
+        let (a, b) = (&self.start[i], &self.end[i]);
+        let reach = 0.5 * h * a.rate.abs().max(b.rate.abs());
+        a.closed || Self::wrong(b) || a.penetration.max(b.penetration) + reach > 0.0
     }
 
     /// Records the contact states at the start of a step.
@@ -236,16 +278,8 @@ impl Events {
         self.sample(asm, ws, trial, 1.0);
         std::mem::swap(&mut self.at, &mut self.end);
         let frozen = if self.frozen.0 == t { self.frozen.1.as_slice() } else { &[] };
-        let watch: Vec<usize> = (0..self.n)
-            .filter(|&i| {
-                if frozen.contains(&i) {
-                    return false;
-                }
-                let (a, b) = (&self.start[i], &self.end[i]);
-                let reach = 0.5 * h * a.rate.abs().max(b.rate.abs());
-                a.closed || self.due(i, b) || a.penetration.max(b.penetration) + reach > 0.0
-            })
-            .collect();
+        let watch: Vec<usize> =
+            (0..self.n + self.watches.len()).filter(|&i| !frozen.contains(&i) && self.near(i, h)).collect();
         if watch.is_empty() {
             return None;
         }
@@ -260,7 +294,7 @@ impl Events {
             } else {
                 self.at.copy_from_slice(&self.end);
             }
-            let bad: Vec<usize> = watch.iter().copied().filter(|&i| self.due(i, &self.at[i]) && fresh(i, s)).collect();
+            let bad: Vec<usize> = watch.iter().copied().filter(|&i| self.due(i, &self.at) && fresh(i, s)).collect();
             if bad.is_empty() {
                 s_ok = s;
                 continue;
@@ -272,7 +306,7 @@ impl Events {
                 let mid = 0.5 * (lo + hi);
                 self.sample(asm, ws, trial, mid);
                 let now: Vec<usize> =
-                    watch.iter().copied().filter(|&i| self.due(i, &self.at[i]) && fresh(i, mid)).collect();
+                    watch.iter().copied().filter(|&i| self.due(i, &self.at) && fresh(i, mid)).collect();
                 if now.is_empty() {
                     lo = mid;
                 } else {
@@ -307,7 +341,7 @@ impl Events {
             self.frozen = (t, Vec::new());
         }
         let (again, fresh): (Vec<usize>, Vec<usize>) = contacts.into_iter().partition(|i| self.now.1.contains(i));
-        let reopened: Vec<usize> = again.iter().copied().filter(|&i| !ws.closed_contacts()[i]).collect();
+        let reopened: Vec<usize> = again.iter().copied().filter(|&i| i < self.n && !ws.closed_contacts()[i]).collect();
         let mut n = self.change(asm, ws, at, &reopened, energy);
         self.frozen.1.extend(again);
         n += self.change(asm, ws, at, &fresh, energy);
@@ -358,16 +392,19 @@ impl Events {
         let t = at.t;
         asm.contacts(ws, at.q, at.v, &mut self.at);
         for &i in contacts {
-            let c = self.at[i];
-            // (a release comes at a force near zero, a threshold well above)
-            if c.closed && !Self::wrong(&c) && c.force >= 0.5 * self.threshold[i] {
-                self.threshold[i] = f64::INFINITY;
+            if let Some(w) = i.checked_sub(self.n) {
+                let watch = &mut self.watches[w];
+                let force = watch.force_of(&self.at);
+                watch.force = f64::INFINITY;
                 self.last.push(ContactEvent {
-                    contact: i,
+                    contact: watch.contacts[0],
                     time: t,
-                    kind: ContactEventKind::Threshold { force: c.force },
+                    kind: ContactEventKind::Threshold { force },
                 });
-            } else if c.closed {
+                continue;
+            }
+            let c = self.at[i];
+            if c.closed {
                 // the elastic energy still stored is lost with the contact
                 energy.contact += asm.contact_energy(i, c.penetration);
                 ws.set_contact(i, false, 0.0);

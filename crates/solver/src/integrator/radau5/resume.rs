@@ -11,21 +11,23 @@ use crate::error::{BuildError, SolverError};
 use crate::integrator::IntegratorOptions;
 
 impl Radau5 {
-    /// Sets contact `contact`'s force threshold `force` \[N\]: the first
-    /// time the closed contact's force rises through it, the step ends
-    /// there and reports a [`crate::ContactEventKind::Threshold`] event
-    /// (once; the contact's mode is unchanged). A fuse held by the contact's
-    /// force breaks there.
-    pub fn set_force_threshold(&mut self, contact: usize, force: f64) -> Result<(), SolverError> {
-        if contact >= self.asm.contact_count() || force.is_nan() || force <= 0.0 {
+    /// Watches the sum of the forces of the closed contacts among
+    /// `contacts` for `force` \[N\]: the first time it rises through it,
+    /// the step ends there and reports a
+    /// [`crate::ContactEventKind::Threshold`] event on `contacts[0]` (once;
+    /// no contact's mode changes). A fuse held by the contacts' force
+    /// breaks there.
+    pub fn set_force_threshold(&mut self, contacts: &[usize], force: f64) -> Result<(), SolverError> {
+        let n = self.asm.contact_count();
+        if contacts.is_empty() || contacts.iter().any(|&c| c >= n) || force.is_nan() || force <= 0.0 {
             return Err(SolverError::Build(BuildError::InvalidParameter {
-                what: format!("contact {contact}"),
+                what: format!("contacts {contacts:?} of {n}"),
                 name: "force threshold",
                 value: force,
-                reason: "a positive force on one of the system's contacts",
+                reason: "a positive force on a set of the system's contacts",
             }));
         }
-        self.events.set_threshold(contact, force);
+        self.events.add_watch(contacts.to_vec(), force);
         Ok(())
     }
 
@@ -33,10 +35,11 @@ impl Radau5 {
     /// bodies, constraints, force elements and contacts first, in the same
     /// order, and may add bodies and force elements after them (their
     /// coordinates follow `from`'s and start at their reference state, at
-    /// rest). The time, the state, the contacts' modes, the energy balance,
-    /// the counters and the step size carry over; the multipliers are made
-    /// consistent again and the integrator starts afresh (a new Jacobian, no
-    /// extrapolated starting values), as after a contact event.
+    /// rest). The time, the state, the contacts' modes and force thresholds,
+    /// the energy balance, the counters and the step size carry over; the
+    /// multipliers are made consistent again and the integrator starts
+    /// afresh (a new Jacobian, no extrapolated starting values), as after a
+    /// contact event.
     pub fn resume(asm: Arc<Assembly>, opt: IntegratorOptions, from: &Radau5) -> Result<Self, SolverError> {
         let (n0, contacts0) = (from.n, from.asm.contact_count());
         if asm.coordinates() < n0 || asm.equations() != from.m || asm.contact_count() < contacts0 {
@@ -58,8 +61,8 @@ impl Radau5 {
         s.v[n0..].iter_mut().for_each(|v| *v = 0.0);
         for i in 0..contacts0 {
             s.ws.set_contact(i, from.ws.closed_contacts()[i], from.ws.contact_speed(i));
-            s.events.set_threshold(i, from.events.threshold(i));
         }
+        s.events.set_watches(from.events.watches().to_vec());
         s.energy = from.energy;
         s.potential0 = from.potential0;
         s.stats = from.stats;
