@@ -73,6 +73,17 @@ fn far(r: &RunResult, f: fn(&crate::run::FarSegment) -> f64) -> f64 {
     r.far.as_ref().map_or(f64::NAN, f)
 }
 
+/// The first joint's fuse's value `i` of [`crate::run::fuse::FUSE_FIELDS`].
+fn fuse(r: &RunResult, i: usize) -> f64 {
+    crate::run::fuse::FuseResult::values(r.joints.first().and_then(|j| j.fuse.as_ref()))[i]
+}
+
+/// [`crate::run::fuse::FUSE_FIELDS`]' `i`, reading the first joint's fuse.
+const fn fuse_field(i: usize, value: fn(&RunResult) -> f64) -> Field {
+    let f = crate::run::fuse::FUSE_FIELDS[i];
+    field(f.name, f.units, f.meaning, value).per_job()
+}
+
 /// Every scalar result of a run, in the order outputs list them.
 pub const FIELDS: &[Field] = &[
     field("omega", "rad/s", "bridge circular frequency", |r| r.omega),
@@ -153,6 +164,13 @@ pub const FIELDS: &[Field] = &[
         far(r, |f| f.max_relative_displacement)
     })
     .per_job(),
+    fuse_field(0, |r| fuse(r, 0)),
+    fuse_field(1, |r| fuse(r, 1)),
+    fuse_field(2, |r| fuse(r, 2)),
+    fuse_field(3, |r| fuse(r, 3)),
+    fuse_field(4, |r| fuse(r, 4)),
+    fuse_field(5, |r| fuse(r, 5)),
+    fuse_field(6, |r| fuse(r, 6)),
 ];
 
 /// The field named `name`.

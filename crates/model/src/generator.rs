@@ -130,6 +130,7 @@ fn contact_law(config: &Config) -> ContactLaw {
 /// `impacts`: the masses the restitution of the contacts on the
 /// abutment's and on the deck's edge beam is set for \[kg\] (none: the
 /// reduced mass of the beam and the body); `prefix` starts every name.
+/// Returns the contacts of center beam 1 on the abutment's edge beam.
 fn add_contacts(
     sys: &mut System,
     model: &mut JointModel,
@@ -138,9 +139,10 @@ fn add_contacts(
     abutment: BodyId,
     impacts: [Option<f64>; 2],
     prefix: &str,
-) {
+) -> Vec<quakejoint_solver::ForceId> {
     let (half_w, half_l) = (0.5 * geo.width, geo.half_length);
     let nc = model.center_beams.len();
+    let mut edge = Vec::with_capacity(2);
     for gap in 0..=nc {
         for (end, y) in [-half_l, half_l].into_iter().enumerate() {
             // the corner on the abutment side's beam, the face of the other
@@ -151,7 +153,7 @@ fn add_contacts(
                 }
                 g => (model.center_beams[g - 1], [half_w, y], model.center_beams[g], [-half_w, 0.0], [-1.0, 0.0]),
             };
-            sys.add_force_named(
+            let id = sys.add_force_named(
                 format!("{prefix}contact {gap}/{end}"),
                 ForceElement::Contact(Contact {
                     body,
@@ -168,7 +170,19 @@ fn add_contacts(
                 }),
             );
             model.contacts.push(ContactPlace { gap, end, center_beams: nc });
+            if gap == 0 {
+                edge.push(id);
+            }
         }
+    }
+    edge
+}
+
+/// The solver's regularised friction law of `joint.friction`.
+fn friction_law(j: &crate::config::JointConfig) -> FrictionLaw {
+    match j.friction.law {
+        LawConfig::Linear => FrictionLaw::Linear,
+        LawConfig::Smooth => FrictionLaw::Smooth,
     }
 }
 
@@ -209,10 +223,7 @@ fn add_joint_bodies(
         let body = sys.add_body(turned(Body::new(name, sbc.mass, inertia, [s.centre[0], s.centre[1], s.theta]), sign));
         model.supports.push(body);
     }
-    let law = match j.friction.law {
-        LawConfig::Linear => FrictionLaw::Linear,
-        LawConfig::Smooth => FrictionLaw::Smooth,
-    };
+    let law = friction_law(j);
     for (i, &x) in geo.center_x.iter().enumerate() {
         let mut row = Vec::with_capacity(geo.supports.len());
         for (k, s) in geo.supports.iter().enumerate() {
@@ -279,7 +290,7 @@ fn add_joint_bodies(
 
 /// `body`, turned half a turn when `sign` is -1: its x and y point the
 /// other way, so the ground's acceleration acts on it reversed.
-fn turned(body: Body, sign: f64) -> Body {
+pub(crate) fn turned(body: Body, sign: f64) -> Body {
     if sign < 0.0 {
         let m = body.mass;
         body.with_base_mass([[-m, 0.0], [0.0, -m]])
@@ -393,6 +404,8 @@ pub struct JointModel {
     pub others: Vec<JointModel>,
     /// The link element, when the joint is one (`joint.model = "link"`).
     pub link: Option<crate::link::LinkParts>,
+    /// Its seismic fuse (`[joint.fuse]`), if it has one.
+    pub fuse: Option<crate::fuse::FuseBox>,
 }
 
 impl JointModel {
@@ -558,6 +571,7 @@ fn empty_model(place: &crate::placement::Place, bridge: Bridge) -> JointModel {
         sign: place.sign,
         others: Vec::new(),
         link: None,
+        fuse: None,
     }
 }
 
@@ -670,7 +684,14 @@ fn connect_joints(
             let beam = Some(j.center_beam.mass);
             let impacts = [hinges[k].and(beam), model.modal.as_ref().and(beam)];
             model.first_contact = contacts;
-            add_contacts(sys, model, &geo, contact_law(&place.config), abutment, impacts, &place.prefix);
+            let edge = add_contacts(sys, model, &geo, contact_law(&place.config), abutment, impacts, &place.prefix);
+            if j.fuse.is_some() {
+                let field = if places.len() > 1 { format!("joints[{k}].joint.fuse") } else { "joint.fuse".into() };
+                crate::fuse::check_abutment(abutment, &field)?;
+                let group = (places.len() + k) as u32;
+                let laws = (contact_law(&place.config), friction_law(j));
+                model.fuse = crate::fuse::FuseBox::new(&place.config, edge, contacts, laws, (group, &place.prefix));
+            }
             contacts += model.contacts.len();
         }
     }

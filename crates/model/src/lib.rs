@@ -17,6 +17,7 @@ pub mod described;
 pub mod error;
 pub mod fields;
 pub mod fragility;
+pub mod fuse;
 pub mod generator;
 pub mod geometry;
 pub mod history;

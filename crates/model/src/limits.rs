@@ -107,6 +107,11 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     // a few times the penetration of the default contact at MN forces
     ("joint.contact.max_penetration", "m", closed(1e-4, 0.05)),
     ("joint.capacity.max_subgap", "m", closed(0.01, 1.0)),
+    ("joint.fuse.break_force", "N", closed(1e3, 1e9)),
+    ("joint.fuse.stroke", "m", closed(0.001, 2.0)),
+    ("joint.fuse.ramp_deg", "deg", below(0.0, 60.0)),
+    ("joint.fuse.mu", "1", closed(0.0, 1.0)),
+    ("joint.fuse.mass", "kg", above(0.0, 1e5)),
     ("joint.link.stiffness", "N/m", closed(1e3, 1e12)),
     ("joint.link.friction", "N", closed(0.0, 1e9)),
     ("joint.link.mass", "kg", above(0.0, 1e7)),

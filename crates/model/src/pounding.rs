@@ -285,6 +285,12 @@ impl ContactWatch {
         deck
     }
 
+    /// Goes on in a system with more bodies (a fuse broke): its scratch
+    /// state is made again at the next step.
+    pub fn resized(&mut self) {
+        self.scratch = None;
+    }
+
     /// The abutment-side contacts push an adjacent segment's deck along -x
     /// (their edge normal is +x on a deck that does not turn), from the
     /// values of the last [`ContactWatch::at`].

@@ -194,6 +194,9 @@ pub struct Monitor {
     /// one: the pivots and guides move with it.
     far: Option<usize>,
     contact_places: Vec<crate::generator::ContactPlace>,
+    /// Whether the abutment's edge beam is free (its fuse broke): the edge
+    /// cell's opening is then the fuse's travel, not the joint's capacity.
+    edge_free: bool,
     collision: Option<Crossing>,
     off_support: Option<Crossing>,
     pulled_out: Option<Crossing>,
@@ -233,6 +236,7 @@ impl Monitor {
             deck_y: asm.coordinate(model.deck, Coord::Y),
             far: model.far_deck.and_then(|b| asm.coordinate(b, Coord::X)),
             contact_places: model.contacts.clone(),
+            edge_free: false,
             collision: None,
             off_support: None,
             pulled_out: None,
@@ -241,6 +245,12 @@ impl Monitor {
             reach: Vec::new(),
             turned: Vec::new(),
         }))
+    }
+
+    /// The abutment's edge beam broke free (its fuse): its cell's opening
+    /// no longer counts against the capacity.
+    pub fn free_edge(&mut self) {
+        self.edge_free = true;
     }
 
     /// Checks a contact's penetration `depth` \[m\] at `t` (contact number
@@ -300,7 +310,7 @@ impl Monitor {
                 take(0, -gap, s);
             }
         }
-        for (s, &gap) in largest.iter().enumerate() {
+        for (s, &gap) in largest.iter().enumerate().skip(usize::from(self.edge_free)) {
             take(1, gap - self.max_subgap, s);
         }
         let g = &self.geometry;

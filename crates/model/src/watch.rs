@@ -19,6 +19,8 @@ pub(crate) struct Gaps {
     angles: Vec<usize>,
     /// x coordinate of the adjacent segment's deck, if the abutment side is one
     far: Option<usize>,
+    /// x coordinate of the abutment's edge beam once its fuse broke
+    edge: Option<usize>,
     x: Vec<f64>,
     phi: Vec<f64>,
     /// clear sub-gaps at both ends [m]
@@ -46,6 +48,7 @@ impl Gaps {
             beams: model.center_beams.iter().map(|&b| coord(b, Coord::X)).collect::<Result<_, _>>()?,
             angles: model.center_beams.iter().map(|&b| coord(b, Coord::Phi)).collect::<Result<_, _>>()?,
             far: model.far_deck.map(|b| coord(b, Coord::X)).transpose()?,
+            edge: None,
             x: vec![0.0; g.center_beams],
             phi: vec![0.0; g.center_beams],
             ends: Vec::with_capacity(g.center_beams + 1),
@@ -55,6 +58,12 @@ impl Gaps {
             max: f64::NEG_INFINITY,
             deviation: 0.0,
         }))
+    }
+
+    /// Measures the edge cell from the abutment's edge beam at coordinate
+    /// `coord`, freed by its fuse.
+    pub fn free_edge(&mut self, coord: usize) {
+        self.edge = Some(coord);
     }
 
     /// The sub-gaps at time `t` for positions `q` and deck opening `u`,
@@ -78,7 +87,8 @@ impl Gaps {
         for ((x, phi), (&c, &a)) in self.x.iter_mut().zip(&mut self.phi).zip(self.beams.iter().zip(&self.angles)) {
             (*x, *phi) = (q[c], q[a]);
         }
-        let u0 = self.far.map_or(0.0, |c| q[c]);
+        // (a fuse box only on the ground: far and edge are never both set)
+        let u0 = self.far.or(self.edge).map_or(0.0, |c| q[c]);
         self.geometry.subgaps(&self.x, &self.phi, u, u0, &mut self.ends);
         self.smallest.clear();
         self.largest.clear();

@@ -21,8 +21,9 @@ use quakejoint_io::OutputError;
 /// fixed-length, under the metadata checksums, and each fragility curve's
 /// bootstrap key and counts; 13: `/joints/<k>` holds every joint of a
 /// bridge given by its modes, k from 0, each with its own peak bushing,
-/// friction and abutment forces and friction energy).
-pub const SCHEMA_VERSION: u32 = 13;
+/// friction and abutment forces and friction energy; 14: each joint's
+/// fuse, `fuse_*`, per job and per joint, read as NaN from older files).
+pub const SCHEMA_VERSION: u32 = 14;
 
 /// What a sweep over a bridge given by its modes stores beside the grid.
 #[derive(Debug, Clone, PartialEq)]

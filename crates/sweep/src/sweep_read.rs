@@ -26,6 +26,12 @@ use quakejoint_io::OutputError;
 /// Per-job fields that files written before schema 11 lack (read as NaN).
 const SINCE_SCHEMA_11: [&str; 2] = ["peak_abutment_force", "max_impact_speed"];
 
+/// Whether a run's or a joint's value is one that files written before
+/// schema 14 lack (a fuse's: read as NaN, no joint had one).
+fn since_schema_14(name: &str) -> bool {
+    name.starts_with("fuse_")
+}
+
 /// Whether two arrays hold the same bits.
 pub(crate) fn same_bits(a: &[f64], b: &[f64]) -> bool {
     a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
@@ -80,7 +86,7 @@ fn read_results(spec: &Group, dims: [usize; 4], joints: Option<&[String]>) -> hd
     };
     let with = group(spec, "with_joint")?;
     for (k, name) in FIELDS.iter().enumerate() {
-        results.values[k] = if SINCE_SCHEMA_11.contains(name) && !with.link_exists(name) {
+        results.values[k] = if (SINCE_SCHEMA_11.contains(name) || since_schema_14(name)) && !with.link_exists(name) {
             // not computed by the version that wrote the file
             vec![f64::NAN; dims.iter().product()]
         } else {
@@ -183,9 +189,10 @@ fn read_joints(file: &hdf5::File, results: &mut Results, schema: u32) -> hdf5::R
         let at = format!("joints/{}", k + first);
         let g = group(file, &at)?;
         for (values, (name, _)) in joint.values.iter_mut().zip(JOINT_FIELDS.iter()) {
-            *values = match (schema < EVERY_JOINT_SINCE && !g.link_exists(name), JOINT_FIELDS_SINCE_13.contains(name)) {
-                (true, true) => vec![f64::NAN; n],
-                _ => quakejoint_io::read::values(&g, name)?,
+            let before_13 = schema < EVERY_JOINT_SINCE && JOINT_FIELDS_SINCE_13.contains(name);
+            *values = match (before_13 || since_schema_14(name)) && !g.link_exists(name) {
+                true => vec![f64::NAN; n],
+                false => quakejoint_io::read::values(&g, name)?,
             };
         }
         joint.validity = quakejoint_io::read::values(&g, "validity")?;

@@ -70,6 +70,14 @@ fn full() -> Config {
         damping: Some(0.0),
         v_eps: Some(0.001),
     });
+    c.joint.fuse = Some(quakejoint_model::config::FuseConfig {
+        kind: quakejoint_model::config::FuseKind::Box,
+        break_force: 1e6,
+        stroke: 0.3,
+        ramp_deg: 0.0,
+        mu: 0.15,
+        mass: Some(900.0),
+    });
     c.bridge.w0 = Some(6.3);
     c.bridge.transverse_period = Some(1.0);
     c.bridge.transverse_damping = Some(0.05);
@@ -251,6 +259,14 @@ fn every_range_is_documented_and_enforced() {
                         .map(|(k, x)| format!("{k} = {x:e}\n"))
                         .collect();
                     format!("[joint]\nmodel = \"link\"\n[joint.link]\n{others}{field} = {value}\n")
+                } else if section == "joint.fuse" {
+                    // (the fuse's required keys)
+                    let others: String = [("break_force", "1e6"), ("stroke", "0.3")]
+                        .iter()
+                        .filter(|(k, _)| *k != field)
+                        .map(|(k, x)| format!("{k} = {x}\n"))
+                        .collect();
+                    format!("[joint.fuse]\nkind = \"box\"\n{others}{field} = {value}\n")
                 } else {
                     format!("[{section}]\n{required}{field} = {value}\n")
                 }

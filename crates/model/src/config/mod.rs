@@ -642,6 +642,9 @@ fn check_joint(j: &JointConfig) -> Result<(), ModelError> {
     if j.is_link() {
         check_link(j)?;
     }
+    if let Some(f) = &j.fuse {
+        check_fuse(j, f)?;
+    }
     check("joint.contact.hertz_stiffness", j.contact.hertz_stiffness)?;
     check("joint.contact.linear_stiffness", j.contact.linear_stiffness)?;
     let clear = j.pitch - j.center_beam.width;
@@ -686,6 +689,41 @@ fn check_link(j: &JointConfig) -> Result<(), ModelError> {
         ("joint.link.v_eps", l.v_eps()),
     ] {
         check(key, v)?;
+    }
+    Ok(())
+}
+
+/// Checks `[joint.fuse]`.
+fn check_fuse(j: &JointConfig, f: &FuseConfig) -> Result<(), ModelError> {
+    for (key, v) in [
+        ("joint.fuse.break_force", f.break_force),
+        ("joint.fuse.stroke", f.stroke),
+        ("joint.fuse.ramp_deg", f.ramp_deg),
+        ("joint.fuse.mu", f.mu),
+        ("joint.fuse.mass", f.mass.unwrap_or(j.center_beam.mass)),
+    ] {
+        check(key, v)?;
+    }
+    let fail = |reason: &str| {
+        Err(ModelError::Invalid { field: "joint.fuse".into(), value: "[joint.fuse]".into(), reason: reason.into() })
+    };
+    if j.is_link() {
+        return fail("the link element has no fuse yet: a fuse needs joint.model = \"detailed\"");
+    }
+    if !j.contact.enabled {
+        return fail("a fuse breaks on the beams' contact force: it needs joint.contact.enabled = true");
+    }
+    let a = f.ramp_deg.to_radians();
+    if a.cos() - f.mu * a.sin() <= 0.0 {
+        return Err(invalid(
+            "joint.fuse.ramp_deg",
+            f.ramp_deg,
+            &format!(
+                "with joint.fuse.mu = {} the edge beam locks on the ramp (no push moves it up: \
+                 cos(angle) - mu sin(angle) must be positive)",
+                quakejoint_motion::number(f.mu)
+            ),
+        ));
     }
     Ok(())
 }

@@ -50,11 +50,12 @@ pub fn simulate_scenario(
     let mut solver_options = integrator_options(config);
     // (a link's stick-slip converges only in short steps; docs/link.md)
     crate::link::tighten(&mut solver_options, &scenario.places);
-    let mut sim = Radau5::new(asm.clone(), solver_options)?;
+    let sim = Radau5::new(asm.clone(), solver_options.clone())?;
     let ground = Ground { x: gx, y: gy, dt: record_x.dt };
     let mut obs = Observers::new(scenario, &model, &asm, &sim, &ground, options)?;
     obs.joints[0].deadline = config.simulation.max_wall_time.map(|s| (start, s));
-    if !sim.run(duration, &mut obs)? {
+    let (sim, finished) = crate::run::fuse::run_with_fuses(&model, sim, &solver_options, duration, &mut obs)?;
+    if !finished {
         return Err(match obs.joints[0].deadline {
             Some((_, limit_s)) if obs.joints[0].out_of_time => {
                 SolverError::WallClockLimit { limit_s, time: sim.time() }.into()
@@ -67,12 +68,14 @@ pub fn simulate_scenario(
     let e = sim.energy();
     let energy_error = e.error_relative_to_input();
     let point_names = std::mem::take(&mut obs.point_names);
-    // each joint's friction: its group's, or the system's for one joint
-    let friction = match sim.group_friction_energy() {
-        [] => vec![e.friction],
-        groups => groups.to_vec(),
-    };
-    let energies = Energies { contact: e.contact, error: energy_error, friction: &friction };
+    // each joint's friction: its group's, or the system's for one joint;
+    // a broken fuse's freed beam's, in a group after the joints'
+    let n_joints = obs.joints.len();
+    let groups = sim.group_friction_energy();
+    let fuses: Vec<f64> = (0..n_joints).map(|k| groups.get(n_joints + k).copied().unwrap_or(0.0)).collect();
+    let bearings = e.friction - fuses.iter().sum::<f64>();
+    let friction = if n_joints > 1 { groups[..n_joints].to_vec() } else { vec![bearings] };
+    let energies = Energies { contact: e.contact, error: energy_error, friction: &friction, fuses: &fuses };
     let (obs, joints) = joint_results(obs.joints, &model, energies);
     let first = &joints[0];
     let mut validity = first.validity.clone();
@@ -109,7 +112,7 @@ pub fn simulate_scenario(
         peak_abutment_force: if obs.abutment_links.is_empty() { f64::NAN } else { obs.abutment_force.value },
         peak_bushing_force: obs.bushing,
         peak_friction_force: obs.friction,
-        friction_energy: e.friction,
+        friction_energy: bearings,
         damping_energy: e.damping,
         // (the drivers' work: a lagged abutment's, the earthquake's work
         // through it; zero without one)
@@ -152,7 +155,7 @@ fn joint_results(
     model: &JointModel,
     energy: Energies<'_>,
 ) -> (EarthquakeObserver, Vec<JointResult>) {
-    let Energies { contact: contact_energy, error: energy_error, friction } = energy;
+    let Energies { contact: contact_energy, error: energy_error, friction, fuses } = energy;
     let mut results = observers.into_iter().zip(model.joints()).enumerate().map(|(k, (mut obs, jm))| {
         let mut validity = obs.monitor.as_ref().map(|m| m.validity(energy_error)).unwrap_or_default();
         let mut pounding = obs.contacts.as_ref().map_or_else(Pounding::default, |c| c.result);
@@ -184,6 +187,7 @@ fn joint_results(
             validity,
             // (the first joint's stay the run's)
             histories: if k > 0 { obs.histories.take() } else { None },
+            fuse: obs.fuse.as_ref().map(|f| crate::run::fuse::FuseResult { energy: fuses[k], ..f.result }),
         };
         (joint, obs)
     });
@@ -193,11 +197,13 @@ fn joint_results(
 }
 
 /// The energies a run's joints share out: the contacts' (the whole
-/// system's) \[J\], the balance error [-] and each joint's friction \[J\].
+/// system's) \[J\], the balance error [-], each joint's friction and each
+/// joint's fuse's \[J\].
 struct Energies<'a> {
     contact: f64,
     error: f64,
     friction: &'a [f64],
+    fuses: &'a [f64],
 }
 
 /// What a run's bridge does without its joints, for the parts of the
@@ -305,6 +311,7 @@ impl Observers {
             obs.ground_y = ground.y.clone();
             if places.len() > 1 && k < asm.group_count() {
                 obs.group = Some(k);
+                obs.joint_groups = places.len();
                 obs.group_extremes = vec![Default::default(); asm.group_count()];
             }
             if k == 0 {
@@ -318,6 +325,37 @@ impl Observers {
             joints.push(obs);
         }
         Ok(Observers { joints, progress: options.progress.clone(), cancel: options.cancel.clone(), point_names })
+    }
+}
+
+impl crate::run::fuse::FuseObserver for Observers {
+    fn take_break(&mut self) -> Option<usize> {
+        // (a run stopped by its user or its clock stops, broken or not)
+        if self.joints[0].out_of_time || self.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return None;
+        }
+        self.joints.iter_mut().position(|j| j.fuse.as_mut().is_some_and(|f| f.take_pending()))
+    }
+
+    fn resumed(
+        &mut self,
+        asm: &Assembly,
+        broken: &[usize],
+        parts: &[crate::run::fuse::FreedParts],
+    ) -> Result<(), ModelError> {
+        for (k, j) in self.joints.iter_mut().enumerate() {
+            let freed = match broken.iter().position(|&b| b == k) {
+                Some(i) => {
+                    let coord = asm
+                        .coordinate(parts[i].edge, quakejoint_solver::Coord::X)
+                        .ok_or_else(|| ModelError::Geometry("the freed edge beam has no x coordinate".to_string()))?;
+                    Some((coord, parts[i]))
+                }
+                None => None,
+            };
+            j.resumed(asm, freed);
+        }
+        Ok(())
     }
 }
 

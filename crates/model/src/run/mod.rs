@@ -50,6 +50,7 @@ impl std::fmt::Debug for RunOptions {
 }
 
 mod coupled;
+pub mod fuse;
 mod observer;
 mod result;
 

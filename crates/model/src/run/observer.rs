@@ -90,6 +90,10 @@ pub(super) struct EarthquakeObserver {
     /// for every group's peak forces, and its own peaks.
     pub(super) group: Option<usize>,
     pub(super) group_extremes: Vec<quakejoint_solver::ForceExtremes>,
+    /// The groups that are joints' (the fuses' freed beams' come after).
+    pub(super) joint_groups: usize,
+    /// Its fuse, if it has one.
+    pub(super) fuse: Option<crate::run::fuse::FuseWatch>,
     /// Scratch: every group's friction power at a sample \[W\].
     pub(super) group_powers: Vec<f64>,
     pub(super) own: quakejoint_solver::ForceExtremes,
@@ -182,6 +186,8 @@ impl EarthquakeObserver {
             friction: 0.0,
             group: None,
             group_extremes: Vec::new(),
+            joint_groups: 0,
+            fuse: crate::run::fuse::FuseWatch::new(model),
             group_powers: Vec::new(),
             own: Default::default(),
             gaps,
@@ -198,6 +204,33 @@ impl EarthquakeObserver {
             last_report: 0.0,
             state: quakejoint_solver::StateBuffer::new(asm),
         })
+    }
+
+    /// Goes on watching in `asm`, the system with fuses broken: its scratch
+    /// sized for it, its own group's peaks apart from a freed beam's
+    /// friction, and, if its own fuse is among them, its freed edge beam
+    /// (`freed`: that beam's x coordinate and parts).
+    pub(super) fn resumed(&mut self, asm: &Assembly, freed: Option<(usize, crate::run::fuse::FreedParts)>) {
+        self.state = quakejoint_solver::StateBuffer::new(asm);
+        if let Some(c) = &mut self.contacts {
+            c.resized();
+        }
+        self.group_extremes = vec![Default::default(); asm.group_count()];
+        if self.group.is_none() {
+            // (one joint: its bodies are group 0 in the broken system)
+            self.group = Some(0);
+            self.joint_groups = 1;
+            self.own = quakejoint_solver::ForceExtremes { bushing: self.bushing, friction: self.friction };
+        }
+        if let (Some(fuse), Some((coord, parts))) = (&mut self.fuse, freed) {
+            fuse.freed(coord, parts);
+            if let Some(g) = &mut self.gaps {
+                g.free_edge(coord);
+            }
+            if let Some(m) = &mut self.monitor {
+                m.free_edge();
+            }
+        }
     }
 
     /// The sub-gaps and the validity limits at time `t` (positions `q`).
@@ -274,16 +307,13 @@ impl EarthquakeObserver {
         let reaction = asm.reaction_sum(ws, t, q, lam, &self.boxes, self.deck_body);
         let mut fj = reaction[0] + pushed;
         if !self.abutment_links.is_empty() {
-            // the links' reactions on the support beams, turned round, and
-            // the abutment's edge-beam contacts
-            let held: f64 = self
-                .abutment_links
-                .iter()
-                .zip(&self.supports)
-                .map(|(&c, &b)| asm.reaction_sum(ws, t, q, lam, &[c], b)[0])
-                .sum();
-            let pushed_abutment = self.contacts.as_ref().map_or(0.0, |w| w.far_push());
-            self.abutment_force.update(pushed_abutment - held, t);
+            // the abutment's edge-beam contacts, or once its fuse broke the
+            // freed edge beam's box
+            let pushed = match self.fuse.as_mut().and_then(|f| f.sample(asm, ws, q, v)) {
+                Some(push) => push,
+                None => self.contacts.as_ref().map_or(0.0, |w| w.far_push()),
+            };
+            self.abutment_update(Instant { t, q, v, lam }, pushed, asm, ws);
         }
         if let Some(l) = &mut self.link {
             fj = l.update(t, q, v, asm, ws);
@@ -332,6 +362,20 @@ impl EarthquakeObserver {
         }
     }
 
+    /// The joint's force on its abutment side at `at`: its links'
+    /// reactions on the support beams, turned round, and `pushed`, the edge
+    /// beam's push along x \[N\], into its peak.
+    fn abutment_update(&mut self, at: Instant<'_>, pushed: f64, asm: &Assembly, ws: &mut quakejoint_solver::Workspace) {
+        let Instant { t, q, lam, .. } = at;
+        let held: f64 = self
+            .abutment_links
+            .iter()
+            .zip(&self.supports)
+            .map(|(&c, &b)| asm.reaction_sum(ws, t, q, lam, &[c], b)[0])
+            .sum();
+        self.abutment_force.update(pushed - held, t);
+    }
+
     /// The peak bushing and friction forces: the whole system's and, in a
     /// run of several joints, this joint's group's (every bushing and
     /// bearing is some joint's, so the system's are the groups' largest).
@@ -344,7 +388,9 @@ impl EarthquakeObserver {
                 let own = self.group_extremes[g];
                 self.own.bushing = self.own.bushing.max(own.bushing);
                 self.own.friction = self.own.friction.max(own.friction);
-                self.group_extremes.iter().fold(Default::default(), |m: quakejoint_solver::ForceExtremes, x| {
+                // (the joints' groups: a freed edge beam's friction is its fuse's)
+                let joints = &self.group_extremes[..self.joint_groups];
+                joints.iter().fold(Default::default(), |m: quakejoint_solver::ForceExtremes, x| {
                     quakejoint_solver::ForceExtremes {
                         bushing: m.bushing.max(x.bushing),
                         friction: m.friction.max(x.friction),
@@ -464,7 +510,16 @@ struct Instant<'a> {
 }
 
 impl Observer for EarthquakeObserver {
+    /// Watches the step; false when its fuse broke at the step's end (the
+    /// run then goes on in the broken system, [`crate::run::fuse::run_with_fuses`]).
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        let broke = self.fuse.as_mut().is_some_and(|f| f.step(view.events));
+        if let Some(f) = self.fuse.as_ref().filter(|_| broke && !self.abutment_links.is_empty()) {
+            // (the break force reaches the abutment at the break, between
+            // two output times)
+            let at = Instant { t: view.t, q: view.q, v: view.v, lam: view.lambda };
+            self.abutment_update(at, -f.result.break_force, view.assembly, view.workspace);
+        }
         self.locate_crossings(view);
         self.check_between(view);
         if let Some(c) = &mut self.contacts {
@@ -484,7 +539,7 @@ impl Observer for EarthquakeObserver {
             self.sample(state.t, &state.q, &state.v, &state.lambda, view.assembly, view.workspace);
             self.state = state;
         }
-        true
+        !broke
     }
 }
 

@@ -179,10 +179,28 @@ pub struct JointResult {
     /// on the deck, its cells), if requested; the first joint's are the
     /// run's ([`RunResult::histories`]).
     pub histories: Option<Histories>,
+    /// What its seismic fuse did (none without `[joint.fuse]`).
+    pub fuse: Option<crate::run::fuse::FuseResult>,
 }
 
-/// A joint's values, in the order of [`JointResult::scalars`].
-pub const JOINT_FIELDS: [Described; 16] = [
+/// A joint's values, in the order of [`JointResult::scalars`]: its own
+/// ([`OWN_FIELDS`]), then its fuse's ([`crate::run::fuse::FUSE_FIELDS`]).
+pub const JOINT_FIELDS: [Described; 23] = {
+    let mut out = [described("", "", ""); 23];
+    let mut i = 0;
+    while i < OWN_FIELDS.len() {
+        out[i] = OWN_FIELDS[i];
+        i += 1;
+    }
+    while i < 23 {
+        out[i] = crate::run::fuse::FUSE_FIELDS[i - OWN_FIELDS.len()];
+        i += 1;
+    }
+    out
+};
+
+/// A joint's own values (its fuse's apart).
+const OWN_FIELDS: [Described; 16] = [
     described("sa", "m/s^2", "peak absolute acceleration of its deck point (along the bridge)"),
     described("t_sa", "s", "time of `sa`"),
     described("sd", "m", "peak displacement of its deck point relative to the ground"),
@@ -213,7 +231,7 @@ impl JointResult {
     /// Its values ([`JOINT_FIELDS`]): name, value (NaN where not computed)
     /// and unit, as a run's `/joints/<k>` and a sweep's `/joints/<k>`
     /// store them (its validity bits apart).
-    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 16] {
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 23] {
         let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
         let p = &self.pounding;
         let values = [
@@ -234,6 +252,8 @@ impl JointResult {
             p.peak_deck_contact_force,
             p.max_penetration,
         ];
-        std::array::from_fn(|i| (JOINT_FIELDS[i].name, values[i], JOINT_FIELDS[i].units))
+        let fuse = crate::run::fuse::FuseResult::values(self.fuse.as_ref());
+        let value = |i: usize| if i < values.len() { values[i] } else { fuse[i - values.len()] };
+        std::array::from_fn(|i| (JOINT_FIELDS[i].name, value(i), JOINT_FIELDS[i].units))
     }
 }

@@ -95,6 +95,12 @@ impl System {
         ForceId((self.forces.len() - 1) as u32)
     }
 
+    /// A force element to change (a contact moved onto another base, in a
+    /// system a run resumes in: [`crate::Radau5::resume`]).
+    pub fn force_mut(&mut self, id: ForceId) -> &mut ForceElement {
+        &mut self.forces[id.index()].1
+    }
+
     /// Adds a constraint named after its type and index.
     pub fn add_constraint(&mut self, constraint: Constraint) -> ConstraintId {
         let name = format!("{} #{}", constraint.kind(), self.constraints.len());

@@ -1,0 +1,196 @@
+//! A fuse box driven through a prescribed closing, against the hand
+//! calculation.
+//!
+//! The small joint with 3 center beams (4 cells with a clear sub-gap of
+//! `c = 40 mm`) carried on two guides along x by frictionless bearings (no
+//! swivel joists, whose skew would hold the beams through the bushings),
+//! its beams touching through linear contacts of `k = 1e7 N/m` at each
+//! end. The deck is driven shut and open again, `u(t) = -A/2 (1 - cos(w
+//! t))` with `A = 0.25 m` over 40 s. With nothing holding the beams, every
+//! cell carries the same force once the joint has closed: the cells' two
+//! ends in parallel and the four cells in series, `K = 2 k / 4`. So the
+//! closing force on the edge beam reaches the break force `F_b` when the
+//! deck has closed by `4 c + F_b / K`: the break time is where `u(t)` gets
+//! there.
+//!
+//! The freed edge beam slides on a level floor against its friction `R =
+//! mu m g` (no ramp: nothing pushes it back). The deck pushes it on until
+//! its turning point, closing the joint by `A`. Under exact Coulomb
+//! friction the beam stops with the cells still pressed by `R`: it rests at
+//! `A - 4 c - R / K` from its seat, and its friction dissipated `R` times
+//! that. The model's friction is regularised (viscous below `v_eps`): as
+//! the deck slows to its turning point the beam creeps on while the cells
+//! relax, at most to `A - 4 c`; the residual offset lies between the two,
+//! and the friction energy is `R` times the slide less what the creep
+//! dissipates viscously. The jump of the edge beam when the compressed
+//! cells let go at the break (their `F_b^2 / (2 K)` = 40 J into a slide
+//! against 8.8 kN, at most 4.5 mm) stays behind what the deck pushes it
+//! through afterwards (86 mm).
+//!
+//! The same run with a fuse that never reaches its break force gives the
+//! run without a fuse bit for bit, and a stronger fuse breaks later in the
+//! same closing. Each run's energy balance closes, the fuse's friction
+//! within it.
+
+use std::sync::Arc;
+
+use quakejoint_model::generator::{build, Drive, JointModel};
+use quakejoint_model::run::fuse::{run_with_fuses, FreedParts, FuseObserver, FuseWatch};
+use quakejoint_model::{Config, ModelError};
+use quakejoint_solver::{
+    Assembly, AssemblyOptions, Constraint, Coord, Driver, Observer, Radau5, StepView, TimeFunction,
+};
+
+const A: f64 = 0.25;
+const PERIOD: f64 = 40.0;
+const K_END: f64 = 1.0e7;
+const CLEAR: f64 = 0.04;
+const CELLS: f64 = 4.0;
+const BEAM_MASS: f64 = 900.0;
+const MU: f64 = 1.0;
+
+/// The small joint on frictionless bearings with linear contacts, and
+/// `fuse` (a `[joint.fuse]` table's body, or none).
+fn config(fuse: Option<&str>) -> Config {
+    let fuse = fuse.map_or(String::new(), |f| format!("[joint.fuse]\n{f}\n"));
+    let text = format!(
+        r#"
+[joint]
+center_beams = 3
+[[joint.support_beams]]
+kind = "guide"
+y = -5.0
+[[joint.support_beams]]
+kind = "guide"
+y = 5.0
+[joint.friction]
+mu = 0.0
+[joint.contact]
+law = "linear"
+linear_stiffness = {K_END}
+{fuse}
+[bridge]
+mass = 1.0e4
+period = 10.0
+[simulation]
+rtol = 1e-7
+"#
+    );
+    Config::from_toml(&text, "fuse_box.toml").unwrap()
+}
+
+/// A fuse box of break force `f_b` \[N\].
+fn fuse(f_b: f64) -> String {
+    format!("kind = \"box\"\nbreak_force = {f_b}\nstroke = 0.5\nmu = {MU}\nmass = {BEAM_MASS}")
+}
+
+/// The joint's model with its deck driven through `u(t)`.
+fn driven(config: &Config) -> JointModel {
+    let mut model = build(config, None, Drive::None).unwrap();
+    let w = 2.0 * std::f64::consts::PI / PERIOD;
+    let motion =
+        TimeFunction::Harmonic { amplitude: 0.5 * A, omega: w, phase: 0.5 * std::f64::consts::PI, offset: -0.5 * A };
+    model.system.add_constraint(Constraint::Driver(Driver { body: model.deck, coord: Coord::X, motion }));
+    model
+}
+
+/// Watches the fuse of a run's one joint.
+struct Watch {
+    fuse: Option<FuseWatch>,
+}
+
+impl Observer for Watch {
+    fn step(&mut self, view: &mut StepView<'_>) -> bool {
+        let Some(f) = &mut self.fuse else { return true };
+        let broke = f.step(view.events);
+        f.sample(view.assembly, view.workspace, view.q, view.v);
+        !broke
+    }
+}
+
+impl FuseObserver for Watch {
+    fn take_break(&mut self) -> Option<usize> {
+        self.fuse.as_mut().is_some_and(|f| f.take_pending()).then_some(0)
+    }
+
+    fn resumed(&mut self, asm: &Assembly, _: &[usize], parts: &[FreedParts]) -> Result<(), ModelError> {
+        let coord = asm.coordinate(parts[0].edge, Coord::X).unwrap();
+        self.fuse.as_mut().unwrap().freed(coord, parts[0]);
+        Ok(())
+    }
+}
+
+/// The run to the end of the closing and reopening: the solver at its end
+/// and what the fuse did.
+fn run(config: &Config) -> (Radau5, Option<quakejoint_model::run::fuse::FuseResult>) {
+    let model = driven(config);
+    let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default()).unwrap());
+    let options = quakejoint_model::run::integrator_options(config);
+    let sim = Radau5::new(asm, options.clone()).unwrap();
+    let mut watch = Watch { fuse: FuseWatch::new(&model) };
+    let (sim, finished) = run_with_fuses(&model, sim, &options, PERIOD, &mut watch).unwrap();
+    assert!(finished);
+    (sim, watch.fuse.map(|f| f.result))
+}
+
+/// The break time of a fuse of `f_b` \[N\] by hand \[s\].
+fn break_time(f_b: f64) -> f64 {
+    let k = 2.0 * K_END / CELLS;
+    let w = 2.0 * std::f64::consts::PI / PERIOD;
+    (1.0 - 2.0 * (CELLS * CLEAR + f_b / k) / A).acos() / w
+}
+
+#[test]
+fn a_fuse_box_breaks_and_slides_as_the_hand_calculation_says() {
+    let f_b = 2.0e4;
+    let (sim, fuse) = run(&config(Some(&fuse(f_b))));
+    let fuse = fuse.unwrap();
+    assert!(fuse.broke);
+    // (located on the step's polynomial, the step retaken to end there:
+    // to within its local error, atol 1e-6 m on a cell of 2k = 2e7 N/m)
+    assert!((fuse.break_force - f_b).abs() < 2.0 * K_END * 1e-6, "break force {} N", fuse.break_force);
+    // (the deck closes at 19 mm/s there: 5 ms is 0.1 mm of closing, 2.5 %
+    // of F_b / K; the beams still ring a little from their impacts)
+    let t_break = break_time(f_b);
+    assert!((fuse.break_time - t_break).abs() < 5e-3, "broke at {} s, by hand {t_break} s", fuse.break_time);
+    let k = 2.0 * K_END / CELLS;
+    let r = MU * BEAM_MASS * 9.81;
+    let (coulomb, relaxed) = (A - CELLS * CLEAR - r / k, A - CELLS * CLEAR);
+    let offset = fuse.residual_offset;
+    assert!(coulomb < offset && offset < relaxed, "residual offset {offset} m, by hand {coulomb} to {relaxed} m");
+    assert!((fuse.stroke_used - offset).abs() < 1e-9, "it slid one way only");
+    assert!(!fuse.stroke_exhausted);
+    // the fuse's friction (its group of bodies, after the joint's): R times
+    // the slide, less the viscous creep's share (under 1 %)
+    let energy = sim.group_friction_energy()[1];
+    assert!(
+        energy < r * offset && energy > 0.99 * r * offset,
+        "fuse friction {energy} J, R times slide {} J",
+        r * offset
+    );
+    let e = sim.energy();
+    assert!(e.error().abs() < 1e-4 * e.constraints, "energy balance error {} J of {} J", e.error(), e.constraints);
+}
+
+#[test]
+fn a_stronger_fuse_breaks_later_in_the_same_closing() {
+    let (_, weak) = run(&config(Some(&fuse(2.0e4))));
+    let (_, strong) = run(&config(Some(&fuse(4.0e4))));
+    let (weak, strong) = (weak.unwrap(), strong.unwrap());
+    assert!(strong.break_time > weak.break_time, "{} s against {} s", strong.break_time, weak.break_time);
+    let t_break = break_time(4.0e4);
+    assert!((strong.break_time - t_break).abs() < 5e-3, "broke at {} s, by hand {t_break} s", strong.break_time);
+}
+
+#[test]
+fn a_fuse_that_never_breaks_leaves_the_run_as_it_is_without_one() {
+    // (the closed joint's force peaks at K (A - 4 c) = 450 kN)
+    let (with, fuse) = run(&config(Some(&fuse(1.0e6))));
+    let (without, none) = run(&config(None));
+    assert!(none.is_none() && !fuse.unwrap().broke);
+    assert_eq!(
+        (with.time(), with.positions(), with.velocities(), with.stats()),
+        (without.time(), without.positions(), without.velocities(), without.stats())
+    );
+    assert_eq!(with.energy(), without.energy());
+}

@@ -1,0 +1,72 @@
+//! A fuse box in an earthquake run.
+//!
+//! The small joint (3 center beams, 4 cells of 40 mm) under Loma Prieta
+//! Corralitos 090 on the reference deck at 1 s (`configs/small.toml`):
+//!
+//! - At full scale its beams strike each other but center beam 1 never
+//!   presses the abutment's edge beam: a fuse of any break force holds,
+//!   and every result of the run is the run's without a fuse, bit for bit
+//!   (no extra body exists until a fuse breaks).
+//! - At twice the scale the deck's 0.4 m crush the closed joint against
+//!   the abutment (a closed-joint force of the order of 1e8 N). A fuse of
+//!   200 kN with 0.3 m of stroke breaks, its edge beam slides, the force
+//!   on the deck stays below a few MN, and the energy balance closes with
+//!   the fuse's friction in it.
+
+mod common;
+
+use quakejoint_model::run::{load_records, simulate_records, RunOptions, RunResult};
+
+/// `configs/small.toml` with its record scaled by `scale` and `fuse` (a
+/// `[joint.fuse]` body, or none).
+fn run(scale: f64, fuse: Option<&str>) -> RunResult {
+    let fuse = fuse.map_or(String::new(), |f| format!("[joint.fuse]\n{f}\n"));
+    let text = std::fs::read_to_string(common::configs_dir().join("small.toml")).unwrap();
+    let record = text.find("\n[record]").unwrap() + 1;
+    let text = format!("{}{fuse}{}\nscale = {scale}\n", &text[..record], &text[record..]);
+    let config =
+        quakejoint_model::Config::from_toml(&text, &common::configs_dir().join("small.toml").display().to_string())
+            .unwrap();
+    let (x, _) = load_records(&config, &common::configs_dir()).unwrap();
+    simulate_records(&config, &x.record, None, &RunOptions::default()).unwrap()
+}
+
+/// The run's fields but its fuse's and the machine's.
+fn fields(r: &RunResult) -> Vec<(&'static str, u64)> {
+    quakejoint_model::fields::FIELDS
+        .iter()
+        .filter(|f| !f.machine_dependent && !f.name.starts_with("fuse_"))
+        .map(|f| (f.name, (f.value)(r).to_bits()))
+        .collect()
+}
+
+#[test]
+fn a_fuse_that_holds_leaves_every_result_unchanged() {
+    let with = run(1.0, Some("kind = \"box\"\nbreak_force = 1e4\nstroke = 0.3"));
+    let without = run(1.0, None);
+    let fuse = with.joints[0].fuse.unwrap();
+    assert!(!fuse.broke && fuse.break_time.is_nan() && fuse.stroke_used == 0.0);
+    assert!(without.joints[0].fuse.is_none());
+    assert_eq!(fields(&with), fields(&without));
+    assert!(with.pounding.impacts > 0, "the beams strike each other");
+}
+
+#[test]
+fn a_fuse_that_breaks_frees_the_edge_beam_and_the_energy_balance_closes() {
+    let fuse = "kind = \"box\"\nbreak_force = 2e5\nstroke = 0.3";
+    let with = run(2.0, Some(fuse));
+    let without = run(2.0, None);
+    let f = with.joints[0].fuse.unwrap();
+    eprintln!(
+        "{f:?}\nwith: deck force {:.3e} N, abutment {:.3e} N, energy error {:.1e}; without: deck force {:.3e} N",
+        with.peak_joint_force, with.peak_abutment_force, with.energy_error, without.peak_joint_force
+    );
+    assert!(f.broke && (f.break_force / 2e5 - 1.0).abs() < 1e-3, "{f:?}");
+    assert!(f.stroke_used > 0.0 && f.residual_offset > 0.0 && f.residual_offset <= f.stroke_used + 1e-9);
+    assert!(f.energy > 0.0);
+    // the break force reaches the abutment at the break (the joist pivots'
+    // and the guide's reactions add their share)
+    assert!(with.peak_abutment_force > f.break_force, "{} N", with.peak_abutment_force);
+    assert!(with.energy_error < 1e-6, "energy balance error {:.1e}", with.energy_error);
+    assert!(without.peak_joint_force > 1e7 && with.peak_joint_force < 1e-2 * without.peak_joint_force);
+}
