@@ -40,11 +40,15 @@ pub struct FuseBox {
     pub lift: f64,
     /// Its sliding resistance (`(H_up - H_down) / 2`: the friction) \[N\].
     pub resistance: f64,
-    /// The friction's regularisation velocity [m/s] and law: the joint's
-    /// (`joint.friction`). A beam held on a ramp by friction alone creeps
-    /// back toward its seat at up to `v_eps lift / resistance`.
+    /// The friction's regularisation velocity, the joint's
+    /// (`joint.friction.v_eps`) [m/s]: a beam held on a ramp by friction
+    /// alone creeps back toward its seat at up to `v_eps lift /
+    /// resistance`.
     pub v_eps: f64,
-    /// See [`FuseBox::v_eps`].
+    /// The friction's regularised law: the smooth one, whatever the
+    /// bearings' (with the linear law's kink at `v_eps` the freed beam's
+    /// stick-slip made the integrator crawl and its energy balance drift:
+    /// docs/model.md, "Seismic fuse").
     pub friction_law: FrictionLaw,
     /// The contacts of center beam 1 on the edge beam (both ends).
     pub(crate) contacts: Vec<ForceId>,
@@ -61,13 +65,13 @@ pub struct FuseBox {
 impl FuseBox {
     /// The fuse box of `config`'s joint (none without `[joint.fuse]`),
     /// with the joint's contacts on its edge beam, numbered from `first`,
-    /// the laws of its seat's and stop's contact and of its friction (the
-    /// joint's), and its bodies' group and names.
+    /// the law of its seat's and stop's contacts (the joint's), and its
+    /// bodies' group and names.
     pub(crate) fn new(
         config: &Config,
         contacts: Vec<ForceId>,
         first: usize,
-        (law, friction_law): (ContactLaw, FrictionLaw),
+        law: ContactLaw,
         (group, prefix): (u32, &str),
     ) -> Option<Self> {
         let f = config.joint.fuse.as_ref()?;
@@ -84,7 +88,7 @@ impl FuseBox {
             lift,
             resistance,
             v_eps: config.joint.friction.v_eps,
-            friction_law,
+            friction_law: FrictionLaw::Smooth,
             contacts,
             contact_numbers,
             law,

@@ -178,14 +178,6 @@ fn add_contacts(
     edge
 }
 
-/// The solver's regularised friction law of `joint.friction`.
-fn friction_law(j: &crate::config::JointConfig) -> FrictionLaw {
-    match j.friction.law {
-        LawConfig::Linear => FrictionLaw::Linear,
-        LawConfig::Smooth => FrictionLaw::Smooth,
-    }
-}
-
 /// Adds the bodies of the joint of `config` (`[joint]`) with their
 /// bushings, friction elements and sliding joints to `sys`; `sign` -1
 /// turns the joint half a turn about the vertical (its bodies then feel the
@@ -223,7 +215,10 @@ fn add_joint_bodies(
         let body = sys.add_body(turned(Body::new(name, sbc.mass, inertia, [s.centre[0], s.centre[1], s.theta]), sign));
         model.supports.push(body);
     }
-    let law = friction_law(j);
+    let law = match j.friction.law {
+        LawConfig::Linear => FrictionLaw::Linear,
+        LawConfig::Smooth => FrictionLaw::Smooth,
+    };
     for (i, &x) in geo.center_x.iter().enumerate() {
         let mut row = Vec::with_capacity(geo.supports.len());
         for (k, s) in geo.supports.iter().enumerate() {
@@ -689,8 +684,8 @@ fn connect_joints(
                 let field = if places.len() > 1 { format!("joints[{k}].joint.fuse") } else { "joint.fuse".into() };
                 crate::fuse::check_abutment(abutment, &field)?;
                 let group = (places.len() + k) as u32;
-                let laws = (contact_law(&place.config), friction_law(j));
-                model.fuse = crate::fuse::FuseBox::new(&place.config, edge, contacts, laws, (group, &place.prefix));
+                let law = contact_law(&place.config);
+                model.fuse = crate::fuse::FuseBox::new(&place.config, edge, contacts, law, (group, &place.prefix));
             }
             contacts += model.contacts.len();
         }

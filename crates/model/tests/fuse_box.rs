@@ -158,7 +158,13 @@ fn a_fuse_box_breaks_and_slides_as_the_hand_calculation_says() {
     let (coulomb, relaxed) = (A - CELLS * CLEAR - r / k, A - CELLS * CLEAR);
     let offset = fuse.residual_offset;
     assert!(coulomb < offset && offset < relaxed, "residual offset {offset} m, by hand {coulomb} to {relaxed} m");
-    assert!((fuse.stroke_used - offset).abs() < 1e-9, "it slid one way only");
+    // (it slid one way; as the deck reopens, beam 1 leaves it at 0.6 mm/s
+    // with the gap a few micrometres wide, and a contact the solver leaves
+    // closed and unchecked for a step where it must change back at once
+    // (docs/solver.md, "Contact events") pulls it after beam 1 by up to
+    // 0.1 mm at rtol 1e-9, with an energy balance off by 3e-3 there; at
+    // this test's rtol 1e-7 and at 1e-8, 2e-5)
+    assert!((fuse.stroke_used - offset).abs() < 2e-4, "travel {} m, rests at {offset} m", fuse.stroke_used);
     assert!(!fuse.stroke_exhausted);
     // the fuse's friction (its group of bodies, after the joint's): R times
     // the slide, less the viscous creep's share (under 1 %)
@@ -193,4 +199,48 @@ fn a_fuse_that_never_breaks_leaves_the_run_as_it_is_without_one() {
         (without.time(), without.positions(), without.velocities(), without.stats())
     );
     assert_eq!(with.energy(), without.energy());
+}
+
+#[test]
+fn a_fuse_box_on_a_ramp_pushes_its_edge_beam_back_to_the_seat() {
+    // a ramp of 20 degrees at mu = 0.15: tan(20 deg) = 0.36 > mu, so the
+    // lift outweighs the friction and the beam slides back down (pushing the
+    // frictionless beams ahead of it) as the deck reopens: no residual
+    // offset, and the friction works both ways, R times at least twice the
+    // travel
+    let ramp = format!("{}\nramp_deg = 20.0", fuse(2.0e4)).replace(&format!("mu = {MU}"), "mu = 0.15");
+    let (sim, fuse) = run(&config(Some(&ramp)));
+    let fuse = fuse.unwrap();
+    let [lift, r] = quakejoint_model::fuse::ramp_forces(BEAM_MASS * 9.81, 20.0, 0.15);
+    // H_up = lift + R and H_down = lift - R by hand
+    let (s, c) = 20f64.to_radians().sin_cos();
+    let w = BEAM_MASS * 9.81;
+    assert!((lift + r - w * (s + 0.15 * c) / (c - 0.15 * s)).abs() < 1e-9 * w);
+    assert!((lift - r - w * (s - 0.15 * c) / (c + 0.15 * s)).abs() < 1e-9 * w);
+    let k = 2.0 * K_END / CELLS;
+    let travel = A - CELLS * CLEAR - (lift + r) / k;
+    assert!(
+        fuse.broke && (fuse.stroke_used / travel - 1.0).abs() < 0.02,
+        "travel {} m, by hand {travel} m",
+        fuse.stroke_used
+    );
+    // (on its seat, the seat's contact, the joint's linear law, pressed by
+    // the lift)
+    let seated = -lift / K_END;
+    assert!(
+        (fuse.residual_offset / seated - 1.0).abs() < 0.01,
+        "rests at {} m, by hand {seated} m",
+        fuse.residual_offset
+    );
+    let energy = sim.group_friction_energy()[1];
+    let by_hand = 2.0 * r * fuse.stroke_used;
+    // (its path is at least twice its travel; it rings against the
+    // frictionless beams it pushes back, 5 % more path here)
+    assert!(
+        energy > by_hand && energy < 1.1 * by_hand,
+        "fuse friction {energy} J, R times twice the travel {by_hand} J"
+    );
+    let e = sim.energy();
+    // (2e-4 at rtol 1e-7 to 1e-9: the beam's stick-slip on the seat)
+    assert!(e.error().abs() < 1e-3 * e.constraints, "energy balance error {} J of {} J", e.error(), e.constraints);
 }
