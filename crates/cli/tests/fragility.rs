@@ -272,3 +272,64 @@ fn what_stripes_cannot_be_is_refused_naming_the_field() {
         assert!(!out.exists(), "{what}: an output was written");
     }
 }
+
+/// The fuse's limit states (`fuse_broken`, `fuse_stroke_exhausted`): on
+/// the small joint at Sa(1 s) of 0.5 g (the joint never closes against
+/// the abutment) and 1.5 g (the deck moves 0.35 to 0.43 m and crushes the
+/// joint against the abutment without a fuse, some 5e8 N), without a fuse
+/// and with fuse boxes of 200 kN with a stroke of 0.1 m and of 1 m. Each
+/// run's outcome is its own `fuse_broken`, `fuse_stroke_exhausted`; a run
+/// without a fuse is undetermined (not a run that held). The short stroke
+/// is exhausted at 1.5 g (the joint then crushes against the stop, some
+/// 1e8 N); on the long one the freed edge beam, held by 1.3 kN of
+/// friction, travels 0.7 to 0.8 m and the abutment's force stays under
+/// 1 MN (the break force, and the joist pivots' and guide's share as the
+/// beams follow the edge beam: 0.56 to 0.65 MN).
+#[test]
+fn the_fuse_limit_states_are_the_runs_fuse_and_undetermined_without_one() {
+    let d = dir("fragility_fuse");
+    let record = |name: &str| root().join("ground_motions").join(name);
+    let fuse = |stroke: f64| format!("{{ kind = \"box\", break_force = 2e5, stroke = {stroke} }}");
+    let sweep = format!(
+        "[sweep]\nperiods = [1.0]\nrecords = [{{ file = {:?} }}, {{ file = {:?} }}]\n\
+         [sweep.stripes]\nmeasure = \"sa\"\nlevels = [0.5, 1.5]\n\
+         [sweep.fragility]\nbootstrap = 0\n\
+         [[sweep.fragility.limit_states]]\nkind = \"fuse_broken\"\n\
+         [[sweep.fragility.limit_states]]\nkind = \"fuse_stroke_exhausted\"\n\
+         [[sweep.cases]]\nname = \"no fuse\"\n\
+         [[sweep.cases]]\nname = \"short stroke\"\njoint.fuse = {}\n\
+         [[sweep.cases]]\nname = \"long stroke\"\njoint.fuse = {}\n",
+        record("RSN753_LOMAP_CLS090-hor2.AT2"),
+        record("RSN6_IMPVALL.I_I-ELC180-hor1.AT2"),
+        fuse(0.1),
+        fuse(1.0),
+    );
+    let cfg = config(&d, "fuse.toml", &sweep, 8.0);
+    let out = d.join("fuse.h5");
+    let o = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()]);
+    ok(&o);
+    let f = read_sweep(&out).unwrap();
+    let fr = f.fragility.as_ref().unwrap();
+    let r = &f.results;
+    let evaluated = fr.evaluate(r);
+    let field = Results::field;
+    let (broken, exhausted, force) =
+        (field("fuse_broken"), field("fuse_stroke_exhausted"), field("peak_abutment_force"));
+    assert_eq!(r.status.len(), 12);
+    for j in 0..12 {
+        for (ls, f) in [(0, broken), (1, exhausted)] {
+            let expected = if j >= 4 { i8::from(r.values[f][j] > 0.5) } else { outcome::UNDETERMINED };
+            assert_eq!(evaluated[ls].outcome[j], expected, "limit state {ls}, job {j}");
+        }
+    }
+    // (a case's jobs: the two records at 0.5 g, then at 1.5 g)
+    let values = |f: usize, case: usize| -> Vec<f64> { [2, 3].map(|k| r.values[f][4 * case + k]).to_vec() };
+    // at 1.5 g both fuses break, the short one runs out
+    assert_eq!((values(broken, 1), values(exhausted, 1)), (vec![1.0; 2], vec![1.0; 2]));
+    assert_eq!((values(broken, 2), values(exhausted, 2)), (vec![1.0; 2], vec![0.0; 2]));
+    // at 0.5 g none breaks
+    assert!([4, 5, 8, 9].iter().all(|&j| r.values[broken][j] == 0.0));
+    let crushed = values(force, 0).into_iter().fold(f64::INFINITY, f64::min);
+    let fused = values(force, 2).into_iter().fold(0.0f64, f64::max);
+    assert!(crushed > 1e8 && fused < 1e6, "abutment force {crushed} N without the fuse, {fused} N with it");
+}

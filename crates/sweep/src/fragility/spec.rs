@@ -13,7 +13,7 @@
 //!
 //! [[sweep.fragility.limit_states]]
 //! kind = "pounding"        # capacity, pounding, contact_force, penetration, bearing_off_support,
-//! speed = 0.5              # abutment_force, field, deck
+//! speed = 0.5              # abutment_force, fuse_broken, fuse_stroke_exhausted, field, deck
 //! ```
 
 use std::path::Path;
@@ -28,8 +28,18 @@ use crate::results::FIELDS;
 pub const FRAGILITY_KEYS: [&str; 6] = ["limit_states", "failed", "bootstrap", "seed", "confidence", "hazard"];
 
 /// The kinds of limit state, in the order docs/sweep.md lists them.
-pub const KINDS: [&str; 8] =
-    ["capacity", "pounding", "contact_force", "penetration", "bearing_off_support", "abutment_force", "field", "deck"];
+pub const KINDS: [&str; 10] = [
+    "capacity",
+    "pounding",
+    "contact_force",
+    "penetration",
+    "bearing_off_support",
+    "abutment_force",
+    "fuse_broken",
+    "fuse_stroke_exhausted",
+    "field",
+    "deck",
+];
 
 /// The deck's own measures a `deck` limit state may take (the arrays with
 /// and without the joint hold them alike).
@@ -219,7 +229,7 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
         None => return Err(err(&format!("{at}.kind"), format!("missing: one of {}", KINDS.join(", ")))),
     };
     let allowed: &[&str] = match kind.as_str() {
-        "capacity" | "bearing_off_support" => &[],
+        "capacity" | "bearing_off_support" | "fuse_broken" | "fuse_stroke_exhausted" => &[],
         "pounding" => &["speed"],
         "contact_force" => &["force", "at"],
         "penetration" => &["depth"],
@@ -284,6 +294,20 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
                 ),
             )
         }
+        "fuse_broken" => e.one(
+            "fuse broken".into(),
+            field_test("fuse_broken", 0.5, true),
+            "the joint's seismic fuse broke (fuse_broken; service interrupted, the joint to be reset and the fuse \
+             repaired; a run without a fuse is undetermined)"
+                .into(),
+        ),
+        "fuse_stroke_exhausted" => e.one(
+            "fuse stroke exhausted".into(),
+            field_test("fuse_stroke_exhausted", 0.5, true),
+            "the freed edge beam reached the fuse box's stop (fuse_stroke_exhausted: the joint pushes the abutment \
+             again; a run without a fuse is undetermined)"
+                .into(),
+        ),
         "field" => e.field()?,
         _ => e.deck()?,
     })
