@@ -308,6 +308,8 @@ fn the_fuse_limit_states_are_the_runs_fuse_and_undetermined_without_one() {
     let out = d.join("fuse.h5");
     let o = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()]);
     ok(&o);
+    let said = "fuses: broke in 4 of the 8 finished job(s) with a seismic fuse, their stroke exhausted in 2";
+    assert!(stdout(&o).contains(said), "{}", stdout(&o));
     let f = read_sweep(&out).unwrap();
     let fr = f.fragility.as_ref().unwrap();
     let r = &f.results;

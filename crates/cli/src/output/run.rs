@@ -317,9 +317,36 @@ fn joint_lines(config: &Config, j: &JointResult, several: bool) {
         }
         out!("  deepest penetration           {:>12.3} mm", p.max_penetration * 1e3);
     }
+    fuse_lines(config, j);
     if several {
         out!("  validity: {}", j.validity.flags.label());
     }
+}
+
+/// A joint's seismic fuse: whether and when it broke, the edge beam's
+/// travel against the stroke, where it rests, its friction energy.
+fn fuse_lines(config: &Config, j: &JointResult) {
+    let placed = config.joints.iter().find(|p| p.name == j.name);
+    let joint = placed.and_then(|p| p.joint.as_ref()).unwrap_or(&config.joint);
+    let (Some(fuse), Some(f)) = (&joint.fuse, &j.fuse) else { return };
+    let break_kn = fuse.break_force / 1e3;
+    if !f.broke {
+        out!("  seismic fuse (box)            held (never reached its break force of {break_kn:.1} kN)");
+        return;
+    }
+    out!("  seismic fuse (box)            BROKE at t = {:.3} s at {:.1} kN", f.break_time, f.break_force / 1e3);
+    let exhausted = if f.stroke_exhausted {
+        " STROKE EXHAUSTED: the joint pushed the abutment again through the box's stop"
+    } else {
+        ""
+    };
+    out!(
+        "    edge beam travel            {:>12.1} mm of its {:.1} mm stroke{exhausted}",
+        f.stroke_used * 1e3,
+        fuse.stroke * 1e3
+    );
+    out!("    residual offset             {:>12.1} mm (the joint must be reset by this much)", f.residual_offset * 1e3);
+    out!("    fuse friction energy        {:>12.1} J", f.energy);
 }
 
 /// The whole system's peaks and energies, in a run of several joints.

@@ -43,6 +43,7 @@ pub fn sweep_summary(
             })).collect::<Vec<_>>(),
             "pounded": s.pounded,
             "peak_contact_force": s.peak_contact.as_ref().map(|p| p.0),
+            "fuses": json!({ "jobs": s.fuses[0], "broken": s.fuses[1], "stroke_exhausted": s.fuses[2] }),
             "notices": s.notices,
             "continue_command": next.map(|n| &n.command),
             "retry_command": retry.map(|n| &n.command),
@@ -82,6 +83,12 @@ pub fn sweep_summary(
             s.pounded,
             f / 1e3,
             at(*z, *t)
+        );
+    }
+    if let Some([jobs, broken, exhausted]) = Some(s.fuses).filter(|f| f[0] > 0) {
+        out!(
+            "fuses: broke in {broken} of the {jobs} finished job(s) with a seismic fuse, their stroke exhausted in \
+             {exhausted} (fuse_broken, fuse_stroke_exhausted per job)"
         );
     }
     if let Some(mb) = s.peak_memory_mb {

@@ -99,6 +99,9 @@ pub struct Summary {
     /// The largest contact force of any job \[N\] and its job (case, record,
     /// damping, period), if any pounded.
     pub peak_contact: Option<(f64, String, String, f64, f64)>,
+    /// Finished jobs with a seismic fuse (their first joint's), those whose
+    /// fuse broke and those whose fuse's stroke was exhausted.
+    pub fuses: [usize; 3],
     /// Whether the bridge is given by its modes: the jobs' "period" above
     /// is then their period scale [-].
     pub modal: bool,
@@ -312,7 +315,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         })?
         .map_err(|e| SweepError::Stopped { cause: Box::new(e), journal: jpath.display().to_string() })?;
     drop(lock);
-    let Tally { failed, flagged, not_run, pounded, peak_contact } = tally(plan, &scope, &file.results);
+    let Tally { failed, flagged, not_run, pounded, peak_contact, fuses } = tally(plan, &scope, &file.results);
     Ok(Summary {
         jobs: scope.len(),
         resumed: in_scope_done,
@@ -323,6 +326,7 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
         flagged,
         pounded,
         peak_contact,
+        fuses,
         modal: plan.modal.is_some(),
         interrupted: not_run > 0 && stop.load(Ordering::Relaxed),
         notices,
@@ -475,6 +479,7 @@ struct Tally {
     not_run: usize,
     pounded: usize,
     peak_contact: Option<(f64, String, String, f64, f64)>,
+    fuses: [usize; 3],
 }
 
 /// Counts the outcomes of the jobs of `scope`.
@@ -485,6 +490,8 @@ fn tally(plan: &Plan, scope: &[usize], results: &Results) -> Tally {
     let (mut pounded, mut peak_contact) = (0, None::<(f64, String, String, f64, f64)>);
     let field = |name: &str| FIELDS.iter().position(|f| *f == name).unwrap_or(0);
     let (impacts, peak) = (field("impacts"), field("peak_contact_force"));
+    let (broken, exhausted) = (field("fuse_broken"), field("fuse_stroke_exhausted"));
+    let mut fuses = [0; 3];
     for &j in scope {
         let st = results.status[j];
         let job = plan.job(j);
@@ -497,6 +504,11 @@ fn tally(plan: &Plan, scope: &[usize], results: &Results) -> Tally {
         } else if quakejoint_model::validity::Flags(results.validity[j]).is_flagged() {
             flagged.push((case.clone(), record.clone(), z, t, results.validity[j], results.findings[j].clone()));
         }
+        if st == status::OK && !results.values[broken][j].is_nan() {
+            fuses[0] += 1;
+            fuses[1] += usize::from(results.values[broken][j] > 0.5);
+            fuses[2] += usize::from(results.values[exhausted][j] > 0.5);
+        }
         if st == status::OK && results.values[impacts][j] > 0.0 {
             pounded += 1;
             let f = results.values[peak][j];
@@ -505,5 +517,5 @@ fn tally(plan: &Plan, scope: &[usize], results: &Results) -> Tally {
             }
         }
     }
-    Tally { failed, flagged, not_run, pounded, peak_contact }
+    Tally { failed, flagged, not_run, pounded, peak_contact, fuses }
 }
