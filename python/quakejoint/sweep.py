@@ -88,6 +88,10 @@ class Sweep:
     #: a multiple-stripe sweep ([sweep.stripes]): its stripes and the
     #: fitted fragility of each limit state (`Fragility`); None otherwise
     fragility: Optional["Fragility"] = None
+    #: with target frequencies on the limit states: the choice among the
+    #: cases as candidate joints, one `Design` per damping ratio and
+    #: period (empty otherwise; docs/design.md)
+    design: list = field(default_factory=list)
 
     @property
     def dims(self) -> tuple:
@@ -303,6 +307,7 @@ def read_sweep(path) -> Sweep:
         suite=d["suite"],
         fragility=_fragility(d["fragility"]),
         statistics=d["statistics"],
+        design=[_design(x) for x in d["design"]],
     )
     return sweep
 
@@ -387,6 +392,55 @@ class Fragility:
 
     def __getitem__(self, key: str) -> LimitStateFragility:
         return self.limit_states[key]
+
+
+@dataclass(repr=False)
+class Design:
+    """Which candidate joint meets the targets (docs/design.md), at one
+    damping ratio (`damping`, an index) and period (`period`, an index)
+    of the sweep: the candidates are its cases (`candidates`, with their
+    `cells` (gaps) and `fuse` in words), `targets` the limit states that
+    carry one as (key, name, annual frequency [1/year]);
+    `annual_frequency`, `checked` (the upper end of the bootstrap interval,
+    what is compared), `passed` and `notes` have shape (candidate,
+    target); `recommended` is the case with the fewest gaps that meets
+    every target (None if none does), `margin` its smallest ratio of a
+    target to its checked value, on the limit state `margin_on`."""
+
+    damping: int
+    period: int
+    targets: list
+    candidates: list
+    cells: list
+    fuse: list
+    annual_frequency: np.ndarray
+    checked: np.ndarray
+    passed: np.ndarray
+    notes: list
+    recommended: Optional[str]
+    margin: Optional[float]
+    margin_on: Optional[str]
+
+    def __repr__(self) -> str:
+        return f"Design(candidates={self.candidates}, recommended={self.recommended!r}, margin={self.margin})"
+
+
+def _design(d) -> Design:
+    return Design(
+        damping=d["damping"],
+        period=d["period"],
+        targets=[tuple(t) for t in d["targets"]],
+        candidates=list(d["candidates"]),
+        cells=list(d["cells"]),
+        fuse=list(d["fuse"]),
+        annual_frequency=np.array(d["annual_frequency"], dtype=float),
+        checked=np.array(d["checked"], dtype=float),
+        passed=np.array(d["passed"], dtype=bool),
+        notes=[list(r) for r in d["notes"]],
+        recommended=d["recommended"],
+        margin=d["margin"],
+        margin_on=d["margin_on"],
+    )
 
 
 def _fragility(d) -> Optional[Fragility]:

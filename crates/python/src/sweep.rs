@@ -226,7 +226,45 @@ fn read_sweep_file<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<B
     d.set_item("attrs", a)?;
     d.set_item("suite", suite(py, &file)?)?;
     d.set_item("fragility", file.fragility.as_ref().map(|f| fragility(py, f, &file.results)).transpose()?)?;
+    d.set_item("design", design(py, &file)?)?;
     Ok(d)
+}
+
+/// The choice among the sweep's cases against its targets (empty without
+/// targets): one dict per damping ratio and period.
+fn design<'py>(py: Python<'py>, file: &quakejoint_sweep::sweep_h5::SweepFile) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    use quakejoint_sweep::fragility::design::{candidates_of, designs};
+    let Some(f) = &file.fragility else { return Ok(Vec::new()) };
+    let rows = quakejoint_sweep::fragility::rows(f, &file.results, &|_, _, _| String::new());
+    let out = designs(f, &rows, &candidates_of(&file.cases, &file.case_configs));
+    out.iter()
+        .map(|dz| {
+            let d = PyDict::new(py);
+            d.set_item("damping", dz.at[0])?;
+            d.set_item("period", dz.at[1])?;
+            d.set_item("targets", dz.targets.iter().map(|t| (t.0.clone(), t.1.clone(), t.2)).collect::<Vec<_>>())?;
+            d.set_item("candidates", dz.candidates.iter().map(|c| c.name.clone()).collect::<Vec<_>>())?;
+            d.set_item("cells", dz.candidates.iter().map(|c| c.cells).collect::<Vec<_>>())?;
+            d.set_item("fuse", dz.candidates.iter().map(|c| c.fuse.clone()).collect::<Vec<_>>())?;
+            let grid = |f: fn(&quakejoint_sweep::fragility::design::Check) -> f64| -> Vec<Vec<f64>> {
+                dz.checks.iter().map(|row| row.iter().map(f).collect()).collect()
+            };
+            d.set_item("annual_frequency", grid(|k| k.frequency))?;
+            d.set_item("checked", grid(|k| k.upper))?;
+            d.set_item(
+                "passed",
+                dz.checks.iter().map(|r| r.iter().map(|k| k.pass).collect()).collect::<Vec<Vec<bool>>>(),
+            )?;
+            d.set_item(
+                "notes",
+                dz.checks.iter().map(|r| r.iter().map(|k| k.note.clone()).collect()).collect::<Vec<Vec<String>>>(),
+            )?;
+            d.set_item("recommended", dz.recommended.map(|c| dz.candidates[c].name.clone()))?;
+            d.set_item("margin", dz.recommended.map(|_| dz.margin.0))?;
+            d.set_item("margin_on", dz.recommended.map(|_| dz.margin.1.clone()))?;
+            Ok(d)
+        })
+        .collect()
 }
 
 /// Adds the sweep reader to the module.

@@ -73,6 +73,8 @@ pub struct MergeSummary {
     /// A multiple-stripe sweep: its stripes and the fitted curves of the
     /// merged results.
     pub fragility: Option<(crate::fragility::StoredFragility, Vec<crate::fragility::CurveRow>)>,
+    /// With target frequencies: the choice among the cases (docs/design.md).
+    pub design: Vec<crate::fragility::design::Design>,
 }
 
 /// `(k, n)` of a shard name `"k/n"`.
@@ -289,8 +291,13 @@ pub fn merge(inputs: &[PathBuf], output: &Path, options: MergeOptions) -> Result
         };
         (f.clone(), crate::fragility::rows(f, &merged.results, &label))
     });
+    let design = fragility.as_ref().map_or_else(Vec::new, |(f, rows)| {
+        let candidates = crate::fragility::design::candidates_of(&merged.cases, &merged.case_configs);
+        crate::fragility::design::designs(f, rows, &candidates)
+    });
     Ok(MergeSummary {
         fragility,
+        design,
         failed_shards: failed_shards.into_iter().collect(),
         failed_jobs,
         flagged_jobs,

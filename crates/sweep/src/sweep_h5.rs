@@ -231,6 +231,10 @@ pub fn write_sweep(path: &Path, f: &SweepFile) -> Result<(), OutputError> {
         }
         if let Some(fragility) = &f.fragility {
             crate::fragility::write_fragility(file, fragility, r, ["case", "record", "damping", axis])?;
+            let rows = crate::fragility::rows(fragility, r, &|_, _, _| String::new());
+            let candidates = crate::fragility::design::candidates_of(&f.cases, &f.case_configs);
+            let designs = crate::fragility::design::designs(fragility, &rows, &candidates);
+            crate::fragility::design::write_design(&file.group("fragility")?, &designs, r.dims)?;
         }
         write_joints(file, r, &axes)?;
         crate::fault::point(crate::fault::Point::Checkpoint, path);

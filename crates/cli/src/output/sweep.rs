@@ -50,6 +50,7 @@ pub fn sweep_summary(
             "wall_time_s": s.wall_time_s,
             "peak_memory_mb": s.peak_memory_mb,
             "fragility": s.fragility.as_ref().map(|(f, rows)| fragility_json(f, rows)),
+            "design": s.design.iter().map(design_json).collect::<Vec<_>>(),
         });
         out!("{v}");
         return;
@@ -76,21 +77,7 @@ pub fn sweep_summary(
         s.wall_time_s,
         s.output.display()
     );
-    if let Some((f, case, record, z, t)) = &s.peak_contact {
-        out!(
-            "pounding: the beams of {} job(s) struck each other; the largest contact force, {:.1} kN, in {case} / \
-             {record} / {}",
-            s.pounded,
-            f / 1e3,
-            at(*z, *t)
-        );
-    }
-    if let Some([jobs, broken, exhausted]) = Some(s.fuses).filter(|f| f[0] > 0) {
-        out!(
-            "fuses: broke in {broken} of the {jobs} finished job(s) with a seismic fuse, their stroke exhausted in \
-             {exhausted} (fuse_broken, fuse_stroke_exhausted per job)"
-        );
-    }
+    impact_lines(s, &at);
     if let Some(mb) = s.peak_memory_mb {
         out!("peak memory: {mb:.0} MB");
     }
@@ -99,7 +86,10 @@ pub fn sweep_summary(
         Some(_) if s.shard.is_some() => {
             out!("fragility: fitted on every stripe's runs once the shards are merged (`quakejoint merge`)")
         }
-        Some((f, rows)) => out!("{}", quakejoint_sweep::fragility::summary(f, rows).trim_end()),
+        Some((f, rows)) => {
+            out!("{}", quakejoint_sweep::fragility::summary(f, rows).trim_end());
+            design_lines(&s.design, f.spec.confidence);
+        }
         None => {}
     }
     if !s.failed.is_empty() {
@@ -186,6 +176,7 @@ pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, retry: Option<&str>, js
             "failed_jobs": s.failed_jobs,
             "flagged_jobs": s.flagged_jobs,
             "fragility": s.fragility.as_ref().map(|(f, rows)| fragility_json(f, rows)),
+            "design": s.design.iter().map(design_json).collect::<Vec<_>>(),
         });
         out!("{v}");
         return;
@@ -230,7 +221,55 @@ pub fn merge_summary(s: &quakejoint_sweep::MergeSummary, retry: Option<&str>, js
     );
     if let Some((f, rows)) = &s.fragility {
         out!("{}", quakejoint_sweep::fragility::summary(f, rows).trim_end());
+        design_lines(&s.design, f.spec.confidence);
     }
+}
+
+/// The jobs whose beams pounded (with the largest contact force) and
+/// whose fuses broke.
+fn impact_lines(s: &quakejoint_sweep::runner::Summary, at: &dyn Fn(f64, f64) -> String) {
+    if let Some((f, case, record, z, t)) = &s.peak_contact {
+        out!(
+            "pounding: the beams of {} job(s) struck each other; the largest contact force, {:.1} kN, in {case} / \
+             {record} / {}",
+            s.pounded,
+            f / 1e3,
+            at(*z, *t)
+        );
+    }
+    if let Some([jobs, broken, exhausted]) = Some(s.fuses).filter(|f| f[0] > 0) {
+        out!(
+            "fuses: broke in {broken} of the {jobs} finished job(s) with a seismic fuse, their stroke exhausted in \
+             {exhausted} (fuse_broken, fuse_stroke_exhausted per job)"
+        );
+    }
+}
+
+/// The choice among the candidates, when the limit states carry targets.
+fn design_lines(design: &[quakejoint_sweep::fragility::design::Design], confidence: f64) {
+    if design.is_empty() {
+        return;
+    }
+    let label = |[z, t]: [usize; 2]| format!("damping ratio {}, period {} of the sweep", z + 1, t + 1);
+    out!("{}", quakejoint_sweep::fragility::design::summary(design, confidence, &label).trim_end());
+}
+
+/// The choice among the candidates as JSON.
+fn design_json(d: &quakejoint_sweep::fragility::design::Design) -> serde_json::Value {
+    json!({
+        "damping": d.at[0], "period": d.at[1],
+        "targets": d.targets.iter().map(|(key, name, t)| json!({ "key": key, "limit_state": name, "target": t }))
+            .collect::<Vec<_>>(),
+        "candidates": d.candidates.iter().zip(&d.checks).map(|(c, checks)| json!({
+            "case": c.name, "cells": c.cells, "fuse": c.fuse,
+            "meets_every_target": checks.iter().all(|k| k.pass),
+            "checks": checks.iter().map(|k| json!({
+                "annual_frequency": finite(k.frequency), "checked": finite(k.upper), "pass": k.pass, "note": k.note,
+            })).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+        "recommended": d.recommended.map(|c| &d.candidates[c].name),
+        "margin": d.recommended.map(|_| json!({ "factor": finite(d.margin.0), "on": d.margin.1 })),
+    })
 }
 
 /// `quakejoint plan`.

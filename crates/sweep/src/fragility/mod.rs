@@ -3,8 +3,11 @@
 //! every run's results ([`spec`]), counted stripe by stripe and fitted by
 //! maximum likelihood with bootstrap intervals and, with a site's hazard
 //! curve, its mean annual frequency ([`eval`], on
-//! [`quakejoint_model::fragility`]); stored in `/fragility` ([`h5`]).
+//! [`quakejoint_model::fragility`]); stored in `/fragility` ([`h5`]); with
+//! target frequencies, the choice among the cases as candidate joints
+//! ([`design`]).
 
+pub mod design;
 pub mod eval;
 pub mod h5;
 pub mod spec;

@@ -86,6 +86,9 @@ pub struct LimitState {
     pub test: Kind,
     /// The test in words.
     pub definition: String,
+    /// The annual frequency of exceedance a candidate joint must stay
+    /// under \[1/year\] (`target`; docs/design.md), if any.
+    pub target: Option<f64>,
 }
 
 /// What a failed run counts as.
@@ -238,12 +241,12 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
         _ => &["measure", "above"],
     };
     for key in t.keys() {
-        if !["kind", "name"].contains(&key.as_str()) && !allowed.contains(&key.as_str()) {
+        if !["kind", "name", "target"].contains(&key.as_str()) && !allowed.contains(&key.as_str()) {
             return Err(err(
                 &format!("{at}.{key}"),
                 format!(
                     "not a key of a {kind:?} limit state (its keys: {})",
-                    ["kind", "name"].iter().chain(allowed).copied().collect::<Vec<_>>().join(", ")
+                    ["kind", "name", "target"].iter().chain(allowed).copied().collect::<Vec<_>>().join(", ")
                 ),
             ));
         }
@@ -253,7 +256,14 @@ fn limit_state(t: &toml::Table, at: &str) -> Result<Vec<LimitState>, SweepError>
         Some(_) => return Err(err(&format!("{at}.name"), "a non-empty text")),
         None => None,
     };
-    let e = Entry { t, at, kind: kind.clone(), name };
+    let target = number(t.get("target"), &format!("{at}.target"))?;
+    if let Some(x) = target.filter(|x| !(*x > 0.0 && *x < 1.0)) {
+        return Err(err(
+            &format!("{at}.target"),
+            format!("{x}: an annual frequency between 0 and 1 per year (1/2475 = 4.04e-4 for 2 % in 50 years)"),
+        ));
+    }
+    let e = Entry { t, at, kind: kind.clone(), name, target };
     Ok(match kind.as_str() {
         "capacity" => e.one(
             "cell beyond capacity".into(),
@@ -320,6 +330,8 @@ struct Entry<'a> {
     at: &'a str,
     kind: String,
     name: Option<String>,
+    /// The target annual frequency it gives (docs/design.md).
+    target: Option<f64>,
 }
 
 /// A test of a per-job field against `threshold`, `above` or below it.
@@ -343,6 +355,7 @@ impl Entry<'_> {
             kind: self.kind.clone(),
             test,
             definition,
+            target: self.target,
         }]
     }
 
@@ -420,6 +433,8 @@ impl Entry<'_> {
                 kind: self.kind.clone(),
                 test: field_test(&m, threshold, true),
                 definition: format!("{words}, with the joint"),
+                // (the bridge alone is no candidate's: the target is the joint's)
+                target: self.target,
             },
             LimitState {
                 key: String::new(),
@@ -427,6 +442,7 @@ impl Entry<'_> {
                 kind: self.kind.clone(),
                 test: Kind::Without { measure, threshold },
                 definition: format!("{words}, the bridge alone (exact, over the runs' window)"),
+                target: None,
             },
         ])
     }
@@ -518,6 +534,12 @@ impl FragilitySpec {
             return Err(err("sweep.fragility.confidence", format!("{confidence}: between 0 and 1 (0.9: 5 % to 95 %)")));
         }
         let hazard = t.get("hazard").map(|h| hazard_of(h, base_dir)).transpose()?;
+        if let (None, Some(i)) = (&hazard, tables.iter().position(|t| t.contains_key("target"))) {
+            return Err(err(
+                &format!("sweep.fragility.limit_states[{i}].target"),
+                "a target annual frequency needs the site's hazard curve (sweep.fragility.hazard)",
+            ));
+        }
         Ok(Self { limit_states, failed, bootstrap, seed, confidence, hazard, tables })
     }
 

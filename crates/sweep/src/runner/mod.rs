@@ -124,6 +124,9 @@ pub struct Summary {
     /// A multiple-stripe sweep: its stripes and the fitted curves of the
     /// jobs in the output.
     pub fragility: Option<(crate::fragility::StoredFragility, Vec<crate::fragility::CurveRow>)>,
+    /// With target frequencies: the choice among the cases, at each
+    /// damping ratio and period (docs/design.md).
+    pub design: Vec<crate::fragility::design::Design>,
 }
 
 /// `<output>.journal`.
@@ -342,7 +345,21 @@ pub fn run_sweep(plan: &Plan, opts: &SweepOptions) -> Result<Summary, SweepError
             };
             (f.clone(), crate::fragility::rows(f, &file.results, &label))
         }),
-    })
+        design: Vec::new(),
+    }
+    .with_design(plan))
+}
+
+impl Summary {
+    /// The summary with its choice among the plan's cases.
+    fn with_design(mut self, plan: &Plan) -> Self {
+        use crate::fragility::design::{designs, Candidate};
+        if let Some((f, rows)) = self.fragility.as_ref().filter(|_| self.shard.is_none()) {
+            let candidates: Vec<Candidate> = plan.cases.iter().map(|c| Candidate::of(&c.name, &c.config)).collect();
+            self.design = designs(f, rows, &candidates);
+        }
+        self
+    }
 }
 
 /// Clears the failed jobs of `scope` so that they run again; how many.
