@@ -50,11 +50,16 @@ def figure(src):
     d = load(src)
     nc, nz, nt, nk = d["checked"].shape
     z, t = 0, 0
-    fig, axes = plt.subplots(1, nk, figsize=(max(4.8, 1.1 * nc + 2.2) * nk, 4.6), squeeze=False)
+    cols = min(nk, 3 if nc <= 4 else 2)
+    rows = -(-nk // cols)
+    width = max(4.8, 0.75 * nc + 1.8)
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, 4.4 * rows + 0.4), squeeze=False)
+    for ax in axes.ravel()[nk:]:
+        ax.axis("off")
     rec = int(d["recommended"][z, t])
     labels = [f"{c}\n{n} gaps\n{'no fuse' if fz == 'none' else 'fuse'}"
               for c, n, fz in zip(d["candidate"], d["cells"], d["fuse"])]
-    for k, ax in enumerate(axes[0]):
+    for k, ax in enumerate(axes.ravel()[:nk]):
         target = d["target"][k]
         checked, freq, ok = d["checked"][:, z, t, k], d["annual_frequency"][:, z, t, k], d["pass"][:, z, t, k]
         positive = [x for x in np.concatenate([checked, freq, [target]]) if np.isfinite(x) and x > 0]
