@@ -139,8 +139,9 @@ def load(src):
         if "hazard_intensity" in fr and "hazard_frequency" in fr:
             d["hazard"] = (fr["hazard_intensity"][()], fr["hazard_frequency"][()])
         shape = None
-        # in the config's order (the attribute index)
-        groups = [(k, g) for k, g in fr.items() if isinstance(g, h5py.Group)]
+        # in the config's order (the attribute index); /fragility/design is
+        # the choice among the cases (scripts/plot_design.py), no limit state
+        groups = [(k, g) for k, g in fr.items() if isinstance(g, h5py.Group) and "kind" in g.attrs]
         for key, g in sorted(groups, key=lambda kg: int(kg[1].attrs.get("index", 0))):
             state = {
                 "key": key,

@@ -278,6 +278,47 @@ above = 0.05
 """
 
 
+DESIGN = """
+[sweep]
+periods = [1.0]
+records = [{{ file = "{a}" }}, {{ file = "{b}" }}, {{ file = "{c}" }}, {{ file = "{d}" }}]
+[sweep.stripes]
+measure = "pga"
+levels = [0.2, 0.4, 0.6, 0.8, 1.0, 1.3]
+[sweep.fragility]
+bootstrap = 100
+hazard = {{ intensity = [0.1, 1.0], frequency = [1e-2, 3e-5] }}
+[[sweep.fragility.limit_states]]
+kind = "abutment_force"
+force = 1.0e6
+target = 2e-4
+[[sweep.fragility.limit_states]]
+kind = "fuse_broken"
+target = 1e-2
+[[sweep.cases]]
+name = "3 beams"
+[[sweep.cases]]
+name = "3 beams, fuse"
+joint.fuse = {{ kind = "box", break_force = 2e5, stroke = 0.3 }}
+"""
+
+
+@pytest.fixture(scope="session")
+def design_sweep(cli, tmp_path_factory):
+    """A design study (docs/design.md): the small joint with and without a
+    fuse box as candidates, four records at six stripes of PGA, targets on
+    the abutment force and the fuse's break."""
+    gm = ROOT / "ground_motions"
+    names = ["RSN753_LOMAP_CLS090-hor2", "RSN753_LOMAP_CLS000-hor1", "RSN6_IMPVALL.I_I-ELC180-hor1", "RSN6_IMPVALL.I_I-ELC270-hor2"]
+    files = dict(zip("abcd", (gm / f"{n}.AT2" for n in names)))
+    d = tmp_path_factory.mktemp("design")
+    cfg = d / "design.toml"
+    cfg.write_text(SMALL_JOINT + "[simulation]\nduration = 8.0\n" + DESIGN.format(**files))
+    out = d / "design.h5"
+    run_cli(cli, "sweep", cfg, "--output", out, check=False)
+    return out
+
+
 @pytest.fixture(scope="session")
 def stripes_sweep(cli, tmp_path_factory):
     """A multiple-stripe sweep: four records at six stripes of PGA on the

@@ -294,6 +294,29 @@ def test_fragility_draws_a_panel_per_limit_state_with_its_fit(stripes_sweep):
     assert any("hazard" in ax.get_title().lower() or ax.get_xscale() == "log" for ax in fig.axes)
 
 
+def test_the_design_is_read_and_drawn_from_the_curves(design_sweep):
+    s = qj.read_sweep(design_sweep)
+    [d] = s.design
+    assert d.candidates == ["3 beams", "3 beams, fuse"] and d.cells == [4, 4]
+    assert d.fuse[0] == "none" and d.fuse[1].startswith("box 200 kN")
+    assert d.checked.shape == d.passed.shape == (2, 2)
+    for c in range(2):
+        for k, (key, _, target) in enumerate(d.targets):
+            hi = s.fragility[key].annual_frequency_hi[c, 0, 0]
+            if np.isfinite(hi):
+                assert d.checked[c, k] == hi, (c, key)
+            assert d.passed[c, k] == (d.checked[c, k] <= target), (c, key)
+    # the joint without a fuse cannot break one
+    assert d.checked[0, 1] == 0 and d.passed[0, 1]
+    passing = [c for c in range(2) if d.passed[c].all()]
+    assert d.recommended == (d.candidates[passing[0]] if passing else None)
+    fig = script("plot_design").figure(design_sweep)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert all(any(name in t for t in titles) for _, name, _ in d.targets), titles
+    verdict = fig._suptitle.get_text()
+    assert (f"recommended: {d.recommended}" in verdict) if d.recommended else ("no candidate" in verdict)
+
+
 def test_the_main_jobs_headline_is_the_files_numbers(quick_sweep):
     """scripts/headline.py (the main job's last words) quotes Sa with and
     without the joint at the period nearest 1 s, as the file holds them."""

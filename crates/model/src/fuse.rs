@@ -7,7 +7,7 @@
 //! force: the solver locates that instant as an event
 //! ([`quakejoint_solver::Radau5::set_force_threshold`]). From there the run
 //! goes on ([`quakejoint_solver::Radau5::resume`]) in the broken system
-//! ([`broken_system`]): the edge beam is a body of its own along x, center
+//! ([`crate::run::fuse::broken_system`]): the edge beam is a body of its own along x, center
 //! beam 1 strikes it, it slides toward the abutment against the box's
 //! resistance (friction, and on a ramp the lift's constant component that
 //! pushes it back toward its seat), and it meets a hard stop after the

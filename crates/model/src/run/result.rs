@@ -183,8 +183,8 @@ pub struct JointResult {
     pub fuse: Option<crate::run::fuse::FuseResult>,
 }
 
-/// A joint's values, in the order of [`JointResult::scalars`]: its own
-/// ([`OWN_FIELDS`]), then its fuse's ([`crate::run::fuse::FUSE_FIELDS`]).
+/// A joint's values, in the order of [`JointResult::scalars`]: its own,
+/// then its fuse's ([`crate::run::fuse::FUSE_FIELDS`]).
 pub const JOINT_FIELDS: [Described; 23] = {
     let mut out = [described("", "", ""); 23];
     let mut i = 0;
