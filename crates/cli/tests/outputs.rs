@@ -175,13 +175,16 @@ fn every_file_says_what_produced_it_and_carries_units() {
     assert!(matches!(res.status.code(), Some(0 | 4)), "{}", String::from_utf8_lossy(&res.stderr));
     all.extend(paths_of(&suite_h5));
 
-    // stripes of Sa with a hazard curve: /fragility
+    // stripes of Sa with a hazard curve and a target: /fragility and
+    // /fragility/design
     let stripes = config(
         &d,
         "stripes.toml",
         &format!(
             "[sweep]\nperiods = [0.5]\nrecords = [{}]\n[sweep.stripes]\nmeasure = \"sa\"\nlevels = [0.05, 0.1]\n\
-             [sweep.fragility]\nbootstrap = 10\nhazard = {{ intensity = [0.1, 1.0], frequency = [1e-2, 1e-4] }}\n",
+             [sweep.fragility]\nbootstrap = 10\nhazard = {{ intensity = [0.1, 1.0], frequency = [1e-2, 1e-4] }}\n\
+             [[sweep.fragility.limit_states]]\nkind = \"capacity\"\ntarget = 1e-3\n\
+             [[sweep.fragility.limit_states]]\nkind = \"pounding\"\n",
             records.join(", ")
         ),
         2.0,
