@@ -109,6 +109,13 @@ def doc_outputs(cli, tmp_path_factory):
             "sweep.stripes.levels": [0.05, 0.1],
             "sweep.fragility.bootstrap": 50,
         },
+        "design": {
+            "joint": small_joint,
+            "simulation.duration": 4.0,
+            "sweep.records": records("RSN6_IMPVALL.I_I-ELC270-hor2", "RSN77_SFERN_PUL164-hor1"),
+            "sweep.stripes.levels": [0.05, 0.1],
+            "sweep.fragility.bootstrap": 50,
+        },
         "suite_ec8": {
             "joint": small_joint,
             "simulation.duration": 4.0,
