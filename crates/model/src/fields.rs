@@ -99,7 +99,7 @@ pub const FIELDS: &[Field] = &[
     field("peak_abutment_force", "N", "peak force of the joint on its abutment: its joist pivots, guide welds and the abutment's edge-beam contacts (on the adjacent segment with `[bridge.far]`; NaN for a link element)", |r| r.peak_abutment_force).per_job(),
     field("peak_bushing_force", "N", "peak force of a bushing", |r| r.peak_bushing_force).per_job(),
     field("peak_friction_force", "N", "peak friction force of a bearing", |r| r.peak_friction_force).per_job(),
-    field("friction_energy", "J", "energy dissipated by friction", |r| r.friction_energy).per_job(),
+    field("friction_energy", "J", "energy dissipated by the bearings' friction (a broken fuse's freed edge beam's apart: `fuse_energy`)", |r| r.friction_energy).per_job(),
     field("damping_energy", "J", "energy dissipated by dampers (the bridge's and the bushings')", |r| r.damping_energy)
         .per_job(),
     field("earthquake_work", "J", "work of the earthquake load", |r| r.earthquake_work).per_job(),

@@ -216,7 +216,7 @@ const OWN_FIELDS: [Described; 16] = [
     described(
         "friction_energy",
         "J",
-        "the energy its own friction dissipated (integrated as the system's, whose sum it is)",
+        "the energy its own bearings' friction dissipated (integrated as the system's; the joints' sum is the run's `friction_energy`, a fuse's apart in `fuse_energy`)",
     ),
     described("min_subgap", "m", "its smallest clear sub-gap, as `/result/min_subgap`"),
     described("max_subgap", "m", "its largest clear sub-gap, as `/result/max_subgap`"),

@@ -101,7 +101,6 @@ pub fn designs(f: &StoredFragility, rows: &[CurveRow], candidates: &[Candidate])
     let Some(hazard) = f.spec.hazard.as_ref().filter(|_| !targets.is_empty()) else { return Vec::new() };
     let levels = &f.stripes.levels;
     let mut ats: Vec<[usize; 2]> = rows.iter().map(|r| [r.at[1], r.at[2]]).collect();
-    ats.dedup();
     ats.sort_unstable();
     ats.dedup();
     ats.into_iter()
