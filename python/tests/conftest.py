@@ -303,32 +303,31 @@ joint.fuse = {{ kind = "box", break_force = 2e5, stroke = 0.3 }}
 """
 
 
+def stripes_of_four_records(cli, tmp_path_factory, name, sweep, duration):
+    """Runs the small joint for `duration` [s] under `sweep` (a `[sweep]`
+    text with the four records as `{a}` .. `{d}`: Corralitos 090 and 000,
+    El Centro 180 and 270); the output file."""
+    gm = ROOT / "ground_motions"
+    names = ["RSN753_LOMAP_CLS090-hor2", "RSN753_LOMAP_CLS000-hor1", "RSN6_IMPVALL.I_I-ELC180-hor1", "RSN6_IMPVALL.I_I-ELC270-hor2"]
+    files = dict(zip("abcd", (gm / f"{n}.AT2" for n in names)))
+    d = tmp_path_factory.mktemp(name)
+    cfg = d / f"{name}.toml"
+    cfg.write_text(SMALL_JOINT + f"[simulation]\nduration = {duration}\n" + sweep.format(**files))
+    out = d / f"{name}.h5"
+    run_cli(cli, "sweep", cfg, "--output", out)
+    return out
+
+
 @pytest.fixture(scope="session")
 def design_sweep(cli, tmp_path_factory):
     """A design study (docs/design.md): the small joint with and without a
     fuse box as candidates, four records at six stripes of PGA, targets on
     the abutment force and the fuse's break."""
-    gm = ROOT / "ground_motions"
-    names = ["RSN753_LOMAP_CLS090-hor2", "RSN753_LOMAP_CLS000-hor1", "RSN6_IMPVALL.I_I-ELC180-hor1", "RSN6_IMPVALL.I_I-ELC270-hor2"]
-    files = dict(zip("abcd", (gm / f"{n}.AT2" for n in names)))
-    d = tmp_path_factory.mktemp("design")
-    cfg = d / "design.toml"
-    cfg.write_text(SMALL_JOINT + "[simulation]\nduration = 8.0\n" + DESIGN.format(**files))
-    out = d / "design.h5"
-    run_cli(cli, "sweep", cfg, "--output", out, check=False)
-    return out
+    return stripes_of_four_records(cli, tmp_path_factory, "design", DESIGN, 8.0)
 
 
 @pytest.fixture(scope="session")
 def stripes_sweep(cli, tmp_path_factory):
     """A multiple-stripe sweep: four records at six stripes of PGA on the
     small joint, with a hazard curve and six limit states."""
-    gm = ROOT / "ground_motions"
-    names = ["RSN753_LOMAP_CLS090-hor2", "RSN753_LOMAP_CLS000-hor1", "RSN6_IMPVALL.I_I-ELC180-hor1", "RSN6_IMPVALL.I_I-ELC270-hor2"]
-    files = dict(zip("abcd", (gm / f"{n}.AT2" for n in names)))
-    d = tmp_path_factory.mktemp("stripes")
-    cfg = d / "stripes.toml"
-    cfg.write_text(SMALL_JOINT + "[simulation]\nduration = 4.0\n" + STRIPES.format(**files))
-    out = d / "stripes.h5"
-    run_cli(cli, "sweep", cfg, "--output", out)
-    return out
+    return stripes_of_four_records(cli, tmp_path_factory, "stripes", STRIPES, 4.0)
