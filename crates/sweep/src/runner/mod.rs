@@ -99,8 +99,8 @@ pub struct Summary {
     /// The largest contact force of any job \[N\] and its job (case, record,
     /// damping, period), if any pounded.
     pub peak_contact: Option<(f64, String, String, f64, f64)>,
-    /// Finished jobs with a seismic fuse (their first joint's), those whose
-    /// fuse broke and those whose fuse's stroke was exhausted.
+    /// Finished jobs with a seismic fuse (on any of their joints), those in
+    /// which a fuse broke and those in which a fuse's stroke was exhausted.
     pub fuses: [usize; 3],
     /// Whether the bridge is given by its modes: the jobs' "period" above
     /// is then their period scale [-].
@@ -499,6 +499,22 @@ struct Tally {
     fuses: [usize; 3],
 }
 
+/// Whether job `j` has a fuse, one broke and one's stroke was exhausted,
+/// over every joint (`results.joints`, on a bridge given by its modes) or
+/// the run's one (the fields `broken` and `exhausted`).
+fn job_fuses(results: &Results, j: usize, [broken, exhausted]: [usize; 2]) -> [bool; 3] {
+    let joint = |name: &str| crate::results::JOINT_FIELDS.iter().position(|f| f.0 == name).unwrap_or(0);
+    let pairs: Vec<(f64, f64)> = match results.joints.is_empty() {
+        true => vec![(results.values[broken][j], results.values[exhausted][j])],
+        false => {
+            let (b, e) = (joint("fuse_broken"), joint("fuse_stroke_exhausted"));
+            results.joints.iter().map(|k| (k.values[b][j], k.values[e][j])).collect()
+        }
+    };
+    let fused = pairs.iter().any(|p| !p.0.is_nan());
+    [fused, pairs.iter().any(|p| p.0 > 0.5), pairs.iter().any(|p| p.1 > 0.5)]
+}
+
 /// Counts the outcomes of the jobs of `scope`.
 fn tally(plan: &Plan, scope: &[usize], results: &Results) -> Tally {
     let mut failed = Vec::new();
@@ -521,10 +537,12 @@ fn tally(plan: &Plan, scope: &[usize], results: &Results) -> Tally {
         } else if quakejoint_model::validity::Flags(results.validity[j]).is_flagged() {
             flagged.push((case.clone(), record.clone(), z, t, results.validity[j], results.findings[j].clone()));
         }
-        if st == status::OK && !results.values[broken][j].is_nan() {
-            fuses[0] += 1;
-            fuses[1] += usize::from(results.values[broken][j] > 0.5);
-            fuses[2] += usize::from(results.values[exhausted][j] > 0.5);
+        if st == status::OK {
+            // (every joint's, on a bridge with several: a job counts once)
+            let [fused, broke, ran_out] = job_fuses(results, j, [broken, exhausted]);
+            fuses[0] += usize::from(fused);
+            fuses[1] += usize::from(broke);
+            fuses[2] += usize::from(ran_out);
         }
         if st == status::OK && results.values[impacts][j] > 0.0 {
             pounded += 1;
