@@ -181,7 +181,7 @@ pub const FUSE_FIELDS: [Described; 7] = [
     described("fuse_break_time", "s", "when its fuse broke (NaN: it did not)"),
     described("fuse_break_force", "N", "the closing force on the edge beam when its fuse broke (the break force to within the step's error)"),
     described("fuse_stroke_used", "m", "the farthest its freed edge beam travelled toward the abutment"),
-    described("fuse_residual_offset", "m", "where its freed edge beam rests at the end, from its seat toward the abutment: the joint must be reset by this much"),
+    described("fuse_residual_offset", "m", "where its freed edge beam rests at the end, from its seat toward the abutment: the joint must be reset by this much (a lower bound where a ramp holds it by friction alone: the regularised friction lets it creep back, docs/model.md)"),
     described("fuse_stroke_exhausted", "1", "1 if its freed edge beam reached the fuse box's stop (the joint pushes the abutment again through it), 0 if not"),
     described("fuse_energy", "J", "the energy its freed edge beam's friction dissipated (apart from `friction_energy`)"),
 ];
