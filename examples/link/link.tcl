@@ -6,7 +6,9 @@
 # damper with the spring    c   = 1.138040e4 N s/m
 # closing movement (gap)    g   = 1.120000e0 m  (28 cells)
 # closed-joint stiffness    k_c = 5.165160e7 N/m (the closed cells' Hertz law as a secant at 1.000e6 N, a default: the detailed joint did not close under the calibration suite: where your model's closed joint meets another force, rerun `quakejoint calibrate --contact-force` with it until the two agree; docs/link.md)
-# opening capacity              = 1.120000e0 m  (cells at joint.capacity.max_subgap)
+# first cell closes at          = 9.760989e-1 m  (the narrowest cell, racked 5.1 mm behind the average: the beams strike there; the element's force waits for g)
+# opening capacity              = 9.493967e-1 m  (the widest cell, racked 6.1 mm ahead of the average, at joint.capacity.max_subgap)
+# racking from the largest of the service loops (4.4 / 4.1 mm closing / opening) and the calibration suite (5.1 / 6.1 mm)
 # the opening u is the deck's displacement away from the abutment; the element acts along it
 #
 # quakejointLink abutNode deckNode newNode firstTag ?side?

@@ -147,6 +147,16 @@ fn loops_csv(c: &Calibration) -> String {
     out
 }
 
+/// A length in millimetres, "closed" for NaN (the racking of a record
+/// under which a cell closed).
+fn shown_mm(x: f64) -> String {
+    if x.is_nan() {
+        "closed".to_string()
+    } else {
+        format!("{:.1}", x * 1e3)
+    }
+}
+
 fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
     let l = &c.link;
     let mut s = String::new();
@@ -169,7 +179,16 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
         "  closed-joint stiffness     {:>12.4e} N/m  (secant at {:.3e} N: {})",
         l.gap_stiffness, c.secant_force, c.secant_from
     );
-    let _ = writeln!(s, "  opening capacity           {:>12.4e} m", c.capacity);
+    let _ = writeln!(
+        s,
+        "  racking                    {:>5.1} / {:.1} mm (narrowest cell behind the average closing / widest ahead of it \
+         opening: {})",
+        l.racking()[0] * 1e3,
+        l.racking()[1] * 1e3,
+        c.racking_from
+    );
+    let _ = writeln!(s, "  first cell closes at       {:>12.4e} m    (the beams strike)", c.first_closure());
+    let _ = writeln!(s, "  opening capacity           {:>12.4e} m    (the widest cell)", c.capacity);
     let _ = writeln!(
         s,
         "  fit: RMS force error {:.4e} N ({:.2} % of the slider force) over {} loops at {} m/s",
@@ -182,17 +201,17 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
         let _ = writeln!(
             s,
             "under the calibration suite: the link's peak force on the deck and friction energy against the detailed \
-             joint's, and the mass each record alone calls for"
+             joint's, the mass each record alone calls for, and the detailed joint's racking (closing / opening)"
         );
         let _ = writeln!(
             s,
-            "  {:<32} {:>11} {:>11} {:>7} {:>11} {:>11} {:>7} {:>11}",
-            "record", "peak [N]", "detailed", "error", "E_f [J]", "detailed", "error", "own m [kg]"
+            "  {:<32} {:>11} {:>11} {:>7} {:>11} {:>11} {:>7} {:>11} {:>15}",
+            "record", "peak [N]", "detailed", "error", "E_f [J]", "detailed", "error", "own m [kg]", "racking [mm]"
         );
         for d in &c.dynamic {
             let _ = writeln!(
                 s,
-                "  {:<32} {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e}",
+                "  {:<32} {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e} {:>11.4e} {:>+6.1}% {:>11.4e} {:>15}",
                 d.record,
                 d.peak_link,
                 d.peak_detailed,
@@ -200,7 +219,8 @@ fn table(c: &Calibration, config: &Path, written: &[PathBuf]) -> String {
                 d.friction_link,
                 d.friction_detailed,
                 100.0 * (d.friction_link / d.friction_detailed - 1.0),
-                d.own_mass
+                d.own_mass,
+                format!("{} / {:.1}", shown_mm(d.racking[0]), d.racking[1] * 1e3)
             );
         }
     }

@@ -157,8 +157,9 @@ pub const TABLES: [Table; 8] = [
         "Nc + 1",
         "m",
         "clear sub-gaps at the narrower of the two beam ends (where the beams close first: pounding), abutment side \
-         first (absent without the joint); for the link element (`joint.model = \"link\"`, docs/link.md) one row, its \
-         cells opening alike: `(pitch - width) + u / (Nc + 1)`"
+         first (absent without the joint); for the link element (`joint.model = \"link\"`, docs/link.md) one row, the \
+         cells' average `(pitch - width) + u / (Nc + 1)` (its racked narrowest and widest cells: `min_subgap`, \
+         `max_subgap`)"
     ),
     series!(
         subgaps_wide,

@@ -119,6 +119,8 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     ("joint.link.gap_stiffness", "N/m", closed(1e3, 1e13)),
     ("joint.link.gap_hertz", "N/m^1.5", closed(1e3, 1e13)),
     ("joint.link.v_eps", "m/s", closed(1e-6, 0.01)),
+    ("joint.link.racking_closing", "m", closed(0.0, 1.0)),
+    ("joint.link.racking_opening", "m", closed(0.0, 1.0)),
     ("bridge.mass", "kg", closed(1e4, 1e10)),
     // 2 pi / 10 s to 2 pi / 0.01 s, rounded inwards (checked as a period)
     ("bridge.w0", "rad/s", closed(0.6284, 628.3)),

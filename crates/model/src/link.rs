@@ -16,8 +16,14 @@
 //!   the deck meets the abutment through the linear spring `k_c`
 //!   (no damping: OpenSees' `ElasticPPGap`).
 //!
-//! The cells are taken as opening alike (the intercept theorem): a cell is
-//! `g0 + u / (Nc + 1)`, checked against `joint.capacity.max_subgap`.
+//! The cells open alike (the intercept theorem), `g0 + u / (Nc + 1)`, but
+//! for their racking: the detailed joint's beams lag on their bushings, so
+//! its narrowest cell is narrower than the average by up to
+//! `racking_closing` and its widest wider by up to `racking_opening`
+//! (calibrated from the detailed joint, docs/link.md). The narrowest cell
+//! closes (an impact between beams, counted as the detailed joint's
+//! impacts) once the average is `racking_closing`; the widest is checked
+//! against `joint.capacity.max_subgap`.
 
 use quakejoint_solver::{
     Body, BodyId, Bushing, Contact, ContactLaw, Coord, ForceElement, Friction, FrictionLaw, System,
@@ -88,6 +94,9 @@ pub struct LinkParts {
     pub clear: f64,
     /// The cells' capacity \[m\].
     pub max_subgap: f64,
+    /// The racking `[closing, opening]`: how far the narrowest cell lags
+    /// behind the average, and the widest leads it \[m\].
+    pub racking: [f64; 2],
     /// The solver's number of the gap's contact (set by the generator;
     /// none without contact).
     pub contact: Option<usize>,
@@ -178,6 +187,7 @@ pub fn add_link(
         cells,
         clear,
         max_subgap: joint.capacity.max_subgap,
+        racking: l.racking(),
         contact: None,
     })
 }
@@ -197,6 +207,11 @@ pub struct LinkWatch {
     pub closures: u64,
     /// Whether it is closed now.
     closed: bool,
+    /// Times the narrowest cell closed (racked, before the whole joint
+    /// does; with no racking the joint's closures) [-].
+    pub cell_closures: u64,
+    /// Whether the narrowest cell is closed now.
+    cell_closed: bool,
     /// Peak force of the closed joint on the deck \[N\].
     pub peak_gap_force: f64,
     /// Time of `peak_gap_force` \[s\].
@@ -225,15 +240,27 @@ impl LinkWatch {
             }
         }
         self.closed = closed;
-        if self.beyond_capacity_at.is_none() && parts.clear + u / parts.cells as f64 > parts.max_subgap {
+        let cell_closed = parts.clear + u / parts.cells as f64 - parts.racking[0] < 0.0;
+        if cell_closed && !self.cell_closed {
+            self.cell_closures += 1;
+        }
+        self.cell_closed = cell_closed;
+        if self.beyond_capacity_at.is_none()
+            && parts.clear + u / parts.cells as f64 + parts.racking[1] > parts.max_subgap
+        {
             self.beyond_capacity_at = Some(t);
         }
     }
 
-    /// The narrowest and widest cell \[m\] (the cells alike).
+    /// The narrowest and widest cell \[m\]: the average with the racking,
+    /// a racked cell held closed (0) until the whole joint closes (then
+    /// the average's overlap, negative).
     pub fn cells(&self, parts: &LinkParts) -> [f64; 2] {
         let n = parts.cells as f64;
-        [parts.clear + self.min_u / n, parts.clear + self.max_u / n]
+        let [rc, ro] = parts.racking;
+        let narrow = parts.clear + self.min_u / n;
+        let narrowest = if narrow >= rc { narrow - rc } else { narrow.min(0.0) };
+        [narrowest, parts.clear + self.max_u / n + ro]
     }
 }
 

@@ -24,13 +24,16 @@ use crate::{config_error, model_error};
 /// and kinetic_mass [kg], damping [N s/m], gap [m], gap_stiffness [N/m],
 /// gap_hertz [N/m^1.5] (None for a joint with the linear contact law),
 /// capacity [m], cells, fit_rms [N], speed [m/s] and contact_force [N] (the
-/// force of the exports' closing secant), loops (one dict per amplitude:
-/// amplitude, energy, link_energy [J], peak_force [N], damping_joint,
-/// damping_bridge, and the arrays t, u, force), suite (per record of the
+/// force of the exports' closing secant), racking_closing and
+/// racking_opening [m] (the link's: docs/link.md, "Racking"), loops (one
+/// dict per amplitude: amplitude, energy, link_energy [J], peak_force [N],
+/// damping_joint, damping_bridge, racking_closing, racking_opening [m],
+/// and the arrays t, u, force), suite (per record of the
 /// calibration suite: record, rms, peak_link, peak_detailed [N],
 /// friction_link, friction_detailed [J], own_mass [kg] (the mass that
 /// record alone calls for), closed_detailed [N] (the detailed joint's
-/// closed-joint force on the deck); empty without earthquake) and exports (the texts of link.toml, link.tcl,
+/// closed-joint force on the deck), racking_closing (NaN where a cell
+/// closed) and racking_opening [m]; empty without earthquake) and exports (the texts of link.toml, link.tcl,
 /// link_opensees.py and link_sap2000.txt by those names), warnings (what
 /// the calibration cannot stand behind: loops left out, a poor fit, a
 /// flagged calibration record, a mass at the edge of the search, a record

@@ -69,6 +69,8 @@ fn full() -> Config {
         gap_hertz: Some(1e8),
         damping: Some(0.0),
         v_eps: Some(0.001),
+        racking_closing: Some(0.0),
+        racking_opening: Some(0.0),
     });
     c.joint.fuse = Some(quakejoint_model::config::FuseConfig {
         kind: quakejoint_model::config::FuseKind::Box,

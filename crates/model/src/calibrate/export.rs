@@ -38,7 +38,19 @@ fn header(c: &Calibration, comment: &str, source: &str) -> String {
         format!("damper with the spring    c   = {:.6e} N s/m", l.damping.unwrap_or(0.0)),
         format!("closing movement (gap)    g   = {:.6e} m  ({} cells)", c.gap, c.cells),
         format!("closed-joint stiffness    k_c = {:.6e} N/m{}", l.gap_stiffness, secant(c)),
-        format!("opening capacity              = {:.6e} m  (cells at joint.capacity.max_subgap)", c.capacity),
+        format!(
+            "first cell closes at          = {:.6e} m  (the narrowest cell, racked {:.1} mm behind the average: \
+             the beams strike there; the element's force waits for g)",
+            c.first_closure(),
+            l.racking()[0] * 1e3
+        ),
+        format!(
+            "opening capacity              = {:.6e} m  (the widest cell, racked {:.1} mm ahead of the average, at \
+             joint.capacity.max_subgap)",
+            c.capacity,
+            l.racking()[1] * 1e3
+        ),
+        format!("racking from {}", c.racking_from),
         "the opening u is the deck's displacement away from the abutment; the element acts along it".to_string(),
     ]
     .iter()
@@ -54,7 +66,9 @@ pub fn toml(c: &Calibration, source: &str) -> String {
          # of [[joints]], its [joints.joint] gets model = \"link\" and [joints.joint.link]); the\n\
          # [joint] table keeps its geometry: the gap and the capacity follow from it.\n\
          [joint.link]\nstiffness = {:e}      # [N/m]\nfriction = {:e}       # [N]\n\
-         mass = {:e}           # [kg]\ndamping = {:e}        # [N s/m]\ngap_stiffness = {:e}  # [N/m]\n{}",
+         mass = {:e}           # [kg]\ndamping = {:e}        # [N s/m]\ngap_stiffness = {:e}  # [N/m]\n{}\
+         racking_closing = {:e}  # [m] the narrowest cell behind the average\n\
+         racking_opening = {:e}  # [m] the widest cell ahead of it\n",
         header(c, "#", source),
         l.stiffness,
         l.friction,
@@ -62,7 +76,9 @@ pub fn toml(c: &Calibration, source: &str) -> String {
         l.damping.unwrap_or(0.0),
         l.gap_stiffness,
         l.gap_hertz
-            .map_or(String::new(), |k| format!("gap_hertz = {k:e}      # [N/m^1.5] (quakejoint's closed joint)\n"))
+            .map_or(String::new(), |k| format!("gap_hertz = {k:e}      # [N/m^1.5] (quakejoint's closed joint)\n")),
+        l.racking()[0],
+        l.racking()[1],
     )
 }
 

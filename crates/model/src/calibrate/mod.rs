@@ -152,6 +152,8 @@ pub struct LoopSummary {
     pub force: Vec<f64>,
     /// The index of the last cycle's first sample.
     pub last_cycle: usize,
+    /// The loop's racking `[closing, opening]` \[m\] ([`racking`]).
+    pub racking: [f64; 2],
 }
 
 /// The chosen link under one record of the calibration suite, and that
@@ -176,6 +178,9 @@ pub struct DynamicFit {
     pub closed_detailed: f64,
     /// The mass that fits this record alone best \[kg\].
     pub own_mass: f64,
+    /// The detailed joint's racking under this record `[closing, opening]`
+    /// \[m\] ([`racking`]; closing NaN where a cell closed).
+    pub racking: [f64; 2],
 }
 
 /// The mass factors of the search (times the kinetic-energy mass) [-]: at
@@ -196,7 +201,8 @@ pub struct Calibration {
     pub fit_rms: f64,
     /// The closing movement until every cell is closed \[m\].
     pub gap: f64,
-    /// The opening movement at which the cells reach their capacity \[m\].
+    /// The opening movement at which the widest cell (the average with
+    /// the racking) reaches its capacity \[m\].
     pub capacity: f64,
     /// Cells [-].
     pub cells: usize,
@@ -212,6 +218,8 @@ pub struct Calibration {
     pub secant_force: f64,
     /// Where [`Calibration::secant_force`] comes from, in words.
     pub secant_from: String,
+    /// Where the link's racking comes from, in words.
+    pub racking_from: String,
     /// The options it ran with.
     pub options: CalibrationOptions,
     /// What the calibration cannot stand behind: loops left out, a poor
@@ -223,7 +231,7 @@ pub struct Calibration {
 impl Calibration {
     /// Its numbers: name, value (NaN where none) and unit, as every front
     /// end lists them (the command line's JSON, Python).
-    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 12] {
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 14] {
         let l = &self.link;
         [
             ("stiffness", l.stiffness, "N/m"),
@@ -238,13 +246,23 @@ impl Calibration {
             ("fit_rms", self.fit_rms, "N"),
             ("speed", self.options.speed, "m/s"),
             ("contact_force", self.secant_force, "N"),
+            ("racking_closing", l.racking()[0], "m"),
+            ("racking_opening", l.racking()[1], "m"),
         ]
+    }
+}
+
+impl Calibration {
+    /// The closing movement at which the narrowest cell closes, `(Nc + 1)
+    /// (g0 - racking_closing)` \[m\].
+    pub fn first_closure(&self) -> f64 {
+        self.gap - self.cells as f64 * self.link.racking()[0]
     }
 }
 
 impl LoopSummary {
     /// Its numbers, as [`Calibration::scalars`] lists the calibration's.
-    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 6] {
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 8] {
         [
             ("amplitude", self.amplitude, "m"),
             ("energy", self.energy, "J"),
@@ -252,13 +270,15 @@ impl LoopSummary {
             ("peak_force", self.peak_force, "N"),
             ("damping_joint", self.damping_joint, "1"),
             ("damping_bridge", self.damping_bridge.unwrap_or(f64::NAN), "1"),
+            ("racking_closing", self.racking[0], "m"),
+            ("racking_opening", self.racking[1], "m"),
         ]
     }
 }
 
 impl DynamicFit {
     /// Its numbers, as [`Calibration::scalars`] lists the calibration's.
-    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 7] {
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 9] {
         [
             ("rms", self.rms, "N"),
             ("own_mass", self.own_mass, "kg"),
@@ -267,6 +287,8 @@ impl DynamicFit {
             ("peak_detailed", self.peak_detailed, "N"),
             ("friction_link", self.friction_link, "J"),
             ("friction_detailed", self.friction_detailed, "J"),
+            ("racking_closing", self.racking[0], "m"),
+            ("racking_opening", self.racking[1], "m"),
         ]
     }
 }
@@ -340,7 +362,17 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
     // the stuck joint's own damping: the bushings' time constant
     let b = &j.bushing;
     let damping = (b.kx > 0.0).then(|| stiffness * b.cx / b.kx);
-    let mut link = LinkConfig { stiffness, friction, mass, gap_stiffness, gap_hertz, damping, v_eps: None };
+    let mut link = LinkConfig {
+        stiffness,
+        friction,
+        mass,
+        gap_stiffness,
+        gap_hertz,
+        damping,
+        v_eps: None,
+        racking_closing: None,
+        racking_opening: None,
+    };
     let dynamic = if options.records.is_empty() {
         Vec::new()
     } else {
@@ -363,7 +395,9 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
         ),
     };
     link.gap_stiffness = closed_stiffness(config, secant_force);
+    let racking_from = set_racking(&mut link, &loops, &dynamic, j.clear_subgap(), &mut warnings);
     check_fitted(&link)?;
+    let capacity = cells as f64 * (j.capacity.max_subgap - j.clear_subgap() - link.racking()[1]);
     Ok(Calibration {
         link,
         kinetic_mass: mass,
@@ -371,11 +405,12 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
         hand_friction: hand,
         fit_rms,
         gap: cells as f64 * j.clear_subgap(),
-        capacity: cells as f64 * (j.capacity.max_subgap - j.clear_subgap()),
+        capacity,
         cells,
         loops,
         secant_force,
         secant_from,
+        racking_from,
         options: options.clone(),
         warnings,
     })
@@ -446,6 +481,7 @@ fn service_loops(
         let last = r.t.last().copied().unwrap_or(0.0) - period;
         let last_cycle = r.t.partition_point(|t| *t < last);
         let peak_force = r.joint_force[last_cycle..].iter().fold(0.0f64, |m, f| m.max(f.abs()));
+        let racking = racking(config.joint.cells(), config.joint.clear_subgap(), &r.u, [r.min_subgap, r.max_subgap]);
         loops.push(LoopSummary {
             amplitude: a,
             energy: r.loop_work_per_cycle,
@@ -457,6 +493,7 @@ fn service_loops(
             u: r.u,
             force: r.joint_force,
             last_cycle,
+            racking,
         });
     }
     Ok(loops)
@@ -492,12 +529,91 @@ fn joint_force(config: &Config, record: &quakejoint_motion::Record) -> Result<Jo
     let r = crate::run::simulate_records(config, record, None, &options)?;
     let flags = r.validity.flags.is_flagged().then(|| r.validity.flags.label());
     let closed = r.pounding.peak_deck_contact_force;
-    let h = r.histories.map(|h| h.joint_force).unwrap_or_default();
-    Ok((h, r.peak_joint_force, r.friction_energy, closed, flags))
+    let (h, racking) = match r.histories {
+        Some(h) => {
+            let subgaps = [r.min_subgap.unwrap_or(f64::NAN), r.max_subgap.unwrap_or(f64::NAN)];
+            let j = &config.joint;
+            (h.joint_force, racking(j.cells(), j.clear_subgap(), &h.u, subgaps))
+        }
+        None => (Vec::new(), [f64::NAN; 2]),
+    };
+    Ok(JointForce { force: h, peak: r.peak_joint_force, friction: r.friction_energy, closed, flags, racking })
 }
 
 /// What [`joint_force`] gives.
-type JointForce = (Vec<f64>, f64, f64, f64, Option<String>);
+struct JointForce {
+    /// The force on the deck at the output times \[N\].
+    force: Vec<f64>,
+    /// Its peak \[N\].
+    peak: f64,
+    /// The friction energy \[J\].
+    friction: f64,
+    /// The closed joint's peak force on the deck \[N\].
+    closed: f64,
+    /// The run's flags, if any.
+    flags: Option<String>,
+    /// The racking `[closing, opening]` \[m\] ([`racking`]).
+    racking: [f64; 2],
+}
+
+/// The racking `[closing, opening]` of a detailed joint's run \[m\]: how far
+/// its narrowest cell `subgaps[0]` fell behind the cells' average at the
+/// deck's smallest opening, `g0 + min u / (Nc + 1)`, and its widest
+/// `subgaps[1]` led the average at the largest (NaN closing where a cell
+/// closed: the contact stopped it, so the lag is not seen whole; negative
+/// values as 0).
+pub fn racking(cells: usize, clear: f64, u: &[f64], subgaps: [f64; 2]) -> [f64; 2] {
+    let n = cells as f64;
+    let lo = u.iter().copied().fold(0.0f64, f64::min);
+    let hi = u.iter().copied().fold(0.0f64, f64::max);
+    let closing = if subgaps[0] > 0.0 { (clear + lo / n - subgaps[0]).max(0.0) } else { f64::NAN };
+    [closing, (subgaps[1] - (clear + hi / n)).max(0.0)]
+}
+
+/// Sets the link's racking to the largest the detailed joint showed in its
+/// service loops and under the calibration suite (a record whose cell
+/// closed gives none for closing), and says where from; warns where the
+/// suite's racking is well beyond the loops' (the beams' inertia racks
+/// them further than the slow loops do).
+fn set_racking(
+    link: &mut LinkConfig,
+    loops: &[LoopSummary],
+    dynamic: &[DynamicFit],
+    clear: f64,
+    warnings: &mut Vec<String>,
+) -> String {
+    let largest = |it: &mut dyn Iterator<Item = f64>| it.filter(|x| x.is_finite()).fold(0.0f64, f64::max);
+    let service = [0, 1].map(|i| largest(&mut loops.iter().map(|l| l.racking[i])));
+    let suite = [0, 1].map(|i| largest(&mut dynamic.iter().map(|d| d.racking[i])));
+    let both = [0, 1].map(|i| service[i].max(suite[i]));
+    // (a cell closed at rest is refused by the config: keep the link usable)
+    let closing = both[0].min(0.9 * clear);
+    if closing < both[0] {
+        warnings.push(format!(
+            "the narrowest cell racked by {:.1} mm, nearly the clear sub-gap of {:.1} mm: the link's racking is \
+             held at {:.1} mm",
+            both[0] * 1e3,
+            clear * 1e3,
+            closing * 1e3
+        ));
+    }
+    link.racking_closing = Some(closing);
+    link.racking_opening = Some(both[1]);
+    if dynamic.is_empty() {
+        "the service loops alone (slow: the beams' inertia racks them further under an earthquake; give a \
+         calibration suite)"
+            .to_string()
+    } else {
+        format!(
+            "the largest of the service loops ({:.1} / {:.1} mm closing / opening) and the calibration suite \
+             ({:.1} / {:.1} mm)",
+            service[0] * 1e3,
+            service[1] * 1e3,
+            suite[0] * 1e3,
+            suite[1] * 1e3
+        )
+    }
+}
 
 /// One candidate link under one record: (RMS of the force difference,
 /// peak, friction energy).
@@ -520,7 +636,7 @@ fn identify(
 ) -> Result<Vec<DynamicFit>, ModelError> {
     let mut detailed = Vec::with_capacity(records.len());
     for record in records {
-        let (force, peak, friction, closed, flags) = joint_force(config, record)?;
+        let JointForce { force, peak, friction, closed, flags, racking } = joint_force(config, record)?;
         if let Some(flags) = flags {
             warnings.push(format!(
                 "the detailed joint is flagged under the calibration record {} ({flags}): the mass rests on a run \
@@ -528,7 +644,7 @@ fn identify(
                 record.name
             ));
         }
-        detailed.push((force, peak, friction, closed));
+        detailed.push((force, peak, friction, closed, racking));
     }
     let kinetic = link.mass;
     let candidates: Vec<LinkConfig> =
@@ -541,7 +657,7 @@ fn identify(
         lc.joint.link = Some(candidate.clone());
         let mut row = Vec::with_capacity(records.len());
         for (record, (reference, ..)) in records.iter().zip(&detailed) {
-            let (f, peak, friction, ..) = joint_force(&lc, record)?;
+            let JointForce { force: f, peak, friction, .. } = joint_force(&lc, record)?;
             let n = f.len().min(reference.len()).max(1);
             let rms = (f.iter().zip(reference).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / n as f64).sqrt();
             row.push((rms, peak, friction));
@@ -569,7 +685,9 @@ fn identify(
     let edges =
         format!("the search: {} to {} times {kinetic:.4e} kg", MASS_FACTORS[0], MASS_FACTORS[MASS_FACTORS.len() - 1]);
     let mut fits = Vec::with_capacity(records.len());
-    for (r, (record, (_, peak_detailed, friction_detailed, closed))) in records.iter().zip(&detailed).enumerate() {
+    for (r, (record, (_, peak_detailed, friction_detailed, closed, racking))) in
+        records.iter().zip(&detailed).enumerate()
+    {
         let own = &candidates[argmin(&|row: &[Trial]| fit(&row[r], *peak_detailed))];
         if at_edge(own) && records.len() > 1 {
             warnings.push(format!(
@@ -588,6 +706,7 @@ fn identify(
             friction_link,
             closed_detailed: *closed,
             own_mass: own.mass,
+            racking: *racking,
         });
     }
     let choice = candidates[chosen].clone();

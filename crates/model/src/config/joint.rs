@@ -134,9 +134,28 @@ pub struct LinkConfig {
     /// [`LINK_V_EPS`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub v_eps: Option<f64>,
+    /// How far the narrowest cell lags behind the cells' average while the
+    /// joint closes (the detailed joint's beams rack and lag on their
+    /// bushings) \[m\] (default 0: the cells alike). The first cell closes
+    /// once the deck has closed the joint by `(Nc + 1) (g0 -
+    /// racking_closing)`; the closed joint's force still waits for the
+    /// whole gap.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub racking_closing: Option<f64>,
+    /// How far the widest cell leads the cells' average while the joint
+    /// opens \[m\] (default 0): the cells reach their capacity once the
+    /// deck has opened the joint by `(Nc + 1) (max_subgap - g0 -
+    /// racking_opening)`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub racking_opening: Option<f64>,
 }
 
 impl LinkConfig {
+    /// The racking `[closing, opening]` \[m\] (0 where not given).
+    pub fn racking(&self) -> [f64; 2] {
+        [self.racking_closing.unwrap_or(0.0), self.racking_opening.unwrap_or(0.0)]
+    }
+
     /// The slider's regularisation velocity [m/s].
     pub fn v_eps(&self) -> f64 {
         self.v_eps.unwrap_or(LINK_V_EPS)

@@ -687,8 +687,17 @@ fn check_link(j: &JointConfig) -> Result<(), ModelError> {
         ("joint.link.damping", l.damping.unwrap_or(0.0)),
         ("joint.link.gap_hertz", l.gap_hertz.unwrap_or(1e6)),
         ("joint.link.v_eps", l.v_eps()),
+        ("joint.link.racking_closing", l.racking()[0]),
+        ("joint.link.racking_opening", l.racking()[1]),
     ] {
         check(key, v)?;
+    }
+    if l.racking()[0] >= j.clear_subgap() {
+        return Err(invalid(
+            "joint.link.racking_closing",
+            l.racking()[0],
+            &format!("a cell would be closed at rest: it must stay below the clear sub-gap, {} m", j.clear_subgap()),
+        ));
     }
     Ok(())
 }

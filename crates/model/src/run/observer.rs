@@ -609,7 +609,8 @@ impl LinkObserver {
     pub(super) fn pounding(&self) -> Pounding {
         let w = &self.watch;
         Pounding {
-            impacts: w.closures,
+            // (the racked cell's closures: the detailed joint's first impacts)
+            impacts: w.cell_closures,
             peak_contact_force: w.peak_gap_force,
             peak_contact_time: w.peak_gap_time,
             peak_deck_contact_force: w.peak_gap_force,
@@ -625,8 +626,9 @@ impl LinkObserver {
         if let Some(t) = self.watch.beyond_capacity_at {
             v.flags |= crate::validity::Flags::CAPACITY_EXCEEDED;
             v.findings.push(format!(
-                "capacity_exceeded: the link's cells (opening alike) opened to {:.1} mm, beyond the capacity of \
-                 {:.0} mm (joint.capacity.max_subgap; first at t = {t:.3} s)",
+                "capacity_exceeded: the link's widest cell (the average with its racking of {:.1} mm) opened to \
+                 {:.1} mm, beyond the capacity of {:.0} mm (joint.capacity.max_subgap; first at t = {t:.3} s)",
+                self.parts.racking[1] * 1e3,
                 self.cells()[1] * 1e3,
                 self.parts.max_subgap * 1e3
             ));
