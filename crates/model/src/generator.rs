@@ -665,8 +665,18 @@ fn connect_joints(
             let link = crate::link::add_link(sys, j, decks[k], abutment, place.sign, &place.prefix);
             sys.add_to_group(NO_GROUP);
             let mut link = link?;
-            if j.contact.enabled {
+            if let (true, Some(gap)) = (j.contact.enabled, link.gap_force) {
                 link.contact = Some(contacts);
+                if j.fuse.is_some() {
+                    // (the closed joint's force breaks it, as the detailed
+                    // joint's beam 1 on the edge beam)
+                    let field = if places.len() > 1 { format!("joints[{k}].joint.fuse") } else { "joint.fuse".into() };
+                    crate::fuse::check_abutment(abutment, &field)?;
+                    let group = (places.len() + k) as u32;
+                    let law = contact_law(&place.config);
+                    model.fuse =
+                        crate::fuse::FuseBox::new(&place.config, vec![gap], contacts, law, (group, &place.prefix));
+                }
                 contacts += 1;
             }
             model.link = Some(link);

@@ -100,6 +100,8 @@ pub struct LinkParts {
     /// The solver's number of the gap's contact (set by the generator;
     /// none without contact).
     pub contact: Option<usize>,
+    /// The gap's contact element (none without contact).
+    pub gap_force: Option<quakejoint_solver::ForceId>,
 }
 
 /// Adds the link of `joint` between `deck` and `abutment` to `sys`
@@ -156,8 +158,9 @@ pub fn add_link(
     let cells = joint.cells();
     let clear = joint.clear_subgap();
     let gap = cells as f64 * clear;
+    let mut gap_force = None;
     if joint.contact.enabled {
-        sys.add_force_named(
+        gap_force = Some(sys.add_force_named(
             format!("{prefix}link gap"),
             ForceElement::Contact(Contact {
                 body: deck,
@@ -175,7 +178,7 @@ pub fn add_link(
                 },
                 reduced_mass: None,
             }),
-        );
+        ));
     }
     Ok(LinkParts {
         deck,
@@ -189,6 +192,7 @@ pub fn add_link(
         max_subgap: joint.capacity.max_subgap,
         racking: l.racking(),
         contact: None,
+        gap_force,
     })
 }
 

@@ -35,8 +35,11 @@ fn joint_model_lines(config: &Config, name: &str) {
     let joint = placed.and_then(|p| p.joint.as_ref()).unwrap_or(&config.joint);
     if joint.is_link() {
         out!(
-            "  modelled as its link element (joint.model = \"link\", docs/link.md): its cells open alike; the \
-             beams' racking and impacts between them are not in it"
+            "  modelled as its link element (joint.model = \"link\", docs/link.md): its cells open alike but for \
+             their racking ({:.1} mm closing, {:.1} mm opening); its impacts are its racked cell's closures, not \
+             the beams' bounces",
+            joint.link.as_ref().map_or(0.0, |l| l.racking()[0] * 1e3),
+            joint.link.as_ref().map_or(0.0, |l| l.racking()[1] * 1e3)
         );
     }
     if let Some(lag) = placed.and_then(|p| p.abutment_lag).filter(|&l| l > 0.0) {

@@ -53,7 +53,12 @@ fn header(c: &Calibration, comment: &str, source: &str) -> String {
         format!("racking from {}", c.racking_from),
         "the opening u is the deck's displacement away from the abutment; the element acts along it".to_string(),
     ]
-    .iter()
+    .into_iter()
+    .chain(c.has_fuse.then(|| {
+        "WARNING: the joint has a fuse box ([joint.fuse]) and this element does not carry it: it is the joint \
+         without its fuse (quakejoint's own link does carry it)"
+            .to_string()
+    }))
     .map(|line| format!("{comment} {line}\n"))
     .collect()
 }

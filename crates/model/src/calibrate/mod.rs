@@ -220,6 +220,9 @@ pub struct Calibration {
     pub secant_from: String,
     /// Where the link's racking comes from, in words.
     pub racking_from: String,
+    /// Whether the joint has a fuse (`[joint.fuse]`): quakejoint's link
+    /// carries it, the exports do not yet.
+    pub has_fuse: bool,
     /// The options it ran with.
     pub options: CalibrationOptions,
     /// What the calibration cannot stand behind: loops left out, a poor
@@ -398,6 +401,13 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
     let racking_from = set_racking(&mut link, &loops, &dynamic, j.clear_subgap(), &mut warnings);
     check_fitted(&link)?;
     let capacity = cells as f64 * (j.capacity.max_subgap - j.clear_subgap() - link.racking()[1]);
+    if j.fuse.is_some() {
+        warnings.push(
+            "the joint has a fuse ([joint.fuse]): quakejoint's link carries it (keep [joint.fuse] beside \
+             [joint.link]), the OpenSees and SAP2000 exports do not yet: they are the joint without its fuse"
+                .to_string(),
+        );
+    }
     Ok(Calibration {
         link,
         kinetic_mass: mass,
@@ -411,6 +421,7 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
         secant_force,
         secant_from,
         racking_from,
+        has_fuse: j.fuse.is_some(),
         options: options.clone(),
         warnings,
     })

@@ -716,9 +716,6 @@ fn check_fuse(j: &JointConfig, f: &FuseConfig) -> Result<(), ModelError> {
     let fail = |reason: &str| {
         Err(ModelError::Invalid { field: "joint.fuse".into(), value: "[joint.fuse]".into(), reason: reason.into() })
     };
-    if j.is_link() {
-        return fail("the link element has no fuse yet: a fuse needs joint.model = \"detailed\"");
-    }
     if !j.contact.enabled {
         return fail("a fuse breaks on the beams' contact force: it needs joint.contact.enabled = true");
     }

@@ -82,7 +82,9 @@ pub fn broken_system(model: &JointModel, broken: &[usize]) -> (System, Vec<Freed
     if joints.len() == 1 {
         // (one joint: its bodies are a group, apart from the freed beam's
         // friction)
-        for &b in joints[0].center_beams.iter().chain(&joints[0].supports).chain(joints[0].bearings.iter().flatten()) {
+        let j = joints[0];
+        let slider = j.link.as_ref().map(|l| l.slider);
+        for &b in j.center_beams.iter().chain(&j.supports).chain(j.bearings.iter().flatten()).chain(&slider) {
             sys.set_group(b, 0);
         }
     }

@@ -224,6 +224,10 @@ impl EarthquakeObserver {
         }
         if let (Some(fuse), Some((coord, parts))) = (&mut self.fuse, freed) {
             fuse.freed(coord, parts);
+            if let Some(l) = &mut self.link {
+                // (its cells now end at the freed edge beam)
+                l.abutment = Some(coord);
+            }
             if let Some(g) = &mut self.gaps {
                 g.free_edge(coord);
             }
@@ -317,6 +321,10 @@ impl EarthquakeObserver {
         }
         if let Some(l) = &mut self.link {
             fj = l.update(t, q, v, asm, ws);
+            // (its freed edge beam's travel)
+            if let Some(f) = &mut self.fuse {
+                f.sample(asm, ws, q, v);
+            }
         }
         let b = self.bridge;
         // a modal deck end's absolute acceleration across, in the joint's y

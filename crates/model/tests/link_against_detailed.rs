@@ -1,4 +1,5 @@
-//! The link's racked cells against the detailed joint's.
+//! The link against the detailed joint where the cells decide: its racked
+//! cells, and its fuse (the last test's doc).
 //!
 //! The link opens its cells alike, `g0 + u / (Nc + 1)` (the intercept
 //! theorem). The detailed joint's cells do not: its center beams lag on
@@ -36,7 +37,12 @@ fn root() -> PathBuf {
 }
 
 fn record(file: &str) -> Record {
-    let text = format!("[record]\nfile = \"{}\"\n", root().join("ground_motions").join(file).display());
+    scaled(file, 1.0)
+}
+
+fn scaled(file: &str, scale: f64) -> Record {
+    let text =
+        format!("[record]\nfile = \"{}\"\nscale = {scale}\n", root().join("ground_motions").join(file).display());
     let config = Config::from_toml(&text, "record.toml").unwrap();
     quakejoint_model::run::load_records(&config, Path::new(".")).unwrap().0.record
 }
@@ -108,6 +114,7 @@ fn a_racked_cell_closes_first_and_the_widest_reaches_the_capacity_first() {
         max_subgap: 0.07,
         racking: [0.01, 0.005],
         contact: None,
+        gap_force: None,
     };
     let mut w = LinkWatch::default();
     // the average cell at 40 - 110/4 = 12.5 mm: the narrowest at 2.5 mm
@@ -148,4 +155,41 @@ fn a_racking_that_closes_a_cell_at_rest_is_refused() {
     assert!(e.contains("joint.link.racking_closing") && e.contains("closed at rest"), "{e}");
     let ok = text.replace("racking_closing = 0.05", "racking_closing = 0.039");
     assert!(Config::from_toml(&ok, "link.toml").is_ok());
+}
+
+/// The link with a fuse box against the detailed joint with the same fuse
+/// (the fuse of docs/model.md, "Seismic fuse", on the link's closed
+/// joint: the closed joint's force breaks it, as beam 1's on the edge
+/// beam breaks the detailed joint's): the medium joint on the paper's deck
+/// at 2.5 s under Corralitos 090 x 3, a 300 kN fuse with 0.3 m of stroke.
+/// The deck is heavy (1e8 kg), so it moves alike with either joint and
+/// closes both at the same time: the fuse breaks at the same instant
+/// (4.42 s, 1 ms apart), at its break force, the freed beam runs into its
+/// stop in both and its friction dissipates the same energy (within 1 %).
+#[test]
+fn the_links_fuse_breaks_as_the_detailed_joints() {
+    let link = calibrate(&Scenario::new(medium(1e8, 2.5)).unwrap(), &CalibrationOptions::default()).unwrap().link;
+    let mut detailed = medium(1e8, 2.5);
+    detailed.joint.fuse = Some(quakejoint_model::config::FuseConfig {
+        kind: quakejoint_model::config::FuseKind::Box,
+        break_force: 3e5,
+        stroke: 0.3,
+        ramp_deg: 0.0,
+        mu: 0.15,
+        mass: None,
+    });
+    let mut linked = detailed.clone();
+    linked.joint.model = Some(JointKind::Link);
+    linked.joint.link = Some(link);
+    let r = scaled("RSN753_LOMAP_CLS090-hor2.AT2", 3.0);
+    let d = simulate_records(&detailed, &r, None, &RunOptions::default()).unwrap();
+    let l = simulate_records(&linked, &r, None, &RunOptions::default()).unwrap();
+    let (fd, fl) = (d.joints[0].fuse.unwrap(), l.joints[0].fuse.unwrap());
+    eprintln!("detailed {fd:?}\nlink     {fl:?}");
+    assert!(fd.broke && fl.broke);
+    assert!((fd.break_time - fl.break_time).abs() < 5e-3, "{} {}", fd.break_time, fl.break_time);
+    assert!((fl.break_force / 3e5 - 1.0).abs() < 1e-3);
+    assert!(fd.stroke_exhausted && fl.stroke_exhausted);
+    assert!((fl.energy / fd.energy - 1.0).abs() < 0.01, "{} {}", fl.energy, fd.energy);
+    assert!(l.energy_error < 1e-6, "{}", l.energy_error);
 }
