@@ -39,11 +39,16 @@ python_package() {
 
 # opensees_env: openseespy (scripts/opensees/requirements.txt), the
 # independent engine of the bridge checks, into .venv; on Debian it needs
-# the BLAS and LAPACK libraries
+# the BLAS and LAPACK libraries; and tclsh, which runs the Tcl export
+# against a recorder of OpenSees' commands
 opensees_env() {
   if ! dpkg -s libblas3 > /dev/null 2>&1 || ! dpkg -s liblapack3 > /dev/null 2>&1; then
     echo "== installing libblas3 and liblapack3 (for openseespy)"
     apt_install libblas3 liblapack3
+  fi
+  if ! command -v tclsh > /dev/null 2>&1; then
+    echo "== installing tcl (tclsh, for the Tcl export's test)"
+    apt_install tcl
   fi
   .venv/bin/python3 -m pip install --quiet --disable-pip-version-check -r scripts/opensees/requirements.txt
 }

@@ -19,32 +19,46 @@ DAMPING = 1.138040444391251e4  # [N s/m] damper with the spring
 GAP = 1.12e0  # [m] closing movement until every cell is closed
 GAP_STIFFNESS = 5.1651597924325414e7  # [N/m] closed joint
 STICK_FACTOR = 1000  # the slider's stick stiffness over STIFFNESS
+FUSE = None  # the joint has no fuse box
 
 
-def add_link_node(ops, deck_node, new_node):
-    """The link's mass node at the deck node, held along X until add_link frees it.
+def _mass_node(ops, deck_node, node, mass):
+    ndf = len(ops.nodeDisp(deck_node))
+    ops.node(node, *ops.nodeCoord(deck_node), "-mass", mass, *([0.0] * (ndf - 1)))
+    ops.fix(node, *([1] * ndf))
+
+
+def add_link_node(ops, deck_node, new_node, fuse_node=None):
+    """The link's mass node at the deck node, held along X until add_link frees it
+    (and, with a FUSE, the edge beam's node fuse_node, new_node + 1 by default).
     With modalDamping, call it before the eigen analysis and add_link after
     modalDamping: a node with mass added after modalDamping makes OpenSees 3.7.1 end
     the process without an error, and a link present at the eigen analysis has its
     modes damped too (docs/link.md)."""
-    ndf = len(ops.nodeDisp(deck_node))
-    ops.node(new_node, *ops.nodeCoord(deck_node), "-mass", MASS, *([0.0] * (ndf - 1)))
-    ops.fix(new_node, *([1] * ndf))
+    _mass_node(ops, deck_node, new_node, MASS)
+    if FUSE is not None:
+        _mass_node(ops, deck_node, new_node + 1 if fuse_node is None else fuse_node, FUSE["mass"])
 
 
-def add_link(ops, abut_node, deck_node, new_node, first_tag, side=1):
+def add_link(ops, abut_node, deck_node, new_node, first_tag, side=1, fuse_node=None):
     """Adds the link between two existing nodes at the same place (never swap
     them). side: +1 where the deck lies toward +X (global X) of the joint, the
     bridge's first end; -1 where it lies toward -X, the far end: the chain stays
     abutment - slider - mass - spring - deck and the gap closes as the deck moves
     toward the abutment. new_node: the moving mass's node tag (made here unless
-    add_link_node made it); first_tag: the first of 5 free material tags (and of 3
-    element tags). 2D or 3D: the new node takes the deck node's coordinates and
-    DOFs, its mass and freedom along the first (global X)."""
+    add_link_node made it); first_tag: the first of 10 free material tags (and of 7
+    element tags, and with a FUSE on a ramp of a time series and a load pattern).
+    With a FUSE the gap closes on the edge beam's node fuse_node (new_node + 1 by
+    default), held on the abutment by a weld that breaks (MinMax), its friction
+    (ElasticPP), its seat and its stop (ElasticPPGap), and pushed back by the lift.
+    2D or 3D: the new nodes take the deck node's coordinates and DOFs, their mass
+    and freedom along the first (global X)."""
     if side not in (1, -1):
         raise ValueError(f"add_link: side must be 1 or -1, not {side!r}")
+    if FUSE is not None and fuse_node is None:
+        fuse_node = new_node + 1
     if new_node not in ops.getNodeTags():
-        add_link_node(ops, deck_node, new_node)
+        add_link_node(ops, deck_node, new_node, fuse_node)
     ops.remove("sp", new_node, 1)
     k_stick = STICK_FACTOR * STIFFNESS
     ops.uniaxialMaterial("Elastic", first_tag + 3, STIFFNESS)
@@ -54,6 +68,27 @@ def add_link(ops, abut_node, deck_node, new_node, first_tag, side=1):
     ops.uniaxialMaterial("ElasticPPGap", first_tag + 2, GAP_STIFFNESS, -1.0e20, -GAP)
     ops.element("zeroLength", first_tag, new_node, deck_node, "-mat", first_tag, "-dir", 1)
     ops.element("zeroLength", first_tag + 1, abut_node, new_node, "-mat", first_tag + 1, "-dir", 1)
-    # (the gap's deformation is the opening's sign: it closes toward the abutment)
-    gap_nodes = (abut_node, deck_node) if side == 1 else (deck_node, abut_node)
+    # (each element's deformation is the opening's sign: it closes toward the abutment)
+    base = abut_node if FUSE is None else fuse_node
+    gap_nodes = (base, deck_node) if side == 1 else (deck_node, base)
     ops.element("zeroLength", first_tag + 2, *gap_nodes, "-mat", first_tag + 2, "-dir", 1)
+    if FUSE is None:
+        return
+    ops.remove("sp", fuse_node, 1)
+    kw, ks = FUSE["weld_stiffness"], FUSE["stop_stiffness"]
+    ops.uniaxialMaterial("Elastic", first_tag + 5, kw)
+    ops.uniaxialMaterial("MinMax", first_tag + 6, first_tag + 5, "-min", -FUSE["break_strain"])
+    ops.uniaxialMaterial("ElasticPP", first_tag + 7, kw, FUSE["friction"] / kw)
+    ops.uniaxialMaterial("ElasticPPGap", first_tag + 8, ks, 1.0e20, 0.0)
+    ops.uniaxialMaterial("ElasticPPGap", first_tag + 9, ks, -1.0e20, -FUSE["stroke"])
+    fuse_nodes = (abut_node, fuse_node) if side == 1 else (fuse_node, abut_node)
+    # weld, friction, seat, stop
+    for i in range(4):
+        if i == 1 and FUSE["friction"] <= 0.0:
+            continue
+        ops.element("zeroLength", first_tag + 3 + i, *fuse_nodes, "-mat", first_tag + 6 + i, "-dir", 1)
+    if FUSE["lift"] != 0.0:
+        ndf = len(ops.nodeDisp(deck_node))
+        ops.timeSeries("Constant", first_tag)
+        ops.pattern("Plain", first_tag, first_tag)
+        ops.load(fuse_node, side * FUSE["lift"], *([0.0] * (ndf - 1)))

@@ -19,8 +19,11 @@ The model (2D, ndf 3, units N, m, kg, s):
 
 Reported: Sa (the deck's peak absolute acceleration), the peak force of
 the link on the deck (its spring and damper element's plus its gap
-element's basic forces), the slider's friction energy (its force times
-its slip, summed over the steps), and the histories.
+element's basic forces, at every step), the slider's friction energy (its force times
+its slip, summed over the steps), and the histories; for a link with a
+fuse box (`FUSE` in the exported file) also when it broke, the stroke
+used, the residual offset, the fuse's friction energy and whether the
+stroke was exhausted (`fuse_*`).
 """
 import argparse
 import importlib.util
@@ -82,31 +85,78 @@ def run(link_path, mass, period, damping, record, scale=1.0, substeps=20, extra=
     force = np.zeros(n_out + 1)
     friction_energy = 0.0
     slip_prev = ops.nodeDisp(3, 1)
+    fuse = getattr(link, "FUSE", None)
+    edge = {"broke": False, "break_time": math.nan, "stroke_used": 0.0, "energy": 0.0, "exhausted": False}
+    x_prev = 0.0
+    peak, peak_time = 0.0, 0.0
     for j in range(1, n_out + 1):
         for _ in range(substeps):
-            if ops.analyze(1, h) != 0:
-                raise RuntimeError(f"OpenSees failed at t = {ops.getTime()}")
+            advance(h)
+            if abs(deck_force()) > peak:
+                peak, peak_time = abs(deck_force()), ops.getTime()
             slip = ops.nodeDisp(3, 1)
             f_slider = ops.eleResponse(101, "basicForce")[0]
             friction_energy += abs(f_slider * (slip - slip_prev)) if abs(f_slider) >= 0.999 * link.FRICTION else 0.0
             slip_prev = slip
+            if fuse is not None:
+                watch_fuse(fuse, edge, x_prev)
+                x_prev = ops.nodeDisp(4, 1)
         t[j] = ops.getTime()
         u[j] = ops.nodeDisp(2, 1)
         a_rel[j] = ops.nodeAccel(2, 1)
-        # the spring's force on the deck (its j node) and the gap's
-        force[j] = -ops.eleResponse(100, "basicForce")[0] - ops.eleResponse(102, "basicForce")[0]
+        force[j] = deck_force()
     a_abs = a_rel + ground_at(t, dt, acc)
     m = len(acc)
+    fuse_results = {}
+    if fuse is not None:
+        edge["residual_offset"] = -ops.nodeDisp(4, 1)
+        fuse_results = {f"fuse_{k}": v for k, v in edge.items()}
     return {
+        **fuse_results,
         "sa": float(np.max(np.abs(a_abs[:m]))),
         "sd": float(np.max(np.abs(u[:m]))),
-        "peak_joint_force": float(np.max(np.abs(force))),
+        "peak_joint_force": peak,
+        "peak_time": peak_time,
         "friction_energy": friction_energy,
         "t": t,
         "u": u,
         "a_abs": a_abs,
         "force": force,
     }
+
+
+def deck_force():
+    """The link's force on the deck: its spring's (the deck its j node)
+    and its gap's."""
+    return -ops.eleResponse(100, "basicForce")[0] - ops.eleResponse(102, "basicForce")[0]
+
+
+def advance(h):
+    """One step of `h`; where Newton does not converge (a fuse's weld
+    breaking, its beam striking its stop), the step in ten and then a
+    hundred parts."""
+    if ops.analyze(1, h) == 0:
+        return
+    for parts in (10, 100):
+        if ops.analyze(parts, h / parts) == 0:
+            return
+    raise RuntimeError(f"OpenSees failed at t = {ops.getTime()}")
+
+
+def watch_fuse(fuse, edge, x_prev):
+    """The fuse box of the link (node 4, elements 103 weld, 104 friction,
+    106 stop): the break (the weld compressed beyond its break strain),
+    the freed beam's travel, its friction's work and whether it reached
+    its stop, into `edge`."""
+    x = ops.nodeDisp(4, 1)
+    if not edge["broke"] and -x > fuse["break_strain"]:
+        edge["broke"], edge["break_time"] = True, ops.getTime()
+    edge["stroke_used"] = max(edge["stroke_used"], -x)
+    if fuse["friction"] > 0.0:
+        f = ops.eleResponse(104, "basicForce")[0]
+        edge["energy"] += abs(f * (x - x_prev)) if abs(f) >= 0.999 * fuse["friction"] else 0.0
+    if -x >= fuse["stroke"]:
+        edge["exhausted"] = True
 
 
 def main(argv=None):
@@ -121,7 +171,7 @@ def main(argv=None):
     ap.add_argument("--json", action="store_true", help="print the peaks as JSON")
     a = ap.parse_args(argv)
     r = run(a.link, a.mass, a.period, a.damping, a.record, a.scale, a.substeps)
-    peaks = {k: r[k] for k in ("sa", "sd", "peak_joint_force", "friction_energy")}
+    peaks = {k: r[k] for k in ("sa", "sd", "peak_joint_force", "friction_energy") + tuple(x for x in r if x.startswith("fuse_"))}
     print(json.dumps(peaks) if a.json else "\n".join(f"{k:18s} {v:.6g}" for k, v in peaks.items()))
 
 

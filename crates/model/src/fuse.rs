@@ -75,11 +75,7 @@ impl FuseBox {
         (group, prefix): (u32, &str),
     ) -> Option<Self> {
         let f = config.joint.fuse.as_ref()?;
-        match f.kind {
-            FuseKind::Box => {}
-        }
-        let mass = f.mass.unwrap_or(config.joint.center_beam.mass);
-        let [lift, resistance] = ramp_forces(mass * G, f.ramp_deg, f.mu);
+        let (mass, [lift, resistance]) = box_forces(&config.joint)?;
         let contact_numbers = (first..first + contacts.len()).collect();
         Some(Self {
             break_force: f.break_force,
@@ -96,6 +92,17 @@ impl FuseBox {
             prefix: prefix.to_string(),
         })
     }
+}
+
+/// The freed edge beam of `joint`'s fuse box (none without one): its mass
+/// \[kg\] and `[lift, resistance]` \[N\] ([`ramp_forces`] of its weight).
+pub fn box_forces(joint: &crate::config::JointConfig) -> Option<(f64, [f64; 2])> {
+    let f = joint.fuse.as_ref()?;
+    match f.kind {
+        FuseKind::Box => {}
+    }
+    let mass = f.mass.unwrap_or(joint.center_beam.mass);
+    Some((mass, ramp_forces(mass * G, f.ramp_deg, f.mu)))
 }
 
 /// A block of weight `w` \[N\] on a ramp of `angle_deg` with friction `mu`:

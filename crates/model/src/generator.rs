@@ -673,7 +673,15 @@ fn connect_joints(
                     let field = if places.len() > 1 { format!("joints[{k}].joint.fuse") } else { "joint.fuse".into() };
                     crate::fuse::check_abutment(abutment, &field)?;
                     let group = (places.len() + k) as u32;
-                    let law = contact_law(&place.config);
+                    // (its seat and stop take the gap's law: the joint's with
+                    // a Hertz gap, the exports' linear and elastic without)
+                    let law = match j.link.as_ref().filter(|l| l.gap_hertz.is_none()) {
+                        Some(l) => ContactLaw::Linear {
+                            stiffness: crate::link::stop_stiffness(j, l.gap_stiffness),
+                            restitution: 1.0,
+                        },
+                        None => contact_law(&place.config),
+                    };
                     model.fuse =
                         crate::fuse::FuseBox::new(&place.config, vec![gap], contacts, law, (group, &place.prefix));
                 }

@@ -196,6 +196,20 @@ pub fn add_link(
     })
 }
 
+/// The linear stiffness of one contact of `joint`'s law at the force at
+/// which the closed joint's `gap_stiffness` \[N/m\] is its cells' secant:
+/// a fuse box's seat and stop in the exports and in a link whose gap is
+/// linear \[N/m\]. The closed joint is `Nc + 1` cells of two contacts in
+/// parallel in series: Hertz `k_c (Nc + 1) / 2^(2/3)`, linear `k_c (Nc +
+/// 1) / 2`.
+pub fn stop_stiffness(joint: &JointConfig, gap_stiffness: f64) -> f64 {
+    let n1 = joint.cells() as f64;
+    match joint.contact.law {
+        crate::config::ContactLawConfig::Hertz => gap_stiffness * n1 / 2f64.powf(2.0 / 3.0),
+        crate::config::ContactLawConfig::Linear => gap_stiffness * n1 / 2.0,
+    }
+}
+
 /// What a run watches of a link: its opening's extremes and its closure.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct LinkWatch {

@@ -220,9 +220,9 @@ pub struct Calibration {
     pub secant_from: String,
     /// Where the link's racking comes from, in words.
     pub racking_from: String,
-    /// Whether the joint has a fuse (`[joint.fuse]`): quakejoint's link
-    /// carries it, the exports do not yet.
-    pub has_fuse: bool,
+    /// The joint's fuse box as the exports carry it (none without
+    /// `[joint.fuse]`).
+    pub fuse: Option<export::FuseExport>,
     /// The options it ran with.
     pub options: CalibrationOptions,
     /// What the calibration cannot stand behind: loops left out, a poor
@@ -381,33 +381,12 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
     } else {
         identify(config, &options.records, &mut link, &mut warnings)?
     };
-    // the exports' closing secant at the force the closed joint meets
-    let closed = dynamic.iter().max_by(|a, b| a.closed_detailed.total_cmp(&b.closed_detailed));
-    let (secant_force, secant_from) = match (options.contact_force, closed) {
-        (Some(f), _) => (f, "given".to_string()),
-        (None, Some(d)) if d.closed_detailed > 0.0 => (
-            d.closed_detailed,
-            format!(
-                "the detailed joint's largest closed-joint force on the deck under the calibration suite ({})",
-                d.record
-            ),
-        ),
-        (None, _) => (
-            DEFAULT_CONTACT_FORCE,
-            "a default: the detailed joint did not close under the calibration suite".to_string(),
-        ),
-    };
+    let (secant_force, secant_from) = secant_at(options, &dynamic);
     link.gap_stiffness = closed_stiffness(config, secant_force);
     let racking_from = set_racking(&mut link, &loops, &dynamic, j.clear_subgap(), &mut warnings);
     check_fitted(&link)?;
     let capacity = cells as f64 * (j.capacity.max_subgap - j.clear_subgap() - link.racking()[1]);
-    if j.fuse.is_some() {
-        warnings.push(
-            "the joint has a fuse ([joint.fuse]): quakejoint's link carries it (keep [joint.fuse] beside \
-             [joint.link]), the OpenSees and SAP2000 exports do not yet: they are the joint without its fuse"
-                .to_string(),
-        );
-    }
+    let fuse = export::FuseExport::of(config, link.gap_stiffness, &mut warnings);
     Ok(Calibration {
         link,
         kinetic_mass: mass,
@@ -421,10 +400,31 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
         secant_force,
         secant_from,
         racking_from,
-        has_fuse: j.fuse.is_some(),
+        fuse,
         options: options.clone(),
         warnings,
     })
+}
+
+/// The force the exports' closing secant is taken at, and where from in
+/// words: the one given, or the detailed joint's largest closed-joint force
+/// on the deck under the suite, or [`DEFAULT_CONTACT_FORCE`].
+fn secant_at(options: &CalibrationOptions, dynamic: &[DynamicFit]) -> (f64, String) {
+    let closed = dynamic.iter().max_by(|a, b| a.closed_detailed.total_cmp(&b.closed_detailed));
+    match (options.contact_force, closed) {
+        (Some(f), _) => (f, "given".to_string()),
+        (None, Some(d)) if d.closed_detailed > 0.0 => (
+            d.closed_detailed,
+            format!(
+                "the detailed joint's largest closed-joint force on the deck under the calibration suite ({})",
+                d.record
+            ),
+        ),
+        (None, _) => (
+            DEFAULT_CONTACT_FORCE,
+            "a default: the detailed joint did not close under the calibration suite".to_string(),
+        ),
+    }
 }
 
 /// `config`'s joint and `options`' amplitudes checked for a calibration:

@@ -212,6 +212,9 @@ impl EarthquakeObserver {
     /// (`freed`: that beam's x coordinate and parts).
     pub(super) fn resumed(&mut self, asm: &Assembly, freed: Option<(usize, crate::run::fuse::FreedParts)>) {
         self.state = quakejoint_solver::StateBuffer::new(asm);
+        if let Some(l) = &mut self.link {
+            l.scratch = None;
+        }
         if let Some(c) = &mut self.contacts {
             c.resized();
         }
@@ -517,16 +520,39 @@ struct Instant<'a> {
     lam: &'a [f64],
 }
 
+impl EarthquakeObserver {
+    /// The joint's forces on the deck and on the abutment at `at`, the
+    /// instant its fuse broke, into their peaks.
+    fn break_peaks(&mut self, at: Instant<'_>, view: &mut StepView<'_>) {
+        let (asm, ws) = (view.assembly, &mut *view.workspace);
+        let on_deck = match (&mut self.link, &mut self.contacts) {
+            (Some(l), _) => l.forces(at.q, at.v, asm, ws).2,
+            (None, c) => {
+                let pushed = c.as_mut().map_or(0.0, |c| c.at(asm, ws, at.q, at.v, Some(&mut self.gap_forces)));
+                asm.reaction_sum(ws, at.t, at.q, at.lam, &self.boxes, self.deck_body)[0] + pushed
+            }
+        };
+        self.joint_force.update(on_deck, at.t);
+        if let Some(f) = self.fuse.as_ref().filter(|_| !self.abutment_links.is_empty()) {
+            let force = f.result.break_force;
+            self.abutment_update(at, -force, asm, ws);
+        }
+    }
+}
+
 impl Observer for EarthquakeObserver {
     /// Watches the step; false when its fuse broke at the step's end (the
     /// run then goes on in the broken system, [`crate::run::fuse::run_with_fuses`]).
     fn step(&mut self, view: &mut StepView<'_>) -> bool {
         let broke = self.fuse.as_mut().is_some_and(|f| f.step(view.events));
-        if let Some(f) = self.fuse.as_ref().filter(|_| broke && !self.abutment_links.is_empty()) {
-            // (the break force reaches the abutment at the break, between
-            // two output times)
-            let at = Instant { t: view.t, q: view.q, v: view.v, lam: view.lambda };
-            self.abutment_update(at, -f.result.break_force, view.assembly, view.workspace);
+        if broke {
+            // (the break force reaches the deck and the abutment at the
+            // break, between two output times)
+            self.break_peaks(Instant { t: view.t, q: view.q, v: view.v, lam: view.lambda }, view);
+        } else if let Some(l) = &mut self.link {
+            // (a link's closed gap: its impacts last less than an output
+            // interval)
+            l.step(view, &mut self.joint_force);
         }
         self.locate_crossings(view);
         self.check_between(view);
@@ -562,6 +588,8 @@ pub(super) struct LinkObserver {
     watch: crate::link::LinkWatch,
     /// The opening at the last update \[m\].
     u: f64,
+    /// Scratch: a state inside a step.
+    scratch: Option<quakejoint_solver::StateBuffer>,
 }
 
 impl LinkObserver {
@@ -578,14 +606,59 @@ impl LinkObserver {
             abutment,
             watch: crate::link::LinkWatch::default(),
             u: 0.0,
+            scratch: None,
         })
+    }
+
+    /// Watches a step into `peak` (its force on the deck) where the gap is
+    /// closed at either end of it (a closure lasts less than an output
+    /// interval, the first after a fuse broke less than a step): at
+    /// [`crate::pounding::INTERIOR`] points inside it on the dense output,
+    /// then at its end. Elsewhere the output times watch it.
+    fn step(&mut self, view: &mut StepView<'_>, peak: &mut Peak) {
+        let closed = |u: f64, gap: f64| u + gap < 0.0;
+        let u_end = view.q[self.deck] - self.abutment.map_or(0.0, |c| view.q[c]);
+        if !(closed(self.u, self.parts.gap) || closed(u_end, self.parts.gap)) || view.t <= view.t_prev {
+            return;
+        }
+        let mut s = self.scratch.take().unwrap_or_else(|| quakejoint_solver::StateBuffer::new(view.assembly));
+        let dt = (view.t - view.t_prev) / (crate::pounding::INTERIOR + 1) as f64;
+        // (the peaks alone: the output times watch the rest, in order)
+        let mut at = |link: &mut Self, t: f64, q: &[f64], v: &[f64], ws: &mut quakejoint_solver::Workspace| {
+            let (_, gap, on_deck) = link.forces(q, v, view.assembly, ws);
+            peak.update(on_deck, t);
+            if gap > link.watch.peak_gap_force {
+                (link.watch.peak_gap_force, link.watch.peak_gap_time) = (gap, t);
+            }
+        };
+        for k in 1..=crate::pounding::INTERIOR {
+            let t = view.t_prev + dt * k as f64;
+            view.state_at(t, &mut s).expect(DENSE_OUTPUT);
+            at(self, t, &s.q, &s.v, view.workspace);
+        }
+        self.scratch = Some(s);
+        at(self, view.t, view.q, view.v, view.workspace);
     }
 
     /// Watches the state `(q, v)` at `t`; returns the link's force on the
     /// deck (its spring's and damper's and, closed, its gap's) \[N\].
     fn update(&mut self, t: f64, q: &[f64], v: &[f64], asm: &Assembly, ws: &mut quakejoint_solver::Workspace) -> f64 {
-        let u = q[self.deck] - self.abutment.map_or(0.0, |c| q[c]);
+        let (u, gap, on_deck) = self.forces(q, v, asm, ws);
         self.u = u;
+        self.watch.update(&self.parts, t, u, gap);
+        on_deck
+    }
+
+    /// At the state `(q, v)`: the opening \[m\], the closed gap's force and
+    /// the link's whole force on the deck \[N\].
+    fn forces(
+        &mut self,
+        q: &[f64],
+        v: &[f64],
+        asm: &Assembly,
+        ws: &mut quakejoint_solver::Workspace,
+    ) -> (f64, f64, f64) {
+        let u = q[self.deck] - self.abutment.map_or(0.0, |c| q[c]);
         let gap = match self.parts.contact {
             Some(i) => {
                 self.contacts.resize(asm.contact_count(), Default::default());
@@ -599,9 +672,8 @@ impl LinkObserver {
             }
             None => 0.0,
         };
-        self.watch.update(&self.parts, t, u, gap);
         let p = &self.parts;
-        p.stiffness * (q[self.slider] - q[self.deck]) + p.damping * (v[self.slider] - v[self.deck]) + gap
+        (u, gap, p.stiffness * (q[self.slider] - q[self.deck]) + p.damping * (v[self.slider] - v[self.deck]) + gap)
     }
 
     pub(super) fn cells(&self) -> [f64; 2] {
