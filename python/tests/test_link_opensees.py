@@ -277,7 +277,8 @@ def test_the_exported_fuse_in_opensees_is_quakejoints_link(fused):
     assert abs(theirs["sa"] / ours.sa - 1) < 1e-3
     assert abs(theirs["fuse_stroke_used"] / ours.fuse_stroke_used - 1) < 0.05
     assert abs(theirs["fuse_energy"] / ours.fuse_energy - 1) < 0.02
-    assert abs(theirs["peak_joint_force"] / ours.peak_joint_force - 1) < 0.03
+    # (quakejoint watches a closed gap's force inside its steps: OpenSees' at every step)
+    assert abs(theirs["peak_joint_force_steps"] / ours.peak_joint_force - 1) < 0.03
     assert abs(theirs["friction_energy"] / ours.friction_energy - 1) < 0.01
     assert detailed.fuse_broken == 1 and abs(detailed.fuse_break_time - ours.fuse_break_time) < 1e-3
 

@@ -19,7 +19,8 @@ The model (2D, ndf 3, units N, m, kg, s):
 
 Reported: Sa (the deck's peak absolute acceleration), the peak force of
 the link on the deck (its spring and damper element's plus its gap
-element's basic forces, at every step), the slider's friction energy (its force times
+element's basic forces; at the output times as quakejoint takes it, and
+at every step with its time: `peak_joint_force_steps`, `peak_time`), the slider's friction energy (its force times
 its slip, summed over the steps), and the histories; for a link with a
 fuse box (`FUSE` in the exported file) also when it broke, the stroke
 used, the residual offset, the fuse's friction energy and whether the
@@ -115,7 +116,8 @@ def run(link_path, mass, period, damping, record, scale=1.0, substeps=20, extra=
         **fuse_results,
         "sa": float(np.max(np.abs(a_abs[:m]))),
         "sd": float(np.max(np.abs(u[:m]))),
-        "peak_joint_force": peak,
+        "peak_joint_force": float(np.max(np.abs(force))),
+        "peak_joint_force_steps": peak,
         "peak_time": peak_time,
         "friction_energy": friction_energy,
         "t": t,
