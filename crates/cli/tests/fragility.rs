@@ -335,3 +335,51 @@ fn the_fuse_limit_states_are_the_runs_fuse_and_undetermined_without_one() {
     let fused = values(force, 2).into_iter().fold(0.0f64, f64::max);
     assert!(crushed > 1e8 && fused < 1e6, "abutment force {crushed} N without the fuse, {fused} N with it");
 }
+
+/// A bridge with two joints (the three-span bridge of configs/three_span.toml,
+/// its 5 longest modes): the reference joint's 1.12 m of gap at the left
+/// abutment, which the deck never closes, and the small joint's 0.16 m at
+/// the right one, which it closes and pounds. A joint's limit state
+/// (abutment force, pounding) is exceeded in a run where any joint exceeds
+/// it; the run's own fields are the first joint's, which would say the
+/// bridge is safe.
+#[test]
+fn a_joint_limit_state_on_a_bridge_with_several_joints_is_every_joints() {
+    let d = dir("fragility_joints");
+    let record = |name: &str| root().join("ground_motions").join(name);
+    let text = format!(
+        "[bridge]\ndamping = 0.05\n[bridge.modal]\nmodes = {:?}\nmodes_used = 5\n\
+         [[joints]]\nname = \"left\"\ndeck_point = \"left end\"\ndeck_side = \"+x\"\n\
+         [[joints]]\nname = \"right\"\ndeck_point = \"right end\"\ndeck_side = \"-x\"\n\
+         [joints.joint]\ncenter_beams = 3\n\
+         [sweep]\nperiod_scales = [1.0]\nrecords = [{{ file = {:?} }}, {{ file = {:?} }}]\n\
+         [sweep.stripes]\nmeasure = \"sa\"\nlevels = [0.3, 2.0]\n\
+         [sweep.fragility]\nbootstrap = 0\n\
+         [[sweep.fragility.limit_states]]\nkind = \"abutment_force\"\nforce = 5e6\n\
+         [[sweep.fragility.limit_states]]\nkind = \"pounding\"\n",
+        root().join("tests/data/three_span/modes.toml"),
+        record("RSN753_LOMAP_CLS090-hor2.AT2"),
+        record("RSN6_IMPVALL.I_I-ELC180-hor1.AT2"),
+    );
+    let cfg = d.join("joints.toml");
+    std::fs::write(&cfg, text).unwrap();
+    let out = d.join("joints.h5");
+    ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()]));
+    let f = read_sweep(&out).unwrap();
+    let r = &f.results;
+    let evaluated = f.fragility.as_ref().unwrap().evaluate(r);
+    let joint = |name: &str| quakejoint_sweep::results::JOINT_FIELDS.iter().position(|(n, _)| *n == name).unwrap();
+    let (force, speed) = (joint("peak_abutment_force"), joint("max_impact_speed"));
+    assert_eq!((r.joints.len(), r.status.len()), (2, 4));
+    let mut only_the_second = 0;
+    for j in 0..4 {
+        let [left, right] = [0, 1].map(|k| r.joints[k].values[force][j] > 5e6);
+        assert_eq!(evaluated[0].outcome[j], i8::from(left || right), "job {j}");
+        let [left, right] = [0, 1].map(|k| r.joints[k].values[speed][j] > 0.05);
+        assert_eq!(evaluated[1].outcome[j], i8::from(left || right), "job {j}");
+        only_the_second += usize::from(right && !left);
+        // (the run's own fields are the first joint's)
+        assert_eq!(r.values[Results::field("max_impact_speed")][j].to_bits(), r.joints[0].values[speed][j].to_bits());
+    }
+    assert!(only_the_second > 0, "no run where the second joint alone pounds: the test shows nothing");
+}

@@ -22,8 +22,9 @@ use quakejoint_io::OutputError;
 /// bootstrap key and counts; 13: `/joints/<k>` holds every joint of a
 /// bridge given by its modes, k from 0, each with its own peak bushing,
 /// friction and abutment forces and friction energy; 14: each joint's
-/// fuse, `fuse_*`, per job and per joint, read as NaN from older files).
-pub const SCHEMA_VERSION: u32 = 14;
+/// fuse, `fuse_*`, per job and per joint, read as NaN from older files;
+/// 15: each joint's `max_impact_speed`, read as NaN from older files).
+pub const SCHEMA_VERSION: u32 = 15;
 
 /// What a sweep over a bridge given by its modes stores beside the grid.
 #[derive(Debug, Clone, PartialEq)]

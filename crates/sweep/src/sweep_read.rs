@@ -190,7 +190,9 @@ fn read_joints(file: &hdf5::File, results: &mut Results, schema: u32) -> hdf5::R
         let g = group(file, &at)?;
         for (values, (name, _)) in joint.values.iter_mut().zip(JOINT_FIELDS.iter()) {
             let before_13 = schema < EVERY_JOINT_SINCE && JOINT_FIELDS_SINCE_13.contains(name);
-            *values = match (before_13 || since_schema_14(name)) && !g.link_exists(name) {
+            // (a joint's fastest impact: since schema 15)
+            let since_15 = *name == "max_impact_speed";
+            *values = match (before_13 || since_schema_14(name) || since_15) && !g.link_exists(name) {
                 true => vec![f64::NAN; n],
                 false => quakejoint_io::read::values(&g, name)?,
             };

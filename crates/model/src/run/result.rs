@@ -185,14 +185,14 @@ pub struct JointResult {
 
 /// A joint's values, in the order of [`JointResult::scalars`]: its own,
 /// then its fuse's ([`crate::run::fuse::FUSE_FIELDS`]).
-pub const JOINT_FIELDS: [Described; 23] = {
-    let mut out = [described("", "", ""); 23];
+pub const JOINT_FIELDS: [Described; 24] = {
+    let mut out = [described("", "", ""); 24];
     let mut i = 0;
     while i < OWN_FIELDS.len() {
         out[i] = OWN_FIELDS[i];
         i += 1;
     }
-    while i < 23 {
+    while i < 24 {
         out[i] = crate::run::fuse::FUSE_FIELDS[i - OWN_FIELDS.len()];
         i += 1;
     }
@@ -200,7 +200,7 @@ pub const JOINT_FIELDS: [Described; 23] = {
 };
 
 /// A joint's own values (its fuse's apart).
-const OWN_FIELDS: [Described; 16] = [
+const OWN_FIELDS: [Described; 17] = [
     described("sa", "m/s^2", "peak absolute acceleration of its deck point (along the bridge)"),
     described("t_sa", "s", "time of `sa`"),
     described("sd", "m", "peak displacement of its deck point relative to the ground"),
@@ -225,13 +225,14 @@ const OWN_FIELDS: [Described; 16] = [
     described("peak_contact_force", "N", "its largest contact force"),
     described("peak_deck_contact_force", "N", "its largest force on the deck through its closed cells"),
     described("max_penetration", "m", "its deepest contact penetration"),
+    described("max_impact_speed", "m/s", "its fastest impact (closing speed at a contact's onset)"),
 ];
 
 impl JointResult {
     /// Its values ([`JOINT_FIELDS`]): name, value (NaN where not computed)
     /// and unit, as a run's `/joints/<k>` and a sweep's `/joints/<k>`
     /// store them (its validity bits apart).
-    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 23] {
+    pub fn scalars(&self) -> [(&'static str, f64, &'static str); 24] {
         let opt = |x: Option<f64>| x.unwrap_or(f64::NAN);
         let p = &self.pounding;
         let values = [
@@ -251,6 +252,7 @@ impl JointResult {
             p.peak_contact_force,
             p.peak_deck_contact_force,
             p.max_penetration,
+            p.max_impact_speed,
         ];
         let fuse = crate::run::fuse::FuseResult::values(self.fuse.as_ref());
         let value = |i: usize| if i < values.len() { values[i] } else { fuse[i - values.len()] };

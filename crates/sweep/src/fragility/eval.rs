@@ -144,11 +144,19 @@ fn outcome_of(ls: &LimitState, spec: &FragilitySpec, r: &Results, j: usize) -> i
     match ls.test {
         Kind::Flag(f) => i8::from(r.validity[j] & f.0 != 0),
         Kind::Field { field, threshold, above } => {
-            let x = r.values[field][j];
-            if x.is_nan() {
+            let test = |x: f64| (!x.is_nan()).then(|| if above { x > threshold } else { x < threshold });
+            // (a joint's own value: every joint's, on a bridge with several)
+            let own = crate::results::JOINT_FIELDS.iter().position(|(name, _)| *name == crate::results::FIELDS[field]);
+            let tested: Vec<Option<bool>> = match own {
+                Some(i) if !r.joints.is_empty() => r.joints.iter().map(|joint| test(joint.values[i][j])).collect(),
+                _ => vec![test(r.values[field][j])],
+            };
+            if tested.contains(&Some(true)) {
+                outcome::EXCEEDED
+            } else if tested.iter().all(Option::is_none) {
                 outcome::UNDETERMINED
             } else {
-                i8::from(if above { x > threshold } else { x < threshold })
+                outcome::NOT_EXCEEDED
             }
         }
         Kind::Without { .. } => unreachable!("handled above"),

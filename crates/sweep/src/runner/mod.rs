@@ -45,8 +45,9 @@ use writer::Writer;
 /// and contact-force histories; 6: each job's CPU time; 11: the joints
 /// after the first of a bridge given by its modes, and the modes file's
 /// hash in the config's; 12: every joint of a bridge given by its modes,
-/// with its own peak forces and friction energy; 13: every joint's fuse).
-pub(crate) const JOURNAL_SCHEMA: u32 = 13;
+/// with its own peak forces and friction energy; 13: every joint's fuse;
+/// 14: every joint's fastest impact).
+pub(crate) const JOURNAL_SCHEMA: u32 = 14;
 
 /// How to run a sweep.
 #[derive(Debug, Clone)]
