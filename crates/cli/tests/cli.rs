@@ -296,3 +296,27 @@ fn error_messages_quote_at_most_a_short_excerpt() {
     assert!(out.stderr.len() < 4000, "{} bytes of stderr", out.stderr.len());
     assert!(stderr(&out).contains("bad.toml"), "{}", stderr(&out));
 }
+
+/// Every config shipped in `configs/` builds its model, and every one with
+/// a `[sweep]` table plans (both read and check the whole config, the
+/// records and modes files it names included): a shipped study that rots
+/// is found here, not by a user.
+#[test]
+fn every_shipped_config_builds_and_every_sweep_plans() {
+    let mut configs: Vec<_> = std::fs::read_dir(common::root().join("configs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    configs.sort();
+    assert!(configs.len() >= 14, "{configs:?}");
+    for c in &configs {
+        let path = c.to_str().unwrap();
+        let out = quakejoint(&["model", path]);
+        assert_eq!(out.status.code(), Some(0), "{path}: {}", common::stderr(&out));
+        if std::fs::read_to_string(c).unwrap().lines().any(|l| l.trim() == "[sweep]") {
+            let out = quakejoint(&["plan", path]);
+            assert_eq!(out.status.code(), Some(0), "{path}: {}", common::stderr(&out));
+        }
+    }
+}
