@@ -144,7 +144,7 @@ fn outcome_of(ls: &LimitState, spec: &FragilitySpec, r: &Results, j: usize) -> i
     match ls.test {
         Kind::Flag(f) => i8::from(r.validity[j] & f.0 != 0),
         Kind::Field { field, threshold, above } => {
-            let test = |x: f64| (!x.is_nan()).then(|| if above { x > threshold } else { x < threshold });
+            let test = |x: f64| (!x.is_nan()).then_some(if above { x > threshold } else { x < threshold });
             // (a joint's own value: every joint's, on a bridge with several)
             let own = crate::results::JOINT_FIELDS.iter().position(|(name, _)| *name == crate::results::FIELDS[field]);
             let tested: Vec<Option<bool>> = match own {
