@@ -590,6 +590,8 @@ pub(super) struct LinkObserver {
     u: f64,
     /// Scratch: a state inside a step.
     scratch: Option<quakejoint_solver::StateBuffer>,
+    /// The opening at the end of the last step \[m\].
+    step_u: f64,
 }
 
 impl LinkObserver {
@@ -607,6 +609,7 @@ impl LinkObserver {
             watch: crate::link::LinkWatch::default(),
             u: 0.0,
             scratch: None,
+            step_u: 0.0,
         })
     }
 
@@ -618,7 +621,8 @@ impl LinkObserver {
     fn step(&mut self, view: &mut StepView<'_>, peak: &mut Peak) {
         let closed = |u: f64, gap: f64| u + gap < 0.0;
         let u_end = view.q[self.deck] - self.abutment.map_or(0.0, |c| view.q[c]);
-        if !(closed(self.u, self.parts.gap) || closed(u_end, self.parts.gap)) || view.t <= view.t_prev {
+        let u_start = std::mem::replace(&mut self.step_u, u_end);
+        if !(closed(u_start, self.parts.gap) || closed(u_end, self.parts.gap)) || view.t <= view.t_prev {
             return;
         }
         let mut s = self.scratch.take().unwrap_or_else(|| quakejoint_solver::StateBuffer::new(view.assembly));
