@@ -364,11 +364,17 @@ fn a_joint_limit_state_on_a_bridge_with_several_joints_is_every_joints() {
     let cfg = d.join("joints.toml");
     std::fs::write(&cfg, text).unwrap();
     let out = d.join("joints.h5");
-    ok(&run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()]));
+    let o = run(&["sweep", cfg.to_str().unwrap(), "--output", out.to_str().unwrap()]);
+    ok(&o);
     let f = read_sweep(&out).unwrap();
     let r = &f.results;
     let evaluated = f.fragility.as_ref().unwrap().evaluate(r);
     let joint = |name: &str| quakejoint_sweep::results::JOINT_FIELDS.iter().position(|(n, _)| *n == name).unwrap();
+    // the summary counts a job whose second joint alone pounds
+    let impacts = joint("impacts");
+    let pounded = (0..4).filter(|&j| r.joints.iter().any(|k| k.values[impacts][j] > 0.0)).count();
+    let said = format!("pounding: the beams of {pounded} job(s) struck each other");
+    assert!(stdout(&o).contains(&said), "{said}: {}", stdout(&o));
     let (force, speed) = (joint("peak_abutment_force"), joint("max_impact_speed"));
     assert_eq!((r.joints.len(), r.status.len()), (2, 4));
     let mut only_the_second = 0;

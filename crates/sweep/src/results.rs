@@ -254,6 +254,18 @@ impl Results {
         FIELDS.iter().position(|&f| f == name).expect("known field")
     }
 
+    /// Job `j`'s values of the per-job field `field` (index into
+    /// [`FIELDS`]): on a bridge with several joints, every joint's own
+    /// (`/joints/<k>`) where each joint has the field, else the run's
+    /// (the first joint's); one value with a single joint.
+    pub fn joint_values(&self, j: usize, field: usize) -> Vec<f64> {
+        let own = JOINT_FIELDS.iter().position(|(name, _)| *name == FIELDS[field]);
+        match own {
+            Some(i) if !self.joints.is_empty() => self.joints.iter().map(|joint| joint.values[i][j]).collect(),
+            _ => vec![self.values[field][j]],
+        }
+    }
+
     /// `1 - sa_with / sa_without` for every job.
     pub fn reduction(&self) -> Vec<f64> {
         let sa = &self.values[Self::field("sa")];

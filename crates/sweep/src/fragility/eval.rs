@@ -146,11 +146,7 @@ fn outcome_of(ls: &LimitState, spec: &FragilitySpec, r: &Results, j: usize) -> i
         Kind::Field { field, threshold, above } => {
             let test = |x: f64| (!x.is_nan()).then_some(if above { x > threshold } else { x < threshold });
             // (a joint's own value: every joint's, on a bridge with several)
-            let own = crate::results::JOINT_FIELDS.iter().position(|(name, _)| *name == crate::results::FIELDS[field]);
-            let tested: Vec<Option<bool>> = match own {
-                Some(i) if !r.joints.is_empty() => r.joints.iter().map(|joint| test(joint.values[i][j])).collect(),
-                _ => vec![test(r.values[field][j])],
-            };
+            let tested: Vec<Option<bool>> = r.joint_values(j, field).into_iter().map(test).collect();
             if tested.contains(&Some(true)) {
                 outcome::EXCEEDED
             } else if tested.iter().all(Option::is_none) {

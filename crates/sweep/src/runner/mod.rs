@@ -500,20 +500,11 @@ struct Tally {
     fuses: [usize; 3],
 }
 
-/// Whether job `j` has a fuse, one broke and one's stroke was exhausted,
-/// over every joint (`results.joints`, on a bridge given by its modes) or
-/// the run's one (the fields `broken` and `exhausted`).
+/// Whether job `j` has a fuse, whether one broke and whether one ran out of
+/// stroke: every joint's, on a bridge with several (a job counts once).
 fn job_fuses(results: &Results, j: usize, [broken, exhausted]: [usize; 2]) -> [bool; 3] {
-    let joint = |name: &str| crate::results::JOINT_FIELDS.iter().position(|f| f.0 == name).unwrap_or(0);
-    let pairs: Vec<(f64, f64)> = match results.joints.is_empty() {
-        true => vec![(results.values[broken][j], results.values[exhausted][j])],
-        false => {
-            let (b, e) = (joint("fuse_broken"), joint("fuse_stroke_exhausted"));
-            results.joints.iter().map(|k| (k.values[b][j], k.values[e][j])).collect()
-        }
-    };
-    let fused = pairs.iter().any(|p| !p.0.is_nan());
-    [fused, pairs.iter().any(|p| p.0 > 0.5), pairs.iter().any(|p| p.1 > 0.5)]
+    let (b, e) = (results.joint_values(j, broken), results.joint_values(j, exhausted));
+    [b.iter().any(|x| !x.is_nan()), b.iter().any(|&x| x > 0.5), e.iter().any(|&x| x > 0.5)]
 }
 
 /// Counts the outcomes of the jobs of `scope`.
@@ -538,16 +529,17 @@ fn tally(plan: &Plan, scope: &[usize], results: &Results) -> Tally {
         } else if quakejoint_model::validity::Flags(results.validity[j]).is_flagged() {
             flagged.push((case.clone(), record.clone(), z, t, results.validity[j], results.findings[j].clone()));
         }
-        if st == status::OK {
-            // (every joint's, on a bridge with several: a job counts once)
-            let [fused, broke, ran_out] = job_fuses(results, j, [broken, exhausted]);
-            fuses[0] += usize::from(fused);
-            fuses[1] += usize::from(broke);
-            fuses[2] += usize::from(ran_out);
+        if st != status::OK {
+            continue;
         }
-        if st == status::OK && results.values[impacts][j] > 0.0 {
+        let [fused, broke, ran_out] = job_fuses(results, j, [broken, exhausted]);
+        fuses[0] += usize::from(fused);
+        fuses[1] += usize::from(broke);
+        fuses[2] += usize::from(ran_out);
+        // (every joint's impacts, on a bridge with several: a job counts once)
+        if results.joint_values(j, impacts).iter().any(|&n| n > 0.0) {
             pounded += 1;
-            let f = results.values[peak][j];
+            let f = results.joint_values(j, peak).into_iter().fold(f64::NAN, f64::max);
             if peak_contact.as_ref().is_none_or(|p| f > p.0) {
                 peak_contact = Some((f, case, record, z, t));
             }
