@@ -13,7 +13,9 @@ most three side by side, then another row), panels sharing the time axis:
    source paper;
 2. their difference, with - without: the joint's effect, which the first
    panel cannot show when it is a fraction of a percent;
-3. the force of the joint on the deck;
+3. the force of the joint on the deck, with the instant its seismic fuse
+   broke (a fuse element: its beam left the plane) marked on this panel
+   and the next where it broke;
 4. the clear sub-gaps (abutment side first) at the wider end of each cell
    (solid: how far it opens) and at the narrower end (dotted: how close
    the beams come), with zero (the beams touch) and the joint's movement
@@ -63,6 +65,20 @@ def capacity(config_text):
         return None
 
 
+def fuse_break(results, config_text):
+    """(time, label) of the first joint's fuse where it broke in a run whose
+    results group is `results`, else None: a fuse box broke, a fuse
+    element's beam left the plane."""
+    if "fuse_broken" not in results or not results["fuse_broken"][()] == 1:
+        return None
+    try:
+        fuse = tomllib.loads(text(config_text))["joint"]["fuse"]
+    except (KeyError, tomllib.TOMLDecodeError):
+        fuse = {}
+    what = f"beam {fuse.get('beam', '?')} left the plane" if fuse.get("kind") == "element" else "fuse broke"
+    return float(results["fuse_break_time"][()]), what
+
+
 def runs(f):
     """(title, joint, series) of every run in a file."""
     if "history" in f:
@@ -70,7 +86,9 @@ def runs(f):
         joint = not text(f.attrs.get("method", "multibody")).startswith("exact")
         what = "" if joint else " -- bridge alone (--no-joint), exact linear"
         title = f"{record}, T = {f['result/period'][()]:.4g} s{what}" + flagged(f.attrs)
-        yield title, joint, dict(series(f["history"]), capacity=capacity(f.attrs.get("config", "")))
+        config = f.attrs.get("config", "")
+        fuse = fuse_break(f["result"], config)
+        yield title, joint, dict(series(f["history"]), capacity=capacity(config), fuse=fuse)
     jobs = f.get("histories", {})
     configs = {}
     if "spectrum/case_config" in f:
@@ -81,8 +99,8 @@ def runs(f):
         # a sweep over a bridge given by its modes stores its period scale
         axis = f"period scale {g['period_scale'][()]:g}" if "period_scale" in g else f"T = {g['period'][()]:.4g} s"
         title = f"{text(g.attrs['case'])} / {text(g.attrs['record'])} / damping {g['damping'][()]:g} / {axis}"
-        cap = capacity(configs.get(text(g.attrs["case"]), ""))
-        yield title + flagged(g.attrs), True, dict(series(g), capacity=cap)
+        config = configs.get(text(g.attrs["case"]), "")
+        yield title + flagged(g.attrs), True, dict(series(g), capacity=capacity(config), fuse=fuse_break(g, config))
 
 
 def note(ax, message):
@@ -140,6 +158,12 @@ def figure(src, window=None, in_g=False):
             )
             axf.plot(t, 1e-3 * s["joint_force"], color="tab:green", lw=0.7)
             axf.set_title("force of the joint on the deck", fontsize=8)
+            if s.get("fuse"):
+                # (the fuse's break, on the force and the sub-gaps)
+                t_break, what = s["fuse"]
+                for a in (axf, axg):
+                    a.axvline(t_break, color="0.35", lw=1.4, ls="-.", label=f"{what}, t = {t_break:.3f} s")
+                axf.legend(fontsize=8, loc="upper right", framealpha=0.8)
         else:
             note(axd, "no joint in this run: nothing to compare")
             note(axf, "no joint in this run")
@@ -186,7 +210,7 @@ def figure(src, window=None, in_g=False):
             if finite and top > 0:
                 axg.set_ylim(min(-0.05 * top, 1e3 * np.nanmin(gaps)), 1.45 * top)
             axg.set_title(title, fontsize=8)
-            axg.legend(fontsize=8, ncol=3, loc="upper right", framealpha=0.9)
+            axg.legend(fontsize=8, ncol=4 if s.get("fuse") else 3, loc="upper right", framealpha=0.9)
         axg.set_ylabel("sub-gap [mm]")
         if contacts:
             axc = axes[4, col]

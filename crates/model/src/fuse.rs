@@ -1,5 +1,6 @@
 //! A joint's seismic fuse (`[joint.fuse]`, docs/model.md "Seismic fuse"):
-//! the fuse box at the abutment-side edge beam.
+//! the fuse box at the abutment-side edge beam ([`FuseBox`]), or the fuse
+//! element, a center beam that leaves the plane ([`FuseElement`]).
 //!
 //! Intact, the edge beam is the abutment (the plan model's edge line at
 //! `x = 0`). Its connection fails when the closing force on it, the sum of
@@ -14,13 +15,134 @@
 //! stroke. Until the break no extra body exists, so a fuse that never
 //! breaks leaves the run as it is without one, bit for bit.
 //!
-//! This module resolves a joint's `[joint.fuse]` ([`FuseBox`]); the run
+//! A fuse element's beam stays where it is until the closing force on it,
+//! the sum of its neighbour's contact forces on its abutment side at both
+//! ends, reaches its release force (the same located event). It then
+//! leaves the plane: the solver opens its contacts, booking the elastic
+//! energy they still held ([`quakejoint_solver::Radau5::release_contacts`]),
+//! and the run goes on in a system where its neighbours meet each other
+//! across the one cell its two cells have become. No body is added or
+//! removed (the beam keeps its bearings, out of the others' way), so the
+//! solver's numbers of every body and contact stay.
+//!
+//! This module resolves a joint's `[joint.fuse]` ([`Fuse`]); the run
 //! breaks it and watches it (`crate::run::fuse`).
 
-use quakejoint_solver::{BodyId, ContactLaw, ForceId, FrictionLaw};
+use quakejoint_solver::{BodyId, Contact, ContactLaw, ForceId, FrictionLaw};
 
+use crate::cells::{cell_contact, CellBodies, Side};
 use crate::config::{Config, FuseKind};
 use crate::error::ModelError;
+use crate::geometry::Geometry;
+
+/// A joint's seismic fuse, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Fuse {
+    /// A fuse box at the abutment-side edge beam.
+    Box(FuseBox),
+    /// A fuse element: a center beam that leaves the plane.
+    Element(FuseElement),
+}
+
+impl Fuse {
+    /// The closing force at which it breaks \[N\].
+    pub fn break_force(&self) -> f64 {
+        match self {
+            Fuse::Box(b) => b.break_force,
+            Fuse::Element(e) => e.break_force,
+        }
+    }
+
+    /// The solver's numbers of the contacts whose summed force breaks it.
+    pub(crate) fn threshold_contacts(&self) -> &[usize] {
+        match self {
+            Fuse::Box(b) => &b.contact_numbers,
+            Fuse::Element(e) => &e.contact_numbers,
+        }
+    }
+}
+
+/// Where an edge beam 1 km behind the abutment would be \[m\]: a contact
+/// on it never closes (a fuse element's released beam keeps its contacts'
+/// numbers in the solver, and they no longer touch).
+const FAR: f64 = -1.0e3;
+
+/// A joint's fuse element, resolved: its beam, its release force, and
+/// what its contacts become when it leaves the plane.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FuseElement {
+    /// The closing force on the beam at which it leaves \[N\].
+    pub break_force: f64,
+    /// Which center beam leaves, 1 (next to the abutment) to `Nc`.
+    pub beam: usize,
+    /// The solver's numbers of its contacts on its abutment side (both
+    /// ends): their summed force releases it.
+    pub(crate) contact_numbers: Vec<usize>,
+    /// The solver's numbers of its contacts on both sides: opened as it
+    /// leaves.
+    pub(crate) released: Vec<usize>,
+    /// Those contacts and what each becomes once it left: its neighbours'
+    /// contacts across the merged cell (in the slots of its abutment-side
+    /// cell, or of its deck-side cell when its neighbour there is the
+    /// deck, so that the cells at the abutment and the deck keep theirs),
+    /// and contacts that never close.
+    pub(crate) replaced: Vec<(ForceId, Contact)>,
+}
+
+/// A joint's contacts as [`FuseElement::new`] finds them: their ids in
+/// the solver's order, the solver's number of the first, the bodies its
+/// cells lie between, and the masses impacts at the abutment and at the
+/// deck meet.
+pub(crate) struct ElementSides<'a> {
+    pub ids: &'a [ForceId],
+    pub first: usize,
+    pub bodies: CellBodies<'a>,
+    pub impacts: [Option<f64>; 2],
+}
+
+impl FuseElement {
+    /// The fuse element of `config`'s joint (none without one), of
+    /// geometry `geo`, whose contacts (of law `law`) are `sides`.
+    pub(crate) fn new(config: &Config, geo: &Geometry, law: ContactLaw, sides: ElementSides<'_>) -> Option<Self> {
+        let f = config.joint.fuse.as_ref().filter(|f| f.kind == FuseKind::Element)?;
+        let (k, nc) = (f.beam?, sides.bodies.beams.len());
+        if k == 0 || k > nc || nc < 2 {
+            return None;
+        }
+        // (its cells k - 1 and k: contacts 2 (k - 1) to 2 k + 1, end 0 first)
+        let cells = 2 * (k - 1)..2 * (k + 1);
+        let left = if k == 1 { Side::Abutment } else { Side::Beam(k - 2) };
+        let right = if k == nc { Side::Deck } else { Side::Beam(k) };
+        let merged = if k == nc { 2 * k } else { 2 * (k - 1) };
+        let replaced = cells
+            .clone()
+            .map(|i| {
+                let contact = if i / 2 == merged / 2 {
+                    let y = if i % 2 == 0 { -geo.half_length } else { geo.half_length };
+                    cell_contact(&sides.bodies, geo, (left, right), y, (law, sides.impacts))
+                } else {
+                    Contact {
+                        body: sides.bodies.beams[k - 1],
+                        point: [0.0, 0.0],
+                        base: BodyId::GROUND,
+                        edge_point: [FAR, 0.0],
+                        edge_normal: [1.0, 0.0],
+                        law,
+                        reduced_mass: None,
+                    }
+                };
+                (sides.ids[i], contact)
+            })
+            .collect();
+        Some(Self {
+            break_force: f.break_force,
+            beam: k,
+            contact_numbers: vec![sides.first + cells.start, sides.first + cells.start + 1],
+            released: cells.map(|i| sides.first + i).collect(),
+            replaced,
+        })
+    }
+}
 
 /// Standard gravity [m/s^2]: the freed edge beam's weight.
 const G: f64 = 9.81;
@@ -79,7 +201,7 @@ impl FuseBox {
         let contact_numbers = (first..first + contacts.len()).collect();
         Some(Self {
             break_force: f.break_force,
-            stroke: f.stroke,
+            stroke: f.stroke?,
             mass,
             lift,
             resistance,
@@ -98,8 +220,8 @@ impl FuseBox {
 /// \[kg\] and `[lift, resistance]` \[N\] ([`ramp_forces`] of its weight).
 pub fn box_forces(joint: &crate::config::JointConfig) -> Option<(f64, [f64; 2])> {
     let f = joint.fuse.as_ref()?;
-    match f.kind {
-        FuseKind::Box => {}
+    if f.kind != FuseKind::Box {
+        return None;
     }
     let mass = f.mass.unwrap_or(joint.center_beam.mass);
     Some((mass, ramp_forces(mass * G, f.ramp_deg, f.mu)))

@@ -17,11 +17,12 @@
 //! body (x), optionally `-m a_gy(t)` on the joint bodies (y).
 
 use quakejoint_solver::{
-    Body, BodyId, Bushing, ConstraintId, Contact, ContactLaw, Coord, CoordinateSpring, Driver, Excitation,
-    ForceElement, Friction, FrictionLaw, PointOnLine, Prismatic, Revolute, SmoothTriangle, System, TimeFunction,
-    TimeSeries, Weld, NO_GROUP,
+    Body, BodyId, Bushing, ConstraintId, ContactLaw, Coord, CoordinateSpring, Driver, Excitation, ForceElement,
+    Friction, FrictionLaw, PointOnLine, Prismatic, Revolute, SmoothTriangle, System, TimeFunction, TimeSeries, Weld,
+    NO_GROUP,
 };
 
+use crate::cells::{cell_contact, CellBodies, Side};
 use crate::config::{Config, ContactLawConfig, LawConfig, SupportKind};
 use crate::error::ModelError;
 use crate::geometry::Geometry;
@@ -126,11 +127,11 @@ fn contact_law(config: &Config) -> ContactLaw {
     }
 }
 
-/// The contacts of the joint: at both ends of every sub-gap.
-/// `impacts`: the masses the restitution of the contacts on the
-/// abutment's and on the deck's edge beam is set for \[kg\] (none: the
-/// reduced mass of the beam and the body); `prefix` starts every name.
-/// Returns the contacts of center beam 1 on the abutment's edge beam.
+/// Adds the contacts of every sub-gap, abutment side first, both ends of
+/// each (a center beam's corner on its neighbour's face). `impacts`: the
+/// mass an impact at the abutment's and at the deck's edge beam meets,
+/// where it is not the reduced mass of the bodies (a modal end, an in-span
+/// hinge's deck). Returns every contact's id, in the solver's order.
 fn add_contacts(
     sys: &mut System,
     model: &mut JointModel,
@@ -140,42 +141,22 @@ fn add_contacts(
     impacts: [Option<f64>; 2],
     prefix: &str,
 ) -> Vec<quakejoint_solver::ForceId> {
-    let (half_w, half_l) = (0.5 * geo.width, geo.half_length);
     let nc = model.center_beams.len();
-    let mut edge = Vec::with_capacity(2);
+    let mut ids = Vec::with_capacity(2 * (nc + 1));
+    let bodies = CellBodies { beams: &model.center_beams, deck: model.deck, abutment };
+    let mut contacts = Vec::with_capacity(2 * (nc + 1));
     for gap in 0..=nc {
-        for (end, y) in [-half_l, half_l].into_iter().enumerate() {
-            // the corner on the abutment side's beam, the face of the other
-            let (body, point, base, edge_point, edge_normal) = match gap {
-                0 => (model.center_beams[0], [-half_w, y], abutment, [half_w, 0.0], [1.0, 0.0]),
-                g if g == nc => {
-                    (model.center_beams[g - 1], [half_w, y], model.deck, [geo.gap - half_w, 0.0], [-1.0, 0.0])
-                }
-                g => (model.center_beams[g - 1], [half_w, y], model.center_beams[g], [-half_w, 0.0], [-1.0, 0.0]),
-            };
-            let id = sys.add_force_named(
-                format!("{prefix}contact {gap}/{end}"),
-                ForceElement::Contact(Contact {
-                    body,
-                    point,
-                    base,
-                    edge_point,
-                    edge_normal,
-                    law,
-                    reduced_mass: match gap {
-                        0 => impacts[0],
-                        g if g == nc => impacts[1],
-                        _ => None,
-                    },
-                }),
-            );
-            model.contacts.push(ContactPlace { gap, end, center_beams: nc });
-            if gap == 0 {
-                edge.push(id);
-            }
+        let left = if gap == 0 { Side::Abutment } else { Side::Beam(gap - 1) };
+        let right = if gap == nc { Side::Deck } else { Side::Beam(gap) };
+        for (end, y) in [-geo.half_length, geo.half_length].into_iter().enumerate() {
+            contacts.push((gap, end, cell_contact(&bodies, geo, (left, right), y, (law, impacts))));
         }
     }
-    edge
+    for (gap, end, contact) in contacts {
+        ids.push(sys.add_force_named(format!("{prefix}contact {gap}/{end}"), ForceElement::Contact(contact)));
+        model.contacts.push(ContactPlace { gap, end, center_beams: nc });
+    }
+    ids
 }
 
 /// Adds the bodies of the joint of `config` (`[joint]`) with their
@@ -400,7 +381,7 @@ pub struct JointModel {
     /// The link element, when the joint is one (`joint.model = "link"`).
     pub link: Option<crate::link::LinkParts>,
     /// Its seismic fuse (`[joint.fuse]`), if it has one.
-    pub fuse: Option<crate::fuse::FuseBox>,
+    pub fuse: Option<crate::fuse::Fuse>,
 }
 
 impl JointModel {
@@ -682,8 +663,9 @@ fn connect_joints(
                         },
                         None => contact_law(&place.config),
                     };
-                    model.fuse =
+                    let fuse =
                         crate::fuse::FuseBox::new(&place.config, vec![gap], contacts, law, (group, &place.prefix));
+                    model.fuse = fuse.map(crate::fuse::Fuse::Box);
                 }
                 contacts += 1;
             }
@@ -697,13 +679,24 @@ fn connect_joints(
             let beam = Some(j.center_beam.mass);
             let impacts = [hinges[k].and(beam), model.modal.as_ref().and(beam)];
             model.first_contact = contacts;
-            let edge = add_contacts(sys, model, &geo, contact_law(&place.config), abutment, impacts, &place.prefix);
-            if j.fuse.is_some() {
-                let field = if places.len() > 1 { format!("joints[{k}].joint.fuse") } else { "joint.fuse".into() };
-                crate::fuse::check_abutment(abutment, &field)?;
-                let group = (places.len() + k) as u32;
-                let law = contact_law(&place.config);
-                model.fuse = crate::fuse::FuseBox::new(&place.config, edge, contacts, law, (group, &place.prefix));
+            let law = contact_law(&place.config);
+            let ids = add_contacts(sys, model, &geo, law, abutment, impacts, &place.prefix);
+            match j.fuse.as_ref().map(|f| f.kind) {
+                Some(crate::config::FuseKind::Box) => {
+                    let field = if places.len() > 1 { format!("joints[{k}].joint.fuse") } else { "joint.fuse".into() };
+                    crate::fuse::check_abutment(abutment, &field)?;
+                    let group = (places.len() + k) as u32;
+                    let edge = ids[..2].to_vec();
+                    let fuse = crate::fuse::FuseBox::new(&place.config, edge, contacts, law, (group, &place.prefix));
+                    model.fuse = fuse.map(crate::fuse::Fuse::Box);
+                }
+                Some(crate::config::FuseKind::Element) => {
+                    let bodies = CellBodies { beams: &model.center_beams, deck: model.deck, abutment };
+                    let sides = crate::fuse::ElementSides { ids: &ids, first: contacts, bodies, impacts };
+                    let fuse = crate::fuse::FuseElement::new(&place.config, &geo, law, sides);
+                    model.fuse = fuse.map(crate::fuse::Fuse::Element);
+                }
+                None => {}
             }
             contacts += model.contacts.len();
         }

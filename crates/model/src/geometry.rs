@@ -152,19 +152,39 @@ impl Geometry {
     /// (w/2) cos(phi)`; the edge beams do not turn. Turning makes one end
     /// of a sub-gap close before its middle: 1 mrad on a 15 m beam moves its
     /// ends by 7.5 mm.
-    pub fn subgaps(&self, x: &[f64], phi: &[f64], u: f64, u0: f64, out: &mut Vec<[f64; 2]>) {
+    ///
+    /// With `released` (an index into `x`: a fuse element's beam, gone out
+    /// of the plane) its two cells are one, from its neighbours' faces: each
+    /// of the two is reported as half of it.
+    pub fn subgaps(
+        &self,
+        x: &[f64],
+        phi: &[f64],
+        (u, u0): (f64, f64),
+        released: Option<usize>,
+        out: &mut Vec<[f64; 2]>,
+    ) {
         out.clear();
         let half_w = 0.5 * self.width;
         let ends = [-self.half_length, self.half_length];
+        let mut push = |cell: [f64; 2], merged: bool| match merged {
+            true => out.extend([cell.map(|c| 0.5 * c); 2]),
+            false => out.push(cell),
+        };
         // faces of the abutment's edge beam (axis x = u0)
         let mut prev = [u0 + half_w; 2];
-        for (&xi, &p) in x.iter().zip(phi) {
+        let mut merged = false;
+        for (i, (&xi, &p)) in x.iter().zip(phi).enumerate() {
+            if released == Some(i) {
+                merged = true;
+                continue;
+            }
             let (sin, cos) = p.sin_cos();
             let back = ends.map(|y| xi - y * sin - half_w * cos);
-            out.push([back[0] - prev[0], back[1] - prev[1]]);
+            push([back[0] - prev[0], back[1] - prev[1]], std::mem::take(&mut merged));
             prev = ends.map(|y| xi - y * sin + half_w * cos);
         }
         let deck = self.gap + u - half_w;
-        out.push([deck - prev[0], deck - prev[1]]);
+        push([deck - prev[0], deck - prev[1]], merged);
     }
 }

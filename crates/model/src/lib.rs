@@ -12,6 +12,7 @@
 
 pub mod bridge;
 pub mod calibrate;
+mod cells;
 pub mod config;
 pub mod described;
 pub mod error;

@@ -109,6 +109,7 @@ pub const LIMITS: &[(&str, &str, Bound)] = &[
     ("joint.capacity.max_subgap", "m", closed(0.01, 1.0)),
     ("joint.fuse.break_force", "N", closed(1e3, 1e9)),
     ("joint.fuse.stroke", "m", closed(0.001, 2.0)),
+    ("joint.fuse.beam", "1", closed(1.0, 1000.0)),
     ("joint.fuse.ramp_deg", "deg", below(0.0, 60.0)),
     ("joint.fuse.mu", "1", closed(0.0, 1.0)),
     ("joint.fuse.mass", "kg", above(0.0, 1e5)),

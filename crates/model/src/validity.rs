@@ -197,6 +197,9 @@ pub struct Monitor {
     /// Whether the abutment's edge beam is free (its fuse broke): the edge
     /// cell's opening is then the fuse's travel, not the joint's capacity.
     edge_free: bool,
+    /// A fuse element's beam (1 to `Nc`) that left the plane, and when
+    /// \[s\]: after that its two cells are one.
+    released: Option<(usize, f64)>,
     collision: Option<Crossing>,
     off_support: Option<Crossing>,
     pulled_out: Option<Crossing>,
@@ -237,6 +240,7 @@ impl Monitor {
             far: model.far_deck.and_then(|b| asm.coordinate(b, Coord::X)),
             contact_places: model.contacts.clone(),
             edge_free: false,
+            released: None,
             collision: None,
             off_support: None,
             pulled_out: None,
@@ -251,6 +255,32 @@ impl Monitor {
     /// no longer counts against the capacity.
     pub fn free_edge(&mut self) {
         self.edge_free = true;
+    }
+
+    /// A fuse element's `beam` (1 to `Nc`) left the plane at `t` \[s\]:
+    /// the findings after it name its merged cell.
+    pub fn release_beam(&mut self, beam: usize, t: f64) {
+        self.released = Some((beam, t));
+    }
+
+    /// Cell `s` (0 at the abutment) at `t` \[s\] in words: the two sides it
+    /// lies between, or, once a fuse element's beam left the plane, its
+    /// merged cell's.
+    fn cell(&self, s: usize, t: f64) -> String {
+        let nc = self.geometry.center_beams;
+        let between = |l: usize, r: usize| match (l, r) {
+            (0, r) if r > nc => "the abutment's edge beam and the deck's edge beam".to_string(),
+            (0, r) => format!("the abutment's edge beam and center beam {r}"),
+            (l, r) if r > nc => format!("center beam {l} and the deck's edge beam"),
+            (l, r) => format!("center beams {l} and {r}"),
+        };
+        match self.released {
+            Some((k, at)) if t >= at && (s + 1 == k || s == k) => format!(
+                "{} (one cell since center beam {k} left the plane at t = {at:.3} s, its sub-gaps each half of it)",
+                between(k - 1, k + 1)
+            ),
+            _ => between(s, s + 1),
+        }
     }
 
     /// Checks a contact's penetration `depth` \[m\] at `t` (contact number
@@ -355,14 +385,9 @@ impl Monitor {
     /// The validity of the run so far, with its energy balance error.
     pub fn validity(&self, energy_error: f64) -> Validity {
         let mut v = Validity::default();
-        let nc = self.geometry.center_beams;
         if let Some(c) = self.collision {
             v.flags |= Flags::COLLISION;
-            let between = match c.place {
-                0 => "the abutment's edge beam and center beam 1".to_string(),
-                s if s == nc => format!("center beam {nc} and the deck's edge beam"),
-                s => format!("center beams {s} and {}", s + 1),
-            };
+            let between = self.cell(c.place, c.at);
             v.findings.push(format!(
                 "collision: the clear sub-gap between {between} reached {:.1} mm at t = {:.3} s (first below zero at \
                  t = {:.3} s); joint.contact.enabled = false, so the beams overlap",
@@ -394,7 +419,10 @@ impl Monitor {
         }
         if let (Some(c), Some(max)) = (self.penetration, self.max_penetration) {
             v.flags |= Flags::PENETRATION;
-            let place = self.contact_places.get(c.place).map_or_else(String::new, |p| p.describe());
+            let place = self.contact_places.get(c.place).map_or_else(String::new, |p| {
+                let end = if p.end == 0 { "y = -L/2" } else { "y = +L/2" };
+                format!("{} (end {end})", self.cell(p.gap, c.at))
+            });
             v.findings.push(format!(
                 "penetration: the contact between {place} reached {:.1} mm at t = {:.3} s (first beyond {:.1} mm at \
                  t = {:.3} s): the beams would be crushed, which the compliant contact does not model",
@@ -406,11 +434,7 @@ impl Monitor {
         }
         if let Some(c) = self.capacity {
             v.flags |= Flags::CAPACITY_EXCEEDED;
-            let between = match c.place {
-                0 => "the abutment's edge beam and center beam 1".to_string(),
-                s if s == nc => format!("center beam {nc} and the deck's edge beam"),
-                s => format!("center beams {s} and {}", s + 1),
-            };
+            let between = self.cell(c.place, c.at);
             v.findings.push(format!(
                 "capacity_exceeded: the clear sub-gap between {between} opened to {:.1} mm at t = {:.3} s, {:.1} mm \
                  beyond the capacity of {:.0} mm (joint.capacity.max_subgap; first at t = {:.3} s)",

@@ -21,6 +21,8 @@ pub(crate) struct Gaps {
     far: Option<usize>,
     /// x coordinate of the abutment's edge beam once its fuse broke
     edge: Option<usize>,
+    /// A fuse element's beam (index into `beams`) once it left the plane
+    released: Option<usize>,
     x: Vec<f64>,
     phi: Vec<f64>,
     /// clear sub-gaps at both ends [m]
@@ -49,6 +51,7 @@ impl Gaps {
             angles: model.center_beams.iter().map(|&b| coord(b, Coord::Phi)).collect::<Result<_, _>>()?,
             far: model.far_deck.map(|b| coord(b, Coord::X)).transpose()?,
             edge: None,
+            released: None,
             x: vec![0.0; g.center_beams],
             phi: vec![0.0; g.center_beams],
             ends: Vec::with_capacity(g.center_beams + 1),
@@ -64,6 +67,12 @@ impl Gaps {
     /// `coord`, freed by its fuse.
     pub fn free_edge(&mut self, coord: usize) {
         self.edge = Some(coord);
+    }
+
+    /// A fuse element's beam (index into the center beams) left the plane:
+    /// its two cells are one, each reported as half of it.
+    pub fn release_beam(&mut self, beam: usize) {
+        self.released = Some(beam);
     }
 
     /// The sub-gaps at time `t` for positions `q` and deck opening `u`,
@@ -89,14 +98,17 @@ impl Gaps {
         }
         // (a fuse box only on the ground: far and edge are never both set)
         let u0 = self.far.or(self.edge).map_or(0.0, |c| q[c]);
-        self.geometry.subgaps(&self.x, &self.phi, u, u0, &mut self.ends);
+        self.geometry.subgaps(&self.x, &self.phi, (u, u0), self.released, &mut self.ends);
         self.smallest.clear();
         self.largest.clear();
         for &[a, b] in &self.ends {
             self.smallest.push(a.min(b));
             self.largest.push(a.max(b));
         }
-        (self.geometry.gap + u - u0) / (self.geometry.center_beams + 1) as f64 - self.geometry.width
+        // (the beams in the plane and the edge beams' halves take their
+        // widths; the cells share the rest)
+        let widths = (self.geometry.center_beams + 1 - usize::from(self.released.is_some())) as f64;
+        (self.geometry.gap + u - u0 - widths * self.geometry.width) / (self.geometry.center_beams + 1) as f64
     }
 }
 

@@ -32,118 +32,29 @@
 //! same closing. Each run's energy balance closes, the fuse's friction
 //! within it.
 
-use std::sync::Arc;
+mod common;
 
-use quakejoint_model::generator::{build, Drive, JointModel};
-use quakejoint_model::run::fuse::{run_with_fuses, FreedParts, FuseObserver, FuseWatch};
-use quakejoint_model::{Config, ModelError};
-use quakejoint_solver::{
-    Assembly, AssemblyOptions, Constraint, Coord, Driver, Observer, Radau5, StepView, TimeFunction,
-};
+use common::closing::{config, run, time_of_closing, CELLS, CLEAR, K_END};
 
+/// How far the deck closes the joint \[m\].
 const A: f64 = 0.25;
-const PERIOD: f64 = 40.0;
-const K_END: f64 = 1.0e7;
-const CLEAR: f64 = 0.04;
-const CELLS: f64 = 4.0;
 const BEAM_MASS: f64 = 900.0;
 const MU: f64 = 1.0;
-
-/// The small joint on frictionless bearings with linear contacts, and
-/// `fuse` (a `[joint.fuse]` table's body, or none).
-fn config(fuse: Option<&str>) -> Config {
-    let fuse = fuse.map_or(String::new(), |f| format!("[joint.fuse]\n{f}\n"));
-    let text = format!(
-        r#"
-[joint]
-center_beams = 3
-[[joint.support_beams]]
-kind = "guide"
-y = -5.0
-[[joint.support_beams]]
-kind = "guide"
-y = 5.0
-[joint.friction]
-mu = 0.0
-[joint.contact]
-law = "linear"
-linear_stiffness = {K_END}
-{fuse}
-[bridge]
-mass = 1.0e4
-period = 10.0
-[simulation]
-rtol = 1e-7
-"#
-    );
-    Config::from_toml(&text, "fuse_box.toml").unwrap()
-}
 
 /// A fuse box of break force `f_b` \[N\].
 fn fuse(f_b: f64) -> String {
     format!("kind = \"box\"\nbreak_force = {f_b}\nstroke = 0.5\nmu = {MU}\nmass = {BEAM_MASS}")
 }
 
-/// The joint's model with its deck driven through `u(t)`.
-fn driven(config: &Config) -> JointModel {
-    let mut model = build(config, None, Drive::None).unwrap();
-    let w = 2.0 * std::f64::consts::PI / PERIOD;
-    let motion =
-        TimeFunction::Harmonic { amplitude: 0.5 * A, omega: w, phase: 0.5 * std::f64::consts::PI, offset: -0.5 * A };
-    model.system.add_constraint(Constraint::Driver(Driver { body: model.deck, coord: Coord::X, motion }));
-    model
-}
-
-/// Watches the fuse of a run's one joint.
-struct Watch {
-    fuse: Option<FuseWatch>,
-}
-
-impl Observer for Watch {
-    fn step(&mut self, view: &mut StepView<'_>) -> bool {
-        let Some(f) = &mut self.fuse else { return true };
-        let broke = f.step(view.events);
-        f.sample(view.assembly, view.workspace, view.q, view.v);
-        !broke
-    }
-}
-
-impl FuseObserver for Watch {
-    fn take_break(&mut self) -> Option<usize> {
-        self.fuse.as_mut().is_some_and(|f| f.take_pending()).then_some(0)
-    }
-
-    fn resumed(&mut self, asm: &Assembly, _: &[usize], parts: &[FreedParts]) -> Result<(), ModelError> {
-        let coord = asm.coordinate(parts[0].edge, Coord::X).unwrap();
-        self.fuse.as_mut().unwrap().freed(coord, parts[0]);
-        Ok(())
-    }
-}
-
-/// The run to the end of the closing and reopening: the solver at its end
-/// and what the fuse did.
-fn run(config: &Config) -> (Radau5, Option<quakejoint_model::run::fuse::FuseResult>) {
-    let model = driven(config);
-    let asm = Arc::new(Assembly::new(&model.system, &AssemblyOptions::default()).unwrap());
-    let options = quakejoint_model::run::integrator_options(config);
-    let sim = Radau5::new(asm, options.clone()).unwrap();
-    let mut watch = Watch { fuse: FuseWatch::new(&model) };
-    let (sim, finished) = run_with_fuses(&model, sim, &options, PERIOD, &mut watch).unwrap();
-    assert!(finished);
-    (sim, watch.fuse.map(|f| f.result))
-}
-
 /// The break time of a fuse of `f_b` \[N\] by hand \[s\].
 fn break_time(f_b: f64) -> f64 {
-    let k = 2.0 * K_END / CELLS;
-    let w = 2.0 * std::f64::consts::PI / PERIOD;
-    (1.0 - 2.0 * (CELLS * CLEAR + f_b / k) / A).acos() / w
+    time_of_closing(CELLS * CLEAR + f_b / (2.0 * K_END / CELLS), A)
 }
 
 #[test]
 fn a_fuse_box_breaks_and_slides_as_the_hand_calculation_says() {
     let f_b = 2.0e4;
-    let (sim, fuse) = run(&config(Some(&fuse(f_b))));
+    let common::closing::Closed { sim, fuse, .. } = run(&config(Some(&fuse(f_b))), A);
     let fuse = fuse.unwrap();
     assert!(fuse.broke);
     // (located on the step's polynomial, the step retaken to end there:
@@ -180,8 +91,8 @@ fn a_fuse_box_breaks_and_slides_as_the_hand_calculation_says() {
 
 #[test]
 fn a_stronger_fuse_breaks_later_in_the_same_closing() {
-    let (_, weak) = run(&config(Some(&fuse(2.0e4))));
-    let (_, strong) = run(&config(Some(&fuse(4.0e4))));
+    let weak = run(&config(Some(&fuse(2.0e4))), A).fuse;
+    let strong = run(&config(Some(&fuse(4.0e4))), A).fuse;
     let (weak, strong) = (weak.unwrap(), strong.unwrap());
     assert!(strong.break_time > weak.break_time, "{} s against {} s", strong.break_time, weak.break_time);
     let t_break = break_time(4.0e4);
@@ -191,9 +102,9 @@ fn a_stronger_fuse_breaks_later_in_the_same_closing() {
 #[test]
 fn a_fuse_that_never_breaks_leaves_the_run_as_it_is_without_one() {
     // (the closed joint's force peaks at K (A - 4 c) = 450 kN)
-    let (with, fuse) = run(&config(Some(&fuse(1.0e6))));
-    let (without, none) = run(&config(None));
-    assert!(none.is_none() && !fuse.unwrap().broke);
+    let (with, without) = (run(&config(Some(&fuse(1.0e6))), A), run(&config(None), A));
+    assert!(without.fuse.is_none() && !with.fuse.unwrap().broke);
+    let (with, without) = (with.sim, without.sim);
     assert_eq!(
         (with.time(), with.positions(), with.velocities(), with.stats()),
         (without.time(), without.positions(), without.velocities(), without.stats())
@@ -209,7 +120,7 @@ fn a_fuse_box_on_a_ramp_pushes_its_edge_beam_back_to_the_seat() {
     // offset, and the friction works both ways, R times at least twice the
     // travel
     let ramp = format!("{}\nramp_deg = 20.0", fuse(2.0e4)).replace(&format!("mu = {MU}"), "mu = 0.15");
-    let (sim, fuse) = run(&config(Some(&ramp)));
+    let common::closing::Closed { sim, fuse, .. } = run(&config(Some(&ramp)), A);
     let fuse = fuse.unwrap();
     let [lift, r] = quakejoint_model::fuse::ramp_forces(BEAM_MASS * 9.81, 20.0, 0.15);
     // H_up = lift + R and H_down = lift - R by hand

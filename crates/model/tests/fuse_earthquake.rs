@@ -109,3 +109,36 @@ fn the_mirrored_bridge_swaps_the_two_joints_fuses() {
     }
     assert!(a.energy_error < 1e-5 && b.energy_error < 1e-5, "{:.1e} {:.1e}", a.energy_error, b.energy_error);
 }
+
+/// A fuse element in the same crush (Corralitos 090 x 2 on the small
+/// joint): center beam 2 leaves the plane at its release force, its two
+/// cells act as one and close again, the joint gains the beam's width of
+/// travel (90 mm) before it pushes the deck again; its contacts' elastic
+/// energy as it left is the fuse's, and the energy balance closes with it.
+/// A fuse element has no stroke: its stroke values are NaN.
+#[test]
+fn a_fuse_element_leaves_the_plane_and_the_energy_balance_closes() {
+    let with = run(2.0, Some("kind = \"element\"\nbreak_force = 2e5\nbeam = 2"));
+    let without = run(2.0, None);
+    let f = with.joints[0].fuse.unwrap();
+    eprintln!(
+        "{f:?}\nwith: deck force {:.3e} N, abutment {:.3e} N, min subgap {:?} m, energy error {:.1e}, contact energy \
+         {:.3e} J; without: deck force {:.3e} N, abutment {:.3e} N, min subgap {:?} m, contact energy {:.3e} J",
+        with.peak_joint_force,
+        with.peak_abutment_force,
+        with.min_subgap,
+        with.energy_error,
+        with.pounding.contact_energy,
+        without.peak_joint_force,
+        without.peak_abutment_force,
+        without.min_subgap,
+        without.pounding.contact_energy
+    );
+    assert!(f.broke && (f.break_force / 2e5 - 1.0).abs() < 1e-3, "{f:?}");
+    assert!(f.energy > 0.0, "{f:?}");
+    let values = quakejoint_model::run::fuse::FuseResult::values(Some(&f));
+    assert!(values[3..6].iter().all(|v| v.is_nan()), "{values:?}");
+    assert!(with.energy_error < 1e-6, "energy balance error {:.1e}", with.energy_error);
+    // (the deck closed the joint 90 mm less deep: 4.3e7 N against 2.4e8 N)
+    assert!(with.peak_joint_force < 0.5 * without.peak_joint_force);
+}

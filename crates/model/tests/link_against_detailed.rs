@@ -173,7 +173,8 @@ fn the_links_fuse_breaks_as_the_detailed_joints() {
     detailed.joint.fuse = Some(quakejoint_model::config::FuseConfig {
         kind: quakejoint_model::config::FuseKind::Box,
         break_force: 3e5,
-        stroke: 0.3,
+        stroke: Some(0.3),
+        beam: None,
         ramp_deg: 0.0,
         mu: 0.15,
         mass: None,

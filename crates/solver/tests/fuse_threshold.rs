@@ -149,3 +149,38 @@ fn a_fuse_held_by_two_contacts_breaks_on_their_sum() {
     let ContactEventKind::Threshold { force } = two.kind else { unreachable!() };
     assert!((force / 5.0e4 - 1.0).abs() < 1e-5, "break force {force} N");
 }
+
+/// A wall that leaves the plane at the fuse's force (a fuse element): its
+/// contact opens, the elastic energy `F^2 / (2 k)` it held (125 J at 50 kN
+/// on 1e7 N/m) is booked as lost with it, the mass goes on at its speed at
+/// the break, and the run resumes in a system whose contact, its number
+/// kept, can no longer close; the energy balance closes.
+#[test]
+fn a_released_contact_books_the_energy_it_held_and_the_run_goes_on() {
+    let (mut intact, event) = until_break(Some(5.0e4), 0.05);
+    assert!(event.is_some());
+    let v_break = intact.velocities()[0];
+    let held = intact.release_contacts(&[0]).unwrap();
+    let by_hand = 5.0e4 * 5.0e4 / (2.0 * K);
+    assert!((held / by_hand - 1.0).abs() < 1e-4, "{held} J, by hand {by_hand} J");
+    assert!(intact.release_contacts(&[1]).is_err(), "the system has one contact");
+    // (the contact's edge 1 km away: it never closes)
+    let mut sys = System::new();
+    let mass = sys.add_body(Body::new("mass", M, 1.0, [0.0; 3]).only(&[Coord::X]));
+    sys.add_force(ForceElement::Contact(Contact {
+        body: mass,
+        point: [0.0, 0.0],
+        base: BodyId::GROUND,
+        edge_point: [-1.0e3, 0.0],
+        edge_normal: [1.0, 0.0],
+        law: ContactLaw::Linear { stiffness: K, restitution: 1.0 },
+        reduced_mass: None,
+    }));
+    let mut sim = Radau5::resume(assembly(&sys), options(), &intact).unwrap();
+    assert!(sim.run(0.05, &mut NoObserver).unwrap());
+    assert_eq!(sim.velocities()[0], v_break, "the mass flies on");
+    let e = sim.energy();
+    assert!((e.contact - held).abs() < 1e-12 * held, "booked {} J", e.contact);
+    let scale = 0.5 * M * V0 * V0;
+    assert!(e.error().abs() < 1e-6 * scale, "energy balance error {} J", e.error());
+}

@@ -75,7 +75,8 @@ fn full() -> Config {
     c.joint.fuse = Some(quakejoint_model::config::FuseConfig {
         kind: quakejoint_model::config::FuseKind::Box,
         break_force: 1e6,
-        stroke: 0.3,
+        stroke: Some(0.3),
+        beam: None,
         ramp_deg: 0.0,
         mu: 0.15,
         mass: Some(900.0),
@@ -130,6 +131,16 @@ fn every_key_is_documented_with_its_default() {
         (f.period, f.period_ratio) = (Some(1.0), None);
     }
     by_period.bridge.transverse_period = None;
+    // (a fuse element: its beam, in place of a box's stroke)
+    by_period.joint.fuse = Some(quakejoint_model::config::FuseConfig {
+        kind: quakejoint_model::config::FuseKind::Element,
+        break_force: 1e6,
+        stroke: None,
+        beam: Some(2),
+        ramp_deg: 0.0,
+        mu: 0.15,
+        mass: None,
+    });
     flatten("", &table_of(&by_period), &mut all);
     let mut problems = Vec::new();
     for (key, value) in &defaults {
@@ -229,7 +240,8 @@ fn every_range_is_documented_and_enforced() {
             ));
         }
         // a value just outside, on both sides, is refused
-        let is_int = matches!(*key, "joint.center_beams" | "simulation.max_steps" | "service.cycles");
+        let is_int =
+            matches!(*key, "joint.center_beams" | "joint.fuse.beam" | "simulation.max_steps" | "service.cycles");
         let values = if is_int {
             vec![bound.min - 1.0, bound.max + 1.0]
         } else {
@@ -261,6 +273,8 @@ fn every_range_is_documented_and_enforced() {
                         .map(|(k, x)| format!("{k} = {x:e}\n"))
                         .collect();
                     format!("[joint]\nmodel = \"link\"\n[joint.link]\n{others}{field} = {value}\n")
+                } else if *key == "joint.fuse.beam" {
+                    format!("[joint.fuse]\nkind = \"element\"\nbreak_force = 1e6\nbeam = {value}\n")
                 } else if section == "joint.fuse" {
                     // (the fuse's required keys)
                     let others: String = [("break_force", "1e6"), ("stroke", "0.3")]

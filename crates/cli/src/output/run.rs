@@ -333,6 +333,9 @@ fn fuse_lines(config: &Config, j: &JointResult) {
     let joint = placed.and_then(|p| p.joint.as_ref()).unwrap_or(&config.joint);
     let (Some(fuse), Some(f)) = (&joint.fuse, &j.fuse) else { return };
     let break_kn = fuse.break_force / 1e3;
+    let Some(stroke) = fuse.stroke.filter(|_| fuse.kind == quakejoint_model::config::FuseKind::Box) else {
+        return element_lines(fuse, f);
+    };
     if !f.broke {
         out!("  seismic fuse (box)            held (never reached its break force of {break_kn:.1} kN)");
         return;
@@ -346,7 +349,7 @@ fn fuse_lines(config: &Config, j: &JointResult) {
     out!(
         "    edge beam travel            {:>12.1} mm of its {:.1} mm stroke{exhausted}",
         f.stroke_used * 1e3,
-        fuse.stroke * 1e3
+        stroke * 1e3
     );
     // (held on its ramp by friction alone, the regularised friction lets
     // the beam creep back: docs/model.md, "Seismic fuse")
@@ -358,6 +361,26 @@ fn fuse_lines(config: &Config, j: &JointResult) {
         if held { "; at least: held by friction on its ramp, the model lets it creep back" } else { "" }
     );
     out!("    fuse friction energy        {:>12.1} J", f.energy);
+}
+
+/// A fuse element's lines: whether its beam left the plane, when and at
+/// what force.
+fn element_lines(fuse: &quakejoint_model::config::FuseConfig, f: &quakejoint_model::run::fuse::FuseResult) {
+    let beam = fuse.beam.unwrap_or(0);
+    if !f.broke {
+        out!(
+            "  seismic fuse (element)        held (beam {beam} never reached its release force of {:.1} kN)",
+            fuse.break_force / 1e3
+        );
+        return;
+    }
+    out!(
+        "  seismic fuse (element)        RELEASED: beam {beam} left the plane at t = {:.3} s at {:.1} kN; its two cells \
+         acted as one (the beam must be put back)",
+        f.break_time,
+        f.break_force / 1e3
+    );
+    out!("    energy its contacts held    {:>12.1} J", f.energy);
 }
 
 /// The whole system's peaks and energies, in a run of several joints.

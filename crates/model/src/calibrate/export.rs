@@ -48,7 +48,15 @@ impl FuseExport {
     /// exported weld.
     pub(super) fn of(config: &Config, gap_stiffness: f64, warnings: &mut Vec<String>) -> Option<Self> {
         let f = config.joint.fuse.as_ref()?;
-        let (mass, [lift, resistance]) = crate::fuse::box_forces(&config.joint)?;
+        let (Some(stroke), Some((mass, [lift, resistance]))) = (f.stroke, crate::fuse::box_forces(&config.joint))
+        else {
+            warnings.push(
+                "the joint's fuse element is not in the link element: the calibration and its exports are the joint's \
+                 without it"
+                    .to_string(),
+            );
+            return None;
+        };
         let stop_stiffness = crate::link::stop_stiffness(&config.joint, gap_stiffness);
         let weld_stiffness = STICK_FACTOR * gap_stiffness;
         let mut held = f.break_force - lift;
@@ -63,7 +71,7 @@ impl FuseExport {
             if held >= 2.0 * resistance { (held - resistance) / weld_stiffness } else { held / (2.0 * weld_stiffness) };
         Some(Self {
             break_force: f.break_force,
-            stroke: f.stroke,
+            stroke,
             mass,
             lift,
             resistance,

@@ -42,54 +42,7 @@ pub struct JointConfig {
     /// A seismic fuse (`[joint.fuse]`, docs/model.md "Seismic fuse"); none
     /// by default.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub fuse: Option<FuseConfig>,
-}
-
-/// What kind of seismic fuse the joint has.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum FuseKind {
-    /// A fuse box at the abutment-side edge beam (MAURER types I and II,
-    /// mageba's FUSE-BOX): the edge beam is held until the closing force on
-    /// it reaches the break force, then travels toward the abutment against
-    /// the box's resistance for its stroke, to a hard stop.
-    Box,
-}
-
-/// A seismic fuse (docs/model.md "Seismic fuse"). No manufacturer
-/// publishes its break force, ramp, stroke or friction: each is the
-/// engineer's input, the defaults are stated assumptions.
-#[derive(Debug, Clone, PartialEq, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct FuseConfig {
-    /// What breaks.
-    pub kind: FuseKind,
-    /// The closing force on the edge beam at which its connection fails
-    /// (the sum of the contact forces of center beam 1 on it) \[N\].
-    pub break_force: f64,
-    /// How far the freed edge beam travels toward the abutment before it
-    /// meets the box's stop \[m\].
-    pub stroke: f64,
-    /// Angle of the ramp the freed edge beam rides up (MAURER type I)
-    /// \[deg\]; 0: a level floor it slides on (a drop-in box, type II).
-    #[serde(default)]
-    pub ramp_deg: f64,
-    /// Friction coefficient of the edge beam on the ramp or the floor [-]
-    /// (default [`DEFAULT_FUSE_MU`]).
-    #[serde(default = "default_fuse_mu")]
-    pub mu: f64,
-    /// Mass of the edge beam and what moves with it \[kg\] (default: a
-    /// center beam's, `joint.center_beam.mass`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub mass: Option<f64>,
-}
-
-/// The fuse's friction coefficient by default [-]: steel on steel, greased
-/// (0.1 to 0.2; dry 0.3 to 0.6). An assumption: no fuse maker gives it.
-pub const DEFAULT_FUSE_MU: f64 = 0.15;
-
-fn default_fuse_mu() -> f64 {
-    DEFAULT_FUSE_MU
+    pub fuse: Option<super::FuseConfig>,
 }
 
 /// How the joint is modelled.

@@ -11,9 +11,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
 
+mod fuse;
 mod joint;
 pub mod modes;
 
+pub use fuse::*;
 pub use joint::*;
 
 /// A whole config file.
@@ -597,7 +599,7 @@ pub(crate) fn invalid(field: &str, value: f64, reason: &str) -> ModelError {
 }
 
 /// Checks `v` against the range of `key` in [`crate::limits::LIMITS`].
-fn check(key: &str, v: f64) -> Result<(), ModelError> {
+pub(crate) fn check(key: &str, v: f64) -> Result<(), ModelError> {
     check_as(key, key, v)
 }
 
@@ -643,7 +645,7 @@ fn check_joint(j: &JointConfig) -> Result<(), ModelError> {
         check_link(j)?;
     }
     if let Some(f) = &j.fuse {
-        check_fuse(j, f)?;
+        fuse::check_fuse(j, f)?;
     }
     check("joint.contact.hertz_stiffness", j.contact.hertz_stiffness)?;
     check("joint.contact.linear_stiffness", j.contact.linear_stiffness)?;
@@ -697,38 +699,6 @@ fn check_link(j: &JointConfig) -> Result<(), ModelError> {
             "joint.link.racking_closing",
             l.racking()[0],
             &format!("a cell would be closed at rest: it must stay below the clear sub-gap, {} m", j.clear_subgap()),
-        ));
-    }
-    Ok(())
-}
-
-/// Checks `[joint.fuse]`.
-fn check_fuse(j: &JointConfig, f: &FuseConfig) -> Result<(), ModelError> {
-    for (key, v) in [
-        ("joint.fuse.break_force", f.break_force),
-        ("joint.fuse.stroke", f.stroke),
-        ("joint.fuse.ramp_deg", f.ramp_deg),
-        ("joint.fuse.mu", f.mu),
-        ("joint.fuse.mass", f.mass.unwrap_or(j.center_beam.mass)),
-    ] {
-        check(key, v)?;
-    }
-    let fail = |reason: &str| {
-        Err(ModelError::Invalid { field: "joint.fuse".into(), value: "[joint.fuse]".into(), reason: reason.into() })
-    };
-    if !j.contact.enabled {
-        return fail("a fuse breaks on the beams' contact force: it needs joint.contact.enabled = true");
-    }
-    let a = f.ramp_deg.to_radians();
-    if a.cos() - f.mu * a.sin() <= 0.0 {
-        return Err(invalid(
-            "joint.fuse.ramp_deg",
-            f.ramp_deg,
-            &format!(
-                "with joint.fuse.mu = {} the edge beam locks on the ramp (no push moves it up: \
-                 cos(angle) - mu sin(angle) must be positive)",
-                quakejoint_motion::number(f.mu)
-            ),
         ));
     }
     Ok(())

@@ -8,7 +8,7 @@ use std::time::Instant as Clock;
 use quakejoint_motion::Record;
 use quakejoint_solver::{Assembly, AssemblyOptions, Observer, Radau5, SolverError, StepView, TimeSeries};
 
-use super::observer::{EarthquakeObserver, Peak};
+use super::observer::{EarthquakeObserver, Peak, Watched};
 use super::{
     check_run_length, integrator_options, run_duration, series, window_to, FarSegment, JointResult, ProgressFn,
     RunOptions, RunResult, Transverse,
@@ -75,7 +75,9 @@ pub fn simulate_scenario(
     let fuses: Vec<f64> = (0..n_joints).map(|k| groups.get(n_joints + k).copied().unwrap_or(0.0)).collect();
     let bearings = e.friction - fuses.iter().sum::<f64>();
     let friction = if n_joints > 1 { groups[..n_joints].to_vec() } else { vec![bearings] };
-    let energies = Energies { contact: e.contact, error: energy_error, friction: &friction, fuses: &fuses };
+    // (a fuse element's contacts' energy as its beam left is its own)
+    let released: f64 = obs.joints.iter().filter_map(|j| j.fuse.as_ref()).map(|f| f.result.energy).sum();
+    let energies = Energies { contact: e.contact - released, error: energy_error, friction: &friction, fuses: &fuses };
     let (obs, joints) = joint_results(obs.joints, &model, energies);
     let first = &joints[0];
     let mut validity = first.validity.clone();
@@ -187,7 +189,11 @@ fn joint_results(
             validity,
             // (the first joint's stay the run's)
             histories: if k > 0 { obs.histories.take() } else { None },
-            fuse: obs.fuse.as_ref().map(|f| crate::run::fuse::FuseResult { energy: fuses[k], ..f.result }),
+            // (a box's friction is its group's; an element's energy, its own)
+            fuse: obs
+                .fuse
+                .as_ref()
+                .map(|f| crate::run::fuse::FuseResult { energy: f.result.energy + fuses[k], ..f.result }),
         };
         (joint, obs)
     });
@@ -337,23 +343,19 @@ impl crate::run::fuse::FuseObserver for Observers {
         self.joints.iter_mut().position(|j| j.fuse.as_mut().is_some_and(|f| f.take_pending()))
     }
 
-    fn resumed(
-        &mut self,
-        asm: &Assembly,
-        broken: &[usize],
-        parts: &[crate::run::fuse::FreedParts],
-    ) -> Result<(), ModelError> {
+    fn resumed(&mut self, asm: &Assembly, freed: &[(usize, crate::run::fuse::Freed)]) -> Result<(), ModelError> {
         for (k, j) in self.joints.iter_mut().enumerate() {
-            let freed = match broken.iter().position(|&b| b == k) {
-                Some(i) => {
+            let watched = match freed.iter().find(|(b, _)| *b == k).map(|(_, f)| *f) {
+                Some(crate::run::fuse::Freed::Edge(parts)) => {
                     let coord = asm
-                        .coordinate(parts[i].edge, quakejoint_solver::Coord::X)
+                        .coordinate(parts.edge, quakejoint_solver::Coord::X)
                         .ok_or_else(|| ModelError::Geometry("the freed edge beam has no x coordinate".to_string()))?;
-                    Some((coord, parts[i]))
+                    Some(Watched::Edge(coord, parts))
                 }
+                Some(crate::run::fuse::Freed::Beam { beam, energy }) => Some(Watched::Beam(beam, energy)),
                 None => None,
             };
-            j.resumed(asm, freed);
+            j.resumed(asm, watched);
         }
         Ok(())
     }

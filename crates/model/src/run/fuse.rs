@@ -10,11 +10,13 @@ use quakejoint_solver::{
     FrictionLaw, IntegratorOptions, Observer, Radau5, System, TimeFunction, NO_GROUP,
 };
 
+use crate::config::FuseKind;
 use crate::described::{described, Described};
 use crate::error::ModelError;
+use crate::fuse::{Fuse, FuseBox};
 use crate::generator::JointModel;
 
-/// Where a broken fuse's parts are in the broken system.
+/// Where a broken fuse box's parts are in the broken system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FreedParts {
     /// The freed edge beam.
@@ -25,6 +27,21 @@ pub struct FreedParts {
     pub stop: usize,
 }
 
+/// What a broken fuse freed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Freed {
+    /// A fuse box's edge beam, with its seat and stop.
+    Edge(FreedParts),
+    /// A fuse element's beam (1 to `Nc`), gone out of the plane, and the
+    /// elastic energy its contacts still held as it left \[J\].
+    Beam {
+        /// Which center beam.
+        beam: usize,
+        /// The energy \[J\].
+        energy: f64,
+    },
+}
+
 /// An observer of a run whose joints may have fuses: it says when one
 /// broke, and goes on watching in the broken system.
 pub trait FuseObserver: Observer {
@@ -32,15 +49,17 @@ pub trait FuseObserver: Observer {
     /// end of the last step, if one did (taken: each is given once; none
     /// when the observer stopped the run for another reason).
     fn take_break(&mut self) -> Option<usize>;
-    /// The run goes on in `asm`, the system with the fuses of `broken`
-    /// broken (in that order), their parts where `parts` says.
-    fn resumed(&mut self, asm: &Assembly, broken: &[usize], parts: &[FreedParts]) -> Result<(), ModelError>;
+    /// The run goes on in `asm`, the system with the fuses broken so far:
+    /// `freed` says, for each of their joints (indices into
+    /// [`JointModel::joints`], in the order they broke), what its fuse freed.
+    fn resumed(&mut self, asm: &Assembly, freed: &[(usize, Freed)]) -> Result<(), ModelError>;
 }
 
 /// Runs `sim`, the intact system of `model`, to `t_end` \[s\] with its
 /// joints' fuses armed: at each break the run resumes in the broken
-/// system, with the integrator options `options`. Returns the solver at the
-/// end and whether it got there (false: `observer` stopped it).
+/// system (a fuse element's contacts opened first), with the integrator
+/// options `options`. Returns the solver at the end and whether it got
+/// there (false: `observer` stopped it).
 pub fn run_with_fuses(
     model: &JointModel,
     mut sim: Radau5,
@@ -48,35 +67,51 @@ pub fn run_with_fuses(
     t_end: f64,
     observer: &mut dyn FuseObserver,
 ) -> Result<(Radau5, bool), ModelError> {
-    for fuse in model.joints().filter_map(|j| j.fuse.as_ref()) {
-        sim.set_force_threshold(&fuse.contact_numbers, fuse.break_force)?;
+    let fuses: Vec<Option<&Fuse>> = model.joints().map(|j| j.fuse.as_ref()).collect();
+    for fuse in fuses.iter().flatten() {
+        sim.set_force_threshold(fuse.threshold_contacts(), fuse.break_force())?;
     }
     let mut broken = Vec::new();
+    // (the elastic energy each broken fuse element's contacts held)
+    let mut released = Vec::new();
     loop {
         if sim.run(t_end, observer)? {
             return Ok((sim, true));
         }
         let before = broken.len();
         while let Some(k) = observer.take_break() {
+            let energy = match fuses.get(k).copied().flatten() {
+                Some(Fuse::Element(e)) => sim.release_contacts(&e.released)?,
+                Some(Fuse::Box(_)) => 0.0,
+                None => continue,
+            };
             broken.push(k);
+            released.push(energy);
         }
         if broken.len() == before {
             return Ok((sim, false));
         }
-        let (sys, parts) = broken_system(model, &broken);
+        let (sys, mut freed) = broken_system(model, &broken);
+        for ((_, f), &e) in freed.iter_mut().zip(&released) {
+            if let Freed::Beam { energy, .. } = f {
+                *energy = e;
+            }
+        }
         let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default())?);
         sim = Radau5::resume(asm.clone(), options.clone(), &sim)?;
-        observer.resumed(&asm, &broken, &parts)?;
+        observer.resumed(&asm, &freed)?;
     }
 }
 
 /// The system of `model` with the fuses of its joints `broken` (indices
-/// into [`JointModel::joints`], in the order they broke) broken: each
+/// into [`JointModel::joints`], in the order they broke) broken, in which
+/// the run resumes ([`quakejoint_solver::Radau5::resume`]): a fuse box
 /// appends its freed edge beam and that beam's elements after everything
-/// else, and moves center beam 1's contacts onto it, so that the run
-/// resumes in it ([`quakejoint_solver::Radau5::resume`]). Returns the
-/// system and where each broken fuse's parts are.
-pub fn broken_system(model: &JointModel, broken: &[usize]) -> (System, Vec<FreedParts>) {
+/// else and moves center beam 1's contacts onto it; a fuse element's
+/// contacts become its neighbours' across the merged cell and contacts that
+/// never close. Returns the system and, for each broken fuse's joint, what
+/// it freed (a fuse element's energy 0: the run's to fill in).
+pub fn broken_system(model: &JointModel, broken: &[usize]) -> (System, Vec<(usize, Freed)>) {
     let mut sys = model.system.clone();
     let joints: Vec<&JointModel> = model.joints().collect();
     if joints.len() == 1 {
@@ -89,73 +124,92 @@ pub fn broken_system(model: &JointModel, broken: &[usize]) -> (System, Vec<Freed
         }
     }
     let mut contacts = sys.forces().iter().filter(|(_, f)| matches!(f, ForceElement::Contact(_))).count();
-    let mut parts = Vec::with_capacity(broken.len());
+    let mut freed = Vec::with_capacity(broken.len());
     for &k in broken {
-        let (jm, fuse) = match joints.get(k).and_then(|j| j.fuse.as_ref().map(|f| (*j, f))) {
-            Some(x) => x,
-            None => continue,
-        };
-        sys.add_to_group(fuse.group);
-        let body = Body::new(format!("{}edge beam (fuse broken)", fuse.prefix), fuse.mass, 1.0, [0.0; 3]);
-        let edge = sys.add_body(crate::generator::turned(body.only(&[Coord::X]), jm.sign));
-        sys.add_to_group(NO_GROUP);
-        for &id in &fuse.contacts {
-            if let ForceElement::Contact(c) = sys.force_mut(id) {
-                c.base = edge;
+        let Some(jm) = joints.get(k) else { continue };
+        match &jm.fuse {
+            Some(Fuse::Box(fuse)) => {
+                let parts = free_edge_beam(&mut sys, fuse, jm.sign, contacts);
+                contacts += 2;
+                freed.push((k, Freed::Edge(parts)));
             }
+            Some(Fuse::Element(e)) => {
+                for (id, c) in &e.replaced {
+                    *sys.force_mut(*id) = ForceElement::Contact(c.clone());
+                }
+                freed.push((k, Freed::Beam { beam: e.beam, energy: 0.0 }));
+            }
+            None => {}
         }
-        let named = |what: &str| format!("{}fuse {what}", fuse.prefix);
-        if fuse.resistance > 0.0 {
-            sys.add_force_named(
-                named("friction"),
-                ForceElement::Friction(Friction {
-                    slider: edge,
-                    point: [0.0, 0.0],
-                    base: BodyId::GROUND,
-                    mu: 1.0,
-                    normal_force: fuse.resistance,
-                    surfaces: 1.0,
-                    v_eps: fuse.v_eps,
-                    law: fuse.friction_law,
-                }),
-            );
-        }
-        if fuse.lift != 0.0 {
-            sys.add_force_named(
-                named("ramp lift"),
-                ForceElement::AppliedLoad(AppliedLoad {
-                    body: edge,
-                    point: [0.0, 0.0],
-                    fx: TimeFunction::Constant(fuse.lift),
-                    fy: TimeFunction::Constant(0.0),
-                    torque: TimeFunction::Constant(0.0),
-                }),
-            );
-        }
-        // the seat (no travel toward the deck) and the stop after the stroke
-        for (what, edge_point, edge_normal) in [("seat", 0.0, -1.0), ("stop", -fuse.stroke, 1.0)] {
-            sys.add_force_named(
-                named(what),
-                ForceElement::Contact(Contact {
-                    body: edge,
-                    point: [0.0, 0.0],
-                    base: BodyId::GROUND,
-                    edge_point: [edge_point, 0.0],
-                    edge_normal: [edge_normal, 0.0],
-                    law: fuse.law,
-                    reduced_mass: None,
-                }),
-            );
-        }
-        parts.push(FreedParts { edge, seat: contacts, stop: contacts + 1 });
-        contacts += 2;
     }
-    (sys, parts)
+    (sys, freed)
+}
+
+/// Frees `fuse`'s edge beam in `sys` (a joint turned by `sign`, `contacts`
+/// the system's contacts so far): the beam, its friction, lift, seat and
+/// stop, and center beam 1's contacts on it.
+fn free_edge_beam(sys: &mut System, fuse: &FuseBox, sign: f64, contacts: usize) -> FreedParts {
+    sys.add_to_group(fuse.group);
+    let body = Body::new(format!("{}edge beam (fuse broken)", fuse.prefix), fuse.mass, 1.0, [0.0; 3]);
+    let edge = sys.add_body(crate::generator::turned(body.only(&[Coord::X]), sign));
+    sys.add_to_group(NO_GROUP);
+    for &id in &fuse.contacts {
+        if let ForceElement::Contact(c) = sys.force_mut(id) {
+            c.base = edge;
+        }
+    }
+    let named = |what: &str| format!("{}fuse {what}", fuse.prefix);
+    if fuse.resistance > 0.0 {
+        sys.add_force_named(
+            named("friction"),
+            ForceElement::Friction(Friction {
+                slider: edge,
+                point: [0.0, 0.0],
+                base: BodyId::GROUND,
+                mu: 1.0,
+                normal_force: fuse.resistance,
+                surfaces: 1.0,
+                v_eps: fuse.v_eps,
+                law: fuse.friction_law,
+            }),
+        );
+    }
+    if fuse.lift != 0.0 {
+        sys.add_force_named(
+            named("ramp lift"),
+            ForceElement::AppliedLoad(AppliedLoad {
+                body: edge,
+                point: [0.0, 0.0],
+                fx: TimeFunction::Constant(fuse.lift),
+                fy: TimeFunction::Constant(0.0),
+                torque: TimeFunction::Constant(0.0),
+            }),
+        );
+    }
+    // the seat (no travel toward the deck) and the stop after the stroke
+    for (what, edge_point, edge_normal) in [("seat", 0.0, -1.0), ("stop", -fuse.stroke, 1.0)] {
+        sys.add_force_named(
+            named(what),
+            ForceElement::Contact(Contact {
+                body: edge,
+                point: [0.0, 0.0],
+                base: BodyId::GROUND,
+                edge_point: [edge_point, 0.0],
+                edge_normal: [edge_normal, 0.0],
+                law: fuse.law,
+                reduced_mass: None,
+            }),
+        );
+    }
+    FreedParts { edge, seat: contacts, stop: contacts + 1 }
 }
 
 /// What a joint's fuse did in a run.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct FuseResult {
+    /// What kind of fuse (a fuse element has no stroke: its stroke's
+    /// values are NaN in every output).
+    pub kind: FuseKind,
     /// Whether it broke.
     pub broke: bool,
     /// When \[s\] (NaN: it did not).
@@ -171,7 +225,9 @@ pub struct FuseResult {
     /// Whether it reached the box's stop (the stroke was exhausted: the
     /// joint pushes the abutment again through the stop).
     pub stroke_exhausted: bool,
-    /// The energy the freed beam's friction dissipated \[J\].
+    /// A box: the energy the freed beam's friction dissipated; an
+    /// element: the elastic energy its beam's contacts still held as it
+    /// left \[J\].
     pub energy: f64,
 }
 
@@ -181,11 +237,11 @@ pub struct FuseResult {
 pub const FUSE_FIELDS: [Described; 7] = [
     described("fuse_broken", "1", "1 if its fuse broke, 0 if not (NaN without `[joint.fuse]`, as every `fuse_` value)"),
     described("fuse_break_time", "s", "when its fuse broke (NaN: it did not)"),
-    described("fuse_break_force", "N", "the closing force on the edge beam when its fuse broke (the break force to within the step's error)"),
-    described("fuse_stroke_used", "m", "the farthest its freed edge beam travelled toward the abutment"),
+    described("fuse_break_force", "N", "the closing force on the edge beam (a fuse element: on its beam) when its fuse broke (the break force to within the step's error)"),
+    described("fuse_stroke_used", "m", "the farthest its freed edge beam travelled toward the abutment (NaN for a fuse element, as its other stroke values)"),
     described("fuse_residual_offset", "m", "where its freed edge beam rests at the end, from its seat toward the abutment: the joint must be reset by this much (a lower bound where a ramp holds it by friction alone: the regularised friction lets it creep back, docs/model.md)"),
     described("fuse_stroke_exhausted", "1", "1 if its freed edge beam reached the fuse box's stop (the joint pushes the abutment again through it), 0 if not"),
-    described("fuse_energy", "J", "the energy its freed edge beam's friction dissipated (apart from `friction_energy`)"),
+    described("fuse_energy", "J", "the energy its freed edge beam's friction dissipated (apart from `friction_energy`); a fuse element: the elastic energy its beam's contacts held as it left (apart from `contact_energy`)"),
 ];
 
 impl FuseResult {
@@ -193,13 +249,14 @@ impl FuseResult {
     pub fn values(fuse: Option<&FuseResult>) -> [f64; 7] {
         let Some(f) = fuse else { return [f64::NAN; 7] };
         let flag = |b: bool| f64::from(u8::from(b));
+        let stroke = |x: f64| if f.kind == FuseKind::Element { f64::NAN } else { x };
         [
             flag(f.broke),
             f.break_time,
             f.break_force,
-            f.stroke_used,
-            f.residual_offset,
-            flag(f.stroke_exhausted),
+            stroke(f.stroke_used),
+            stroke(f.residual_offset),
+            stroke(flag(f.stroke_exhausted)),
             f.energy,
         ]
     }
@@ -229,17 +286,24 @@ pub struct FuseWatch {
 impl FuseWatch {
     /// The watch of `model`'s fuse (none without one).
     pub fn new(model: &JointModel) -> Option<Self> {
-        let f = model.fuse.as_ref()?;
-        Some(Self {
-            first_contact: f.contact_numbers[0],
-            lift: f.lift,
-            resistance: f.resistance,
-            v_eps: f.v_eps,
-            law: f.friction_law,
+        let fuse = model.fuse.as_ref()?;
+        let unbroken = FuseResult { break_time: f64::NAN, break_force: f64::NAN, ..FuseResult::default() };
+        let watch = Self {
+            first_contact: fuse.threshold_contacts()[0],
+            lift: 0.0,
+            resistance: 0.0,
+            v_eps: 1.0,
+            law: FrictionLaw::Smooth,
             pending: false,
             freed: None,
             values: Vec::new(),
-            result: FuseResult { break_time: f64::NAN, break_force: f64::NAN, ..FuseResult::default() },
+            result: unbroken,
+        };
+        Some(match fuse {
+            Fuse::Box(f) => {
+                Self { lift: f.lift, resistance: f.resistance, v_eps: f.v_eps, law: f.friction_law, ..watch }
+            }
+            Fuse::Element(_) => Self { result: FuseResult { kind: FuseKind::Element, ..unbroken }, ..watch },
         })
     }
 
@@ -274,6 +338,11 @@ impl FuseWatch {
     /// Watches the freed beam in the broken system (`coord`: its x).
     pub fn freed(&mut self, coord: usize, parts: FreedParts) {
         self.freed = Some((coord, parts));
+    }
+
+    /// A fuse element's beam left, its contacts holding `energy` \[J\].
+    pub fn released(&mut self, energy: f64) {
+        self.result.energy = energy;
     }
 
     /// At a sample: the freed beam's travel, and its push on the abutment

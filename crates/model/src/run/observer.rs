@@ -40,6 +40,15 @@ impl Peak {
     }
 }
 
+/// What a joint's broken fuse freed, as its observer watches it: a fuse
+/// box's edge beam (its x coordinate and parts), or a fuse element's beam
+/// (1 to `Nc`) with the energy its contacts held as it left \[J\].
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Watched {
+    Edge(usize, crate::run::fuse::FreedParts),
+    Beam(usize, f64),
+}
+
 /// Evaluates the reported quantities at the output times.
 pub(super) struct EarthquakeObserver {
     pub(super) deck: usize,
@@ -208,9 +217,8 @@ impl EarthquakeObserver {
 
     /// Goes on watching in `asm`, the system with fuses broken: its scratch
     /// sized for it, its own group's peaks apart from a freed beam's
-    /// friction, and, if its own fuse is among them, its freed edge beam
-    /// (`freed`: that beam's x coordinate and parts).
-    pub(super) fn resumed(&mut self, asm: &Assembly, freed: Option<(usize, crate::run::fuse::FreedParts)>) {
+    /// friction, and, if its own fuse is among them, what it freed.
+    pub(super) fn resumed(&mut self, asm: &Assembly, freed: Option<Watched>) {
         self.state = quakejoint_solver::StateBuffer::new(asm);
         if let Some(l) = &mut self.link {
             l.scratch = None;
@@ -225,18 +233,31 @@ impl EarthquakeObserver {
             self.joint_groups = 1;
             self.own = quakejoint_solver::ForceExtremes { bushing: self.bushing, friction: self.friction };
         }
-        if let (Some(fuse), Some((coord, parts))) = (&mut self.fuse, freed) {
-            fuse.freed(coord, parts);
-            if let Some(l) = &mut self.link {
-                // (its cells now end at the freed edge beam)
-                l.abutment = Some(coord);
+        let Some(fuse) = &mut self.fuse else { return };
+        match freed {
+            Some(Watched::Edge(coord, parts)) => {
+                fuse.freed(coord, parts);
+                if let Some(l) = &mut self.link {
+                    // (its cells now end at the freed edge beam)
+                    l.abutment = Some(coord);
+                }
+                if let Some(g) = &mut self.gaps {
+                    g.free_edge(coord);
+                }
+                if let Some(m) = &mut self.monitor {
+                    m.free_edge();
+                }
             }
-            if let Some(g) = &mut self.gaps {
-                g.free_edge(coord);
+            Some(Watched::Beam(beam, energy)) => {
+                fuse.released(energy);
+                if let Some(g) = &mut self.gaps {
+                    g.release_beam(beam - 1);
+                }
+                if let Some(m) = &mut self.monitor {
+                    m.release_beam(beam, fuse.result.break_time);
+                }
             }
-            if let Some(m) = &mut self.monitor {
-                m.free_edge();
-            }
+            None => {}
         }
     }
 

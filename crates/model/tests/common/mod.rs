@@ -48,3 +48,4 @@ pub fn opensees_csv(csv: &str) -> (Vec<f64>, Vec<Vec<f64>>) {
     }
     (t, cols)
 }
+pub mod closing;

@@ -9,6 +9,7 @@
 //! needs no job run again; the same sweep sharded and merged gives the
 //! same curves, hence the same table.
 
+use quakejoint_model::config::FuseKind;
 use quakejoint_model::Config;
 
 use super::{CurveRow, StoredFragility};
@@ -32,9 +33,13 @@ impl Candidate {
         let cells = joints.clone().map(|j| j.cells()).max().unwrap_or(0);
         let fuses: Vec<String> = joints
             .filter_map(|j| j.fuse.as_ref())
-            .map(|f| {
-                let ramp = if f.ramp_deg > 0.0 { format!(", ramp {} deg", f.ramp_deg) } else { String::new() };
-                format!("box {} kN, stroke {} m{ramp}", f.break_force / 1e3, f.stroke)
+            .map(|f| match (f.kind, f.stroke, f.beam) {
+                (FuseKind::Box, Some(stroke), _) => {
+                    let ramp = if f.ramp_deg > 0.0 { format!(", ramp {} deg", f.ramp_deg) } else { String::new() };
+                    format!("box {} kN, stroke {stroke} m{ramp}", f.break_force / 1e3)
+                }
+                (_, _, Some(beam)) => format!("element {} kN, beam {beam}", f.break_force / 1e3),
+                _ => format!("{:?} {} kN", f.kind, f.break_force / 1e3),
             })
             .collect();
         let fuse = if fuses.is_empty() { "none".to_string() } else { fuses.join("; ") };

@@ -31,6 +31,35 @@ impl Radau5 {
         Ok(())
     }
 
+    /// Opens `contacts` where they are closed, as a body that leaves the
+    /// plane takes them with it (a fuse element; [`Radau5::resume`] then
+    /// goes on in a system where they no longer touch): the elastic energy
+    /// they still store is lost with them, booked as the contacts'
+    /// dissipation ([`crate::EnergyBalance::contact`]). Returns that energy
+    /// \[J\].
+    pub fn release_contacts(&mut self, contacts: &[usize]) -> Result<f64, SolverError> {
+        let n = self.asm.contact_count();
+        if let Some(&c) = contacts.iter().find(|&&c| c >= n) {
+            return Err(SolverError::Build(BuildError::InvalidParameter {
+                what: format!("contact {c} of {n}"),
+                name: "released contact",
+                value: c as f64,
+                reason: "one of the system's contacts",
+            }));
+        }
+        let mut values = vec![crate::ContactValue::default(); n];
+        self.asm.contacts(&mut self.ws, &self.q, &self.v, &mut values);
+        let mut released = 0.0;
+        for &i in contacts {
+            if self.ws.closed_contacts()[i] {
+                released += self.asm.contact_energy(i, values[i].penetration);
+                self.ws.set_contact(i, false, 0.0);
+            }
+        }
+        self.energy.contact += released;
+        Ok(released)
+    }
+
     /// Continues the run of `from` in the system `asm`, which has `from`'s
     /// bodies, constraints, force elements and contacts first, in the same
     /// order, and may add bodies and force elements after them (their
