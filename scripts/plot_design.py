@@ -46,18 +46,29 @@ def load(src):
     return d
 
 
+def fuse_label(fuse):
+    """A candidate's fuse in a few words: 'no fuse', 'box 2 MN', 'element
+    2 MN' (the design table's `fuse`, such as 'box 2000 kN, stroke 0.3 m')."""
+    if fuse == "none":
+        return "no fuse"
+    words = fuse.split(",")[0].split()
+    if len(words) >= 3 and words[2] == "kN":
+        return f"{words[0]} {float(words[1]) / 1e3:g} MN"
+    return words[0] if words else "fuse"
+
+
 def figure(src):
     d = load(src)
     nc, nz, nt, nk = d["checked"].shape
     z, t = 0, 0
     cols = min(nk, 3 if nc <= 4 else 2)
     rows = -(-nk // cols)
-    width = max(4.8, 0.75 * nc + 1.8)
+    width = max(4.8, 0.95 * nc + 1.8)
     fig, axes = plt.subplots(rows, cols, figsize=(width * cols, 4.4 * rows + 0.4), squeeze=False)
     for ax in axes.ravel()[nk:]:
         ax.axis("off")
     rec = int(d["recommended"][z, t])
-    labels = [f"{c}\n{n} gaps\n{'no fuse' if fz == 'none' else 'fuse'}"
+    labels = ["\n".join([*c.split(", "), f"{n} gaps", fuse_label(fz)])
               for c, n, fz in zip(d["candidate"], d["cells"], d["fuse"])]
     for k, ax in enumerate(axes.ravel()[:nk]):
         target = d["target"][k]

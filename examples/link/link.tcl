@@ -61,12 +61,10 @@ proc quakejointLink {abutNode deckNode newNode firstTag {side 1} {fuseNode ""}} 
     uniaxialMaterial Parallel $firstTag [expr {$firstTag + 3}] [expr {$firstTag + 4}]
     uniaxialMaterial ElasticPP [expr {$firstTag + 1}] $kStick [expr {$F / $kStick}]
     uniaxialMaterial ElasticPPGap [expr {$firstTag + 2}] 5.1651597924325414e7 -1.0e20 -1.12e0
+    set gapMat [expr {$firstTag + 2}]
     element zeroLength $firstTag $newNode $deckNode -mat $firstTag -dir 1
     element zeroLength [expr {$firstTag + 1}] $abutNode $newNode -mat [expr {$firstTag + 1}] -dir 1
     if {$quakejointLinkHasFuse} { set base $fuseNode } else { set base $abutNode }
-    if {$side == 1} {
-        element zeroLength [expr {$firstTag + 2}] $base $deckNode -mat [expr {$firstTag + 2}] -dir 1
-    } else {
-        element zeroLength [expr {$firstTag + 2}] $deckNode $base -mat [expr {$firstTag + 2}] -dir 1
-    }
+    if {$side == 1} { set gapEnds [list $base $deckNode] } else { set gapEnds [list $deckNode $base] }
+    element zeroLength [expr {$firstTag + 2}] {*}$gapEnds -mat $gapMat -dir 1
 }

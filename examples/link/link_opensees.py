@@ -20,6 +20,7 @@ GAP = 1.12e0  # [m] closing movement until every cell is closed
 GAP_STIFFNESS = 5.1651597924325414e7  # [N/m] closed joint
 STICK_FACTOR = 1000  # the slider's stick stiffness over STIFFNESS
 FUSE = None  # the joint has no fuse box
+ELEMENT = None  # the joint has no fuse element
 
 
 def _mass_node(ops, deck_node, node, mass):
@@ -66,12 +67,21 @@ def add_link(ops, abut_node, deck_node, new_node, first_tag, side=1, fuse_node=N
     ops.uniaxialMaterial("Parallel", first_tag, first_tag + 3, first_tag + 4)
     ops.uniaxialMaterial("ElasticPP", first_tag + 1, k_stick, FRICTION / k_stick)
     ops.uniaxialMaterial("ElasticPPGap", first_tag + 2, GAP_STIFFNESS, -1.0e20, -GAP)
+    gap_mat = first_tag + 2
+    if ELEMENT is not None:
+        # the fuse element: the gap fails for good at its release (MinMax), a second gap
+        # closes the beam's width later
+        ops.uniaxialMaterial("MinMax", first_tag + 6, first_tag + 2, "-min", -ELEMENT["release_closing"])
+        ops.uniaxialMaterial("ElasticPPGap", first_tag + 5, ELEMENT["stiffness_after"], -1.0e20, -ELEMENT["gap_after"])
+        gap_mat = first_tag + 6
     ops.element("zeroLength", first_tag, new_node, deck_node, "-mat", first_tag, "-dir", 1)
     ops.element("zeroLength", first_tag + 1, abut_node, new_node, "-mat", first_tag + 1, "-dir", 1)
     # (each element's deformation is the opening's sign: it closes toward the abutment)
     base = abut_node if FUSE is None else fuse_node
     gap_nodes = (base, deck_node) if side == 1 else (deck_node, base)
-    ops.element("zeroLength", first_tag + 2, *gap_nodes, "-mat", first_tag + 2, "-dir", 1)
+    ops.element("zeroLength", first_tag + 2, *gap_nodes, "-mat", gap_mat, "-dir", 1)
+    if ELEMENT is not None:
+        ops.element("zeroLength", first_tag + 3, *gap_nodes, "-mat", first_tag + 5, "-dir", 1)
     if FUSE is None:
         return
     ops.remove("sp", fuse_node, 1)

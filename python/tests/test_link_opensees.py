@@ -283,6 +283,46 @@ def test_the_exported_fuse_in_opensees_is_quakejoints_link(fused):
     assert detailed.fuse_broken == 1 and abs(detailed.fuse_break_time - ours.fuse_break_time) < 1e-3
 
 
+def test_the_exported_fuse_element_in_opensees_is_quakejoints_link(tmp_path):
+    """The link with a fuse element (the medium joint's middle beam, 300
+    kN) in two engines, on the deck and record of the fuse box above: the
+    exported gap lets go (its MinMax) where quakejoint's link releases its
+    beam, and the second gap, a beam's width later, pushes the deck as
+    quakejoint's does; Sa to 1e-3. Against the detailed joint with the same
+    element, the release is within 5 ms."""
+    _openseespy()
+    import link_sdof
+
+    record = GM / "RSN753_LOMAP_CLS090-hor2.AT2"
+    cfg = qj.Config.from_file(ROOT / "configs" / "medium.toml").replace(
+        {
+            "joint.fuse.kind": "element",
+            "joint.fuse.break_force": 3e5,
+            "joint.fuse.beam": 5,
+            "bridge.mass": 1e8,
+            "bridge.period": 2.5,
+            "record.file": str(record),
+            "record.scale": 3.0,
+        }
+    )
+    c = qj.calibrate(cfg, earthquake=False)
+    for name, text in c["exports"].items():
+        (tmp_path / name).write_text(text)
+    keys = ("stiffness", "friction", "mass", "damping", "gap_stiffness")
+    linked = cfg.replace({"joint.model": "link", **{f"joint.link.{k}": c[k] for k in keys}})
+    ours = qj.simulate(linked, history=False)
+    detailed = qj.simulate(cfg, history=False)
+    theirs = link_sdof.run(tmp_path / "link_opensees.py", 1e8, 2.5, 0.05, record, 3.0)
+    print({k: theirs[k] for k in theirs if k.startswith("fuse_") or k.startswith("peak") or k == "sa"},
+          ours.fuse_break_time, ours.peak_joint_force, ours.sa, detailed.fuse_break_time, detailed.peak_joint_force)
+    assert ours.fuse_broken == 1 and theirs["fuse_broke"] and detailed.fuse_broken == 1
+    assert abs(theirs["fuse_break_time"] - ours.fuse_break_time) < 5e-4
+    assert abs(theirs["sa"] / ours.sa - 1) < 1e-3
+    assert abs(theirs["peak_joint_force_steps"] / ours.peak_joint_force - 1) < 0.03
+    assert abs(theirs["friction_energy"] / ours.friction_energy - 1) < 0.01
+    assert abs(detailed.fuse_break_time - ours.fuse_break_time) < 5e-3
+
+
 TCL_MOCK = """
 proc record {args} { puts $args }
 foreach c {node fix uniaxialMaterial element remove timeSeries load} {
@@ -316,13 +356,14 @@ def _tcl_word(x):
 
 
 @pytest.mark.parametrize("side", [1, -1])
-@pytest.mark.parametrize("fuse", ["none", "level", "ramp"])
+@pytest.mark.parametrize("fuse", ["none", "level", "ramp", "element"])
 def test_the_tcl_export_issues_the_python_exports_commands(fused, fuse, side, tmp_path):
     """link.tcl's procedure and link_opensees.py's function, each run
     against a recorder of OpenSees' commands (tclsh with every command a
     procedure that prints it): the same commands on the same nodes with
     the same numbers at either abutment, for a joint without a fuse, with a
-    fuse box on a level floor and on a 10 degree ramp (its lift a load)."""
+    fuse box on a level floor and on a 10 degree ramp (its lift a load), and
+    with a fuse element (its gap's MinMax and a second gap)."""
     import importlib.util
     import shutil
     import subprocess
@@ -335,6 +376,10 @@ def test_the_tcl_export_issues_the_python_exports_commands(fused, fuse, side, tm
         cfg = qj.Config.from_file(ROOT / "configs" / "medium.toml")
     elif fuse == "ramp":
         cfg = cfg.replace({"joint.fuse.ramp_deg": 10.0})
+    elif fuse == "element":
+        cfg = qj.Config.from_file(ROOT / "configs" / "medium.toml").replace(
+            {"joint.fuse.kind": "element", "joint.fuse.break_force": 3e5, "joint.fuse.beam": 5}
+        )
     for name, text in qj.calibrate(cfg, earthquake=False)["exports"].items():
         (tmp_path / name).write_text(text)
     script = tmp_path / "run.tcl"
@@ -350,6 +395,9 @@ def test_the_tcl_export_issues_the_python_exports_commands(fused, fuse, side, tm
     py = [_normalised(line) for line in ops.calls]
     assert any(line.startswith("uniaxialMaterial MinMax") for line in py) == (fuse != "none")
     assert any(line.startswith("load 4") for line in py) == (fuse == "ramp")
+    # (a fuse element: a second gap element, 103, on the gap's nodes)
+    assert any(line.startswith("element zeroLength 103 1 2") or line.startswith("element zeroLength 103 2 1")
+               for line in py) == (fuse == "element")
     assert tcl == py
 
 

@@ -24,7 +24,9 @@ at every step with its time: `peak_joint_force_steps`, `peak_time`), the slider'
 its slip, summed over the steps), and the histories; for a link with a
 fuse box (`FUSE` in the exported file) also when it broke, the stroke
 used, the residual offset, the fuse's friction energy and whether the
-stroke was exhausted (`fuse_*`).
+stroke was exhausted (`fuse_*`); for a link with a fuse element
+(`ELEMENT`) when its gap let go (`fuse_broke`, `fuse_break_time`), the
+second gap's force counted in the force on the deck.
 """
 import argparse
 import importlib.util
@@ -87,14 +89,20 @@ def run(link_path, mass, period, damping, record, scale=1.0, substeps=20, extra=
     friction_energy = 0.0
     slip_prev = ops.nodeDisp(3, 1)
     fuse = getattr(link, "FUSE", None)
+    element = getattr(link, "ELEMENT", None)
     edge = {"broke": False, "break_time": math.nan, "stroke_used": 0.0, "energy": 0.0, "exhausted": False}
+    released = {"broke": False, "break_time": math.nan}
+    second = element is not None
     x_prev = 0.0
     peak, peak_time = 0.0, 0.0
     for j in range(1, n_out + 1):
         for _ in range(substeps):
             advance(h)
-            if abs(deck_force()) > peak:
-                peak, peak_time = abs(deck_force()), ops.getTime()
+            if abs(deck_force(second)) > peak:
+                peak, peak_time = abs(deck_force(second)), ops.getTime()
+            if second and not released["broke"] and ops.nodeDisp(2, 1) < -element["release_closing"]:
+                # (the gap's MinMax failed: the beam left)
+                released["broke"], released["break_time"] = True, ops.getTime()
             slip = ops.nodeDisp(3, 1)
             f_slider = ops.eleResponse(101, "basicForce")[0]
             friction_energy += abs(f_slider * (slip - slip_prev)) if abs(f_slider) >= 0.999 * link.FRICTION else 0.0
@@ -105,13 +113,15 @@ def run(link_path, mass, period, damping, record, scale=1.0, substeps=20, extra=
         t[j] = ops.getTime()
         u[j] = ops.nodeDisp(2, 1)
         a_rel[j] = ops.nodeAccel(2, 1)
-        force[j] = deck_force()
+        force[j] = deck_force(second)
     a_abs = a_rel + ground_at(t, dt, acc)
     m = len(acc)
     fuse_results = {}
     if fuse is not None:
         edge["residual_offset"] = -ops.nodeDisp(4, 1)
         fuse_results = {f"fuse_{k}": v for k, v in edge.items()}
+    if element is not None:
+        fuse_results = {f"fuse_{k}": v for k, v in released.items()}
     return {
         **fuse_results,
         "sa": float(np.max(np.abs(a_abs[:m]))),
@@ -127,10 +137,12 @@ def run(link_path, mass, period, damping, record, scale=1.0, substeps=20, extra=
     }
 
 
-def deck_force():
+def deck_force(second=False):
     """The link's force on the deck: its spring's (the deck its j node)
-    and its gap's."""
-    return -ops.eleResponse(100, "basicForce")[0] - ops.eleResponse(102, "basicForce")[0]
+    and its gap's (and with a fuse element the second gap's, element
+    103)."""
+    force = -ops.eleResponse(100, "basicForce")[0] - ops.eleResponse(102, "basicForce")[0]
+    return force - ops.eleResponse(103, "basicForce")[0] if second else force
 
 
 def advance(h):

@@ -75,6 +75,8 @@ pub struct FuseElement {
     pub break_force: f64,
     /// Which center beam leaves, 1 (next to the abutment) to `Nc`.
     pub beam: usize,
+    /// The closing travel the joint gains as it leaves, its width \[m\].
+    pub room: f64,
     /// The solver's numbers of its contacts on its abutment side (both
     /// ends): their summed force releases it.
     pub(crate) contact_numbers: Vec<usize>,
@@ -137,6 +139,7 @@ impl FuseElement {
         Some(Self {
             break_force: f.break_force,
             beam: k,
+            room: geo.width,
             contact_numbers: vec![sides.first + cells.start, sides.first + cells.start + 1],
             released: cells.map(|i| sides.first + i).collect(),
             replaced,
@@ -212,6 +215,40 @@ impl FuseBox {
             law,
             group,
             prefix: prefix.to_string(),
+        })
+    }
+}
+
+impl FuseElement {
+    /// The fuse element of `config`'s joint modelled as a link element
+    /// (none without one): the link's gap contact `gap` (its id, the
+    /// solver's number and the contact) is released at the release force,
+    /// and becomes the gap of the joint less one cell: it closes the beam's
+    /// width later, its cells' contacts one fewer in series (the linear
+    /// law's stiffness `(Nc + 1) / Nc` times, the Hertz law's that to the
+    /// power 1.5).
+    pub(crate) fn in_link(config: &Config, (id, number, contact): (ForceId, usize, &Contact)) -> Option<Self> {
+        let f = config.joint.fuse.as_ref().filter(|f| f.kind == FuseKind::Element)?;
+        let cells = config.joint.cells() as f64;
+        let stiffer = cells / (cells - 1.0);
+        let room = config.joint.center_beam.width;
+        let mut after = contact.clone();
+        after.edge_point[0] -= room;
+        after.law = match after.law {
+            ContactLaw::Linear { stiffness, restitution } => {
+                ContactLaw::Linear { stiffness: stiffness * stiffer, restitution }
+            }
+            ContactLaw::Hertz { stiffness, restitution, damping } => {
+                ContactLaw::Hertz { stiffness: stiffness * stiffer.powf(1.5), restitution, damping }
+            }
+        };
+        Some(Self {
+            break_force: f.break_force,
+            beam: f.beam?,
+            room,
+            contact_numbers: vec![number],
+            released: vec![number],
+            replaced: vec![(id, after)],
         })
     }
 }

@@ -23,7 +23,7 @@ use quakejoint_solver::{
 };
 
 use crate::cells::{cell_contact, CellBodies, Side};
-use crate::config::{Config, ContactLawConfig, LawConfig, SupportKind};
+use crate::config::{Config, ContactLawConfig, FuseKind, LawConfig, SupportKind};
 use crate::error::ModelError;
 use crate::geometry::Geometry;
 use crate::modal::{add_modes, EndSpec, ModalDeck};
@@ -648,7 +648,14 @@ fn connect_joints(
             let mut link = link?;
             if let (true, Some(gap)) = (j.contact.enabled, link.gap_force) {
                 link.contact = Some(contacts);
-                if j.fuse.is_some() {
+                if let (Some(FuseKind::Element), ForceElement::Contact(c)) =
+                    (j.fuse.as_ref().map(|f| f.kind), sys.force_mut(gap).clone())
+                {
+                    // (released at its force: the gap then closes a beam's
+                    // width later)
+                    let fuse = crate::fuse::FuseElement::in_link(&place.config, (gap, contacts, &c));
+                    model.fuse = fuse.map(crate::fuse::Fuse::Element);
+                } else if j.fuse.is_some() {
                     // (the closed joint's force breaks it, as the detailed
                     // joint's beam 1 on the edge beam)
                     let field = if places.len() > 1 { format!("joints[{k}].joint.fuse") } else { "joint.fuse".into() };
@@ -682,7 +689,7 @@ fn connect_joints(
             let law = contact_law(&place.config);
             let ids = add_contacts(sys, model, &geo, law, abutment, impacts, &place.prefix);
             match j.fuse.as_ref().map(|f| f.kind) {
-                Some(crate::config::FuseKind::Box) => {
+                Some(FuseKind::Box) => {
                     let field = if places.len() > 1 { format!("joints[{k}].joint.fuse") } else { "joint.fuse".into() };
                     crate::fuse::check_abutment(abutment, &field)?;
                     let group = (places.len() + k) as u32;
@@ -690,7 +697,7 @@ fn connect_joints(
                     let fuse = crate::fuse::FuseBox::new(&place.config, edge, contacts, law, (group, &place.prefix));
                     model.fuse = fuse.map(crate::fuse::Fuse::Box);
                 }
-                Some(crate::config::FuseKind::Element) => {
+                Some(FuseKind::Element) => {
                     let bodies = CellBodies { beams: &model.center_beams, deck: model.deck, abutment };
                     let sides = crate::fuse::ElementSides { ids: &ids, first: contacts, bodies, impacts };
                     let fuse = crate::fuse::FuseElement::new(&place.config, &geo, law, sides);

@@ -194,3 +194,40 @@ fn the_links_fuse_breaks_as_the_detailed_joints() {
     assert!((fl.energy / fd.energy - 1.0).abs() < 0.01, "{} {}", fl.energy, fd.energy);
     assert!(l.energy_error < 1e-6, "{}", l.energy_error);
 }
+
+/// The link with a fuse element against the detailed joint with the same
+/// element (its middle beam, 300 kN), on the same heavy deck and record as
+/// the fuse box above: the closed joint's force releases both at the same
+/// instant, at the release force; both joints then close again a beam's
+/// width later and push the deck again, and the energy balance closes
+/// with the contacts' energy as the beam left.
+#[test]
+fn the_links_fuse_element_leaves_as_the_detailed_joints() {
+    let link = calibrate(&Scenario::new(medium(1e8, 2.5)).unwrap(), &CalibrationOptions::default()).unwrap().link;
+    let mut detailed = medium(1e8, 2.5);
+    let beam = detailed.joint.center_beams.div_ceil(2);
+    detailed.joint.fuse = Some(quakejoint_model::config::FuseConfig {
+        kind: quakejoint_model::config::FuseKind::Element,
+        break_force: 3e5,
+        stroke: None,
+        beam: Some(beam),
+        ramp_deg: 0.0,
+        mu: quakejoint_model::config::DEFAULT_FUSE_MU,
+        mass: None,
+    });
+    let mut linked = detailed.clone();
+    linked.joint.model = Some(JointKind::Link);
+    linked.joint.link = Some(link);
+    let r = scaled("RSN753_LOMAP_CLS090-hor2.AT2", 3.0);
+    let d = simulate_records(&detailed, &r, None, &RunOptions::default()).unwrap();
+    let l = simulate_records(&linked, &r, None, &RunOptions::default()).unwrap();
+    let (fd, fl) = (d.joints[0].fuse.unwrap(), l.joints[0].fuse.unwrap());
+    eprintln!(
+        "detailed {fd:?} force {:.4e} N sa {:.5} min cell {:?}\nlink     {fl:?} force {:.4e} N sa {:.5} min cell {:?}",
+        d.peak_joint_force, d.sa, d.min_subgap, l.peak_joint_force, l.sa, l.min_subgap
+    );
+    assert!(fd.broke && fl.broke);
+    assert!((fd.break_time - fl.break_time).abs() < 5e-3, "{} {}", fd.break_time, fl.break_time);
+    assert!((fl.break_force / 3e5 - 1.0).abs() < 1e-3 && (fd.break_force / 3e5 - 1.0).abs() < 1e-3);
+    assert!(l.energy_error < 1e-6 && d.energy_error < 1e-6, "{} {}", l.energy_error, d.energy_error);
+}

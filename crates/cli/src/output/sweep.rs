@@ -348,7 +348,7 @@ pub fn plan_summary(
     out!("sbatch resources per shard: --cpus-per-task={threads} --mem={mem_mb}M --time={time}");
     out!(
         "(the estimate is for runs whose joints do not pound; a run whose beams strike each other takes several \
-         times as long, its time steps following the impacts: 3.5 times on average for the 120 pounding runs of \
+         times as long, its time steps following the impacts: 2.4 times on average for the 180 pounding runs of \
          configs/design.toml, docs/performance.md)"
     );
 }

@@ -50,11 +50,6 @@ impl FuseExport {
         let f = config.joint.fuse.as_ref()?;
         let (Some(stroke), Some((mass, [lift, resistance]))) = (f.stroke, crate::fuse::box_forces(&config.joint))
         else {
-            warnings.push(
-                "the joint's fuse element is not in the link element: the calibration and its exports are the joint's \
-                 without it"
-                    .to_string(),
-            );
             return None;
         };
         let stop_stiffness = crate::link::stop_stiffness(&config.joint, gap_stiffness);
@@ -96,6 +91,52 @@ fn secant(c: &Calibration) -> String {
             c.secant_force, c.secant_from
         ),
         None => String::new(),
+    }
+}
+
+/// A joint's fuse element (`[joint.fuse]`, `kind = "element"`,
+/// docs/model.md "Seismic fuse") as the exports carry it: the gap's
+/// material fails for good (OpenSees' `MinMax`) where the closed joint's
+/// force reaches the release force, and a second gap, the joint less one
+/// cell, closes the beam's width later (docs/link.md, "With a fuse").
+#[derive(Debug, Clone, PartialEq)]
+pub struct ElementExport {
+    /// The closed joint's force at which its beam leaves \[N\].
+    pub break_force: f64,
+    /// Which center beam leaves, 1 to `Nc`.
+    pub beam: usize,
+    /// The closing at which the gap's material fails, `g + F_r / k_c` \[m\].
+    pub release_closing: f64,
+    /// The second gap's closing movement, `g + w` \[m\].
+    pub gap_after: f64,
+    /// The second gap's stiffness, one cell fewer in series, `k_c (Nc +
+    /// 1) / Nc` \[N/m\].
+    pub stiffness_after: f64,
+}
+
+impl ElementExport {
+    /// The fuse element of `config`'s joint (none without one), for a link
+    /// of gap `gap` \[m\] and closed-joint stiffness `gap_stiffness`
+    /// \[N/m\]; warns where the second gap would close before the first
+    /// lets go (the exports then hold the joint stiffer before the
+    /// release than quakejoint does).
+    pub(super) fn of(config: &Config, (gap, gap_stiffness): (f64, f64), warnings: &mut Vec<String>) -> Option<Self> {
+        let f = config.joint.fuse.as_ref().filter(|f| f.kind == crate::config::FuseKind::Element)?;
+        let (w, cells) = (config.joint.center_beam.width, config.joint.cells() as f64);
+        let squeeze = f.break_force / gap_stiffness;
+        if squeeze >= w {
+            warnings.push(format!(
+                "the fuse element's release force closes the exports' linear gap by {squeeze:.3e} m, beyond the \
+                 beam's width {w:.3e} m: their second gap closes before the first lets go"
+            ));
+        }
+        Some(Self {
+            break_force: f.break_force,
+            beam: f.beam?,
+            release_closing: gap + squeeze,
+            gap_after: gap + w,
+            stiffness_after: gap_stiffness * cells / (cells - 1.0),
+        })
     }
 }
 
@@ -142,6 +183,13 @@ fn header(c: &Calibration, comment: &str, source: &str) -> String {
                 f.stop_stiffness, c.secant_force, f.weld_stiffness, f.break_strain
             ),
         ]
+    }))
+    .chain(c.fuse_element.iter().map(|e| {
+        format!(
+            "fuse element: beam {} leaves the plane at {:.6e} N (the gap closed by {:.6e} m); the gap then closes \
+             after {:.6e} m with {:.6e} N/m (one cell fewer)",
+            e.beam, e.break_force, e.release_closing, e.gap_after, e.stiffness_after
+        )
     }))
     .map(|line| format!("{comment} {line}\n"))
     .collect()
@@ -260,14 +308,13 @@ pub fn opensees_tcl(c: &Calibration, source: &str) -> String {
          \x20   uniaxialMaterial Parallel $firstTag [expr {{$firstTag + 3}}] [expr {{$firstTag + 4}}]\n\
          \x20   uniaxialMaterial ElasticPP [expr {{$firstTag + 1}}] $kStick [expr {{$F / $kStick}}]\n\
          \x20   uniaxialMaterial ElasticPPGap [expr {{$firstTag + 2}}] {kc:e} -1.0e20 {gap:e}\n\
+         {element_materials}\
          \x20   element zeroLength $firstTag $newNode $deckNode -mat $firstTag -dir 1\n\
          \x20   element zeroLength [expr {{$firstTag + 1}}] $abutNode $newNode -mat [expr {{$firstTag + 1}}] -dir 1\n\
          \x20   if {{$quakejointLinkHasFuse}} {{ set base $fuseNode }} else {{ set base $abutNode }}\n\
-         \x20   if {{$side == 1}} {{\n\
-         \x20       element zeroLength [expr {{$firstTag + 2}}] $base $deckNode -mat [expr {{$firstTag + 2}}] -dir 1\n\
-         \x20   }} else {{\n\
-         \x20       element zeroLength [expr {{$firstTag + 2}}] $deckNode $base -mat [expr {{$firstTag + 2}}] -dir 1\n\
-         \x20   }}\n\
+         \x20   if {{$side == 1}} {{ set gapEnds [list $base $deckNode] }} else {{ set gapEnds [list $deckNode $base] }}\n\
+         \x20   element zeroLength [expr {{$firstTag + 2}}] {{*}}$gapEnds -mat $gapMat -dir 1\n\
+         {element_gap}\
          {fuse}\
          }}\n",
         header(c, "#", source),
@@ -280,6 +327,21 @@ pub fn opensees_tcl(c: &Calibration, source: &str) -> String {
         gap = -c.gap,
         c = l.damping.unwrap_or(0.0),
         fuse = fuse_tcl(c),
+        element_materials = match &c.fuse_element {
+            None => "\x20   set gapMat [expr {$firstTag + 2}]\n".to_string(),
+            Some(e) => format!(
+                "\x20   # the fuse element: the gap fails for good at its release (MinMax), a second gap closes\n\
+                 \x20   # the beam's width later\n\
+                 \x20   uniaxialMaterial MinMax [expr {{$firstTag + 6}}] [expr {{$firstTag + 2}}] -min {:e}\n\
+                 \x20   uniaxialMaterial ElasticPPGap [expr {{$firstTag + 5}}] {:e} -1.0e20 {:e}\n\
+                 \x20   set gapMat [expr {{$firstTag + 6}}]\n",
+                -e.release_closing, e.stiffness_after, -e.gap_after
+            ),
+        },
+        element_gap = match c.fuse_element {
+            None => "",
+            Some(_) => "\x20   element zeroLength [expr {$firstTag + 3}] {*}$gapEnds -mat [expr {$firstTag + 5}] -dir 1\n",
+        },
     )
 }
 
@@ -315,7 +377,8 @@ pub fn opensees_py(c: &Calibration, source: &str) -> String {
          GAP = {gap:e}  # [m] closing movement until every cell is closed\n\
          GAP_STIFFNESS = {kc:e}  # [N/m] closed joint\n\
          STICK_FACTOR = {stick}  # the slider's stick stiffness over STIFFNESS\n\
-         {fuse}\n\n\
+         {fuse}\
+         {element}\n\n\
          def _mass_node(ops, deck_node, node, mass):\n\
          \x20   ndf = len(ops.nodeDisp(deck_node))\n\
          \x20   ops.node(node, *ops.nodeCoord(deck_node), \"-mass\", mass, *([0.0] * (ndf - 1)))\n\
@@ -356,12 +419,21 @@ pub fn opensees_py(c: &Calibration, source: &str) -> String {
          \x20   ops.uniaxialMaterial(\"Parallel\", first_tag, first_tag + 3, first_tag + 4)\n\
          \x20   ops.uniaxialMaterial(\"ElasticPP\", first_tag + 1, k_stick, FRICTION / k_stick)\n\
          \x20   ops.uniaxialMaterial(\"ElasticPPGap\", first_tag + 2, GAP_STIFFNESS, -1.0e20, -GAP)\n\
+         \x20   gap_mat = first_tag + 2\n\
+         \x20   if ELEMENT is not None:\n\
+         \x20       # the fuse element: the gap fails for good at its release (MinMax), a second gap\n\
+         \x20       # closes the beam's width later\n\
+         \x20       ops.uniaxialMaterial(\"MinMax\", first_tag + 6, first_tag + 2, \"-min\", -ELEMENT[\"release_closing\"])\n\
+         \x20       ops.uniaxialMaterial(\"ElasticPPGap\", first_tag + 5, ELEMENT[\"stiffness_after\"], -1.0e20, -ELEMENT[\"gap_after\"])\n\
+         \x20       gap_mat = first_tag + 6\n\
          \x20   ops.element(\"zeroLength\", first_tag, new_node, deck_node, \"-mat\", first_tag, \"-dir\", 1)\n\
          \x20   ops.element(\"zeroLength\", first_tag + 1, abut_node, new_node, \"-mat\", first_tag + 1, \"-dir\", 1)\n\
          \x20   # (each element's deformation is the opening's sign: it closes toward the abutment)\n\
          \x20   base = abut_node if FUSE is None else fuse_node\n\
          \x20   gap_nodes = (base, deck_node) if side == 1 else (deck_node, base)\n\
-         \x20   ops.element(\"zeroLength\", first_tag + 2, *gap_nodes, \"-mat\", first_tag + 2, \"-dir\", 1)\n\
+         \x20   ops.element(\"zeroLength\", first_tag + 2, *gap_nodes, \"-mat\", gap_mat, \"-dir\", 1)\n\
+         \x20   if ELEMENT is not None:\n\
+         \x20       ops.element(\"zeroLength\", first_tag + 3, *gap_nodes, \"-mat\", first_tag + 5, \"-dir\", 1)\n\
          \x20   if FUSE is None:\n\
          \x20       return\n\
          \x20   ops.remove(\"sp\", fuse_node, 1)\n\
@@ -391,7 +463,26 @@ pub fn opensees_py(c: &Calibration, source: &str) -> String {
         stick = STICK_FACTOR,
         c = l.damping.unwrap_or(0.0),
         fuse = fuse_py(c),
+        element = element_py(c),
     )
+}
+
+/// The fuse element's constants for openseespy (`ELEMENT = None` without
+/// one).
+fn element_py(c: &Calibration) -> String {
+    match &c.fuse_element {
+        None => "ELEMENT = None  # the joint has no fuse element\n".to_string(),
+        Some(e) => format!(
+            "ELEMENT = {{  # the fuse element (docs/link.md, \"With a fuse\")\n\
+             \x20   \"beam\": {},  # which center beam leaves the plane\n\
+             \x20   \"release_force\": {:e},  # [N] the closed joint's force at which it leaves\n\
+             \x20   \"release_closing\": {:e},  # [m] the closing at which the gap lets go\n\
+             \x20   \"gap_after\": {:e},  # [m] the second gap's closing movement (a beam's width more)\n\
+             \x20   \"stiffness_after\": {:e},  # [N/m] the second gap (one cell fewer)\n\
+             }}\n",
+            e.beam, e.break_force, e.release_closing, e.gap_after, e.stiffness_after
+        ),
+    }
 }
 
 /// SAP2000/CSiBridge: the link properties to type in, as a table with
@@ -460,6 +551,22 @@ pub fn sap2000(c: &Calibration, source: &str) -> String {
     out.push_str(&format!("J_mass\tjoint mass\t\t\tMass U1 = {:.6e} kg\n", l.mass));
     if let Some(f) = &c.fuse {
         out.push_str(&sap2000_fuse(f));
+    }
+    if let Some(e) = &c.fuse_element {
+        out.push_str(&format!(
+            "QJ_GAP_RELEASED\tGap\tabutment (deck if side -1)\tdeck (abutment if side -1)\tNonlinear: Effective \
+             Stiffness = 0, Effective Damping = 0; Stiffness = {k:.6e} N/m, Open = {g:.6e} m\n\
+             ; The fuse element (approximated): SAP2000 has no link that lets go for good. QJ_GAP is the joint\n\
+             ; with beam {beam} in place: beyond its release force ({f:.6e} N, at a closing of {r:.6e} m) its\n\
+             ; forces are an upper bound. QJ_GAP_RELEASED, in place of QJ_GAP, is the joint after the beam\n\
+             ; left: one cell fewer, closing a beam's width later. Run both and check the first's peak gap\n\
+             ; force against the release force.\n",
+            k = e.stiffness_after,
+            g = e.gap_after,
+            beam = e.beam,
+            f = e.break_force,
+            r = e.release_closing,
+        ));
     }
     out
 }

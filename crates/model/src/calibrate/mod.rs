@@ -226,9 +226,11 @@ pub struct Calibration {
     pub secant_from: String,
     /// Where the link's racking comes from, in words.
     pub racking_from: String,
-    /// The joint's fuse box as the exports carry it (none without
-    /// `[joint.fuse]`).
+    /// The joint's fuse box as the exports carry it (none without one).
     pub fuse: Option<export::FuseExport>,
+    /// The joint's fuse element as the exports carry it (none without
+    /// one).
+    pub fuse_element: Option<export::ElementExport>,
     /// The options it ran with.
     pub options: CalibrationOptions,
     /// What the calibration cannot stand behind: loops left out, a poor
@@ -393,13 +395,15 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
     check_fitted(&link)?;
     let capacity = cells as f64 * (j.capacity.max_subgap - j.clear_subgap() - link.racking()[1]);
     let fuse = export::FuseExport::of(config, link.gap_stiffness, &mut warnings);
+    let gap = cells as f64 * j.clear_subgap();
+    let fuse_element = export::ElementExport::of(config, (gap, link.gap_stiffness), &mut warnings);
     Ok(Calibration {
         link,
         kinetic_mass: mass,
         dynamic,
         hand_friction: hand,
         fit_rms,
-        gap: cells as f64 * j.clear_subgap(),
+        gap,
         capacity,
         cells,
         loops,
@@ -407,6 +411,7 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
         secant_from,
         racking_from,
         fuse,
+        fuse_element,
         options: options.clone(),
         warnings,
     })

@@ -162,13 +162,6 @@ fn check_fuse_element(j: &JointConfig, f: &FuseConfig) -> Result<(), ModelError>
              mass of its own",
         ));
     }
-    if j.is_link() {
-        return Err(invalid_text(
-            "joint.fuse.kind",
-            "element",
-            "a fuse element is in the detailed joint only (joint.model = \"detailed\"); the link element has the fuse box",
-        ));
-    }
     Ok(())
 }
 

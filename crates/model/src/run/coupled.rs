@@ -352,7 +352,9 @@ impl crate::run::fuse::FuseObserver for Observers {
                         .ok_or_else(|| ModelError::Geometry("the freed edge beam has no x coordinate".to_string()))?;
                     Some(Watched::Edge(coord, parts))
                 }
-                Some(crate::run::fuse::Freed::Beam { beam, energy }) => Some(Watched::Beam(beam, energy)),
+                Some(crate::run::fuse::Freed::Beam { beam, room, energy }) => {
+                    Some(Watched::Beam { beam, room, energy })
+                }
                 None => None,
             };
             j.resumed(asm, watched);

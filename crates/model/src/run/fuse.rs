@@ -32,11 +32,14 @@ pub struct FreedParts {
 pub enum Freed {
     /// A fuse box's edge beam, with its seat and stop.
     Edge(FreedParts),
-    /// A fuse element's beam (1 to `Nc`), gone out of the plane, and the
-    /// elastic energy its contacts still held as it left \[J\].
+    /// A fuse element's beam (1 to `Nc`), gone out of the plane, the
+    /// closing travel the joint gained and the elastic energy its contacts
+    /// still held as it left.
     Beam {
         /// Which center beam.
         beam: usize,
+        /// The travel, its width \[m\].
+        room: f64,
         /// The energy \[J\].
         energy: f64,
     },
@@ -137,7 +140,7 @@ pub fn broken_system(model: &JointModel, broken: &[usize]) -> (System, Vec<(usiz
                 for (id, c) in &e.replaced {
                     *sys.force_mut(*id) = ForceElement::Contact(c.clone());
                 }
-                freed.push((k, Freed::Beam { beam: e.beam, energy: 0.0 }));
+                freed.push((k, Freed::Beam { beam: e.beam, room: e.room, energy: 0.0 }));
             }
             None => {}
         }
@@ -262,10 +265,11 @@ impl FuseResult {
     }
 }
 
-/// A joint's fuse watched in a run: the break, then the freed beam.
+/// A joint's fuse watched in a run: the break, then a fuse box's freed
+/// beam (a fuse element's beam is gone: nothing more to watch).
 #[derive(Debug, Clone)]
 pub struct FuseWatch {
-    /// The joint's first contact on the edge beam (the break event's).
+    /// The first of the contacts whose force breaks it (the event's).
     first_contact: usize,
     /// The freed beam's resistances \[N\].
     lift: f64,

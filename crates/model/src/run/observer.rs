@@ -42,11 +42,12 @@ impl Peak {
 
 /// What a joint's broken fuse freed, as its observer watches it: a fuse
 /// box's edge beam (its x coordinate and parts), or a fuse element's beam
-/// (1 to `Nc`) with the energy its contacts held as it left \[J\].
+/// (1 to `Nc`) with the closing travel the joint gained \[m\] and the
+/// energy its contacts held as it left \[J\].
 #[derive(Debug, Clone, Copy)]
 pub(super) enum Watched {
     Edge(usize, crate::run::fuse::FreedParts),
-    Beam(usize, f64),
+    Beam { beam: usize, room: f64, energy: f64 },
 }
 
 /// Evaluates the reported quantities at the output times.
@@ -248,8 +249,12 @@ impl EarthquakeObserver {
                     m.free_edge();
                 }
             }
-            Some(Watched::Beam(beam, energy)) => {
+            Some(Watched::Beam { beam, room, energy }) => {
                 fuse.released(energy);
+                if let Some(l) = &mut self.link {
+                    // (its cells gained the beam's width)
+                    l.room = room;
+                }
                 if let Some(g) = &mut self.gaps {
                     g.release_beam(beam - 1);
                 }
@@ -613,6 +618,10 @@ pub(super) struct LinkObserver {
     scratch: Option<quakejoint_solver::StateBuffer>,
     /// The opening at the end of the last step \[m\].
     step_u: f64,
+    /// The closing travel a fuse element gave the joint as it left (0
+    /// before) \[m\]: the link's cells and gap see the opening as this much
+    /// wider.
+    pub(super) room: f64,
 }
 
 impl LinkObserver {
@@ -631,6 +640,7 @@ impl LinkObserver {
             u: 0.0,
             scratch: None,
             step_u: 0.0,
+            room: 0.0,
         })
     }
 
@@ -641,7 +651,7 @@ impl LinkObserver {
     /// then at its end. Elsewhere the output times watch it.
     fn step(&mut self, view: &mut StepView<'_>, peak: &mut Peak) {
         let closed = |u: f64, gap: f64| u + gap < 0.0;
-        let u_end = view.q[self.deck] - self.abutment.map_or(0.0, |c| view.q[c]);
+        let u_end = view.q[self.deck] - self.abutment.map_or(0.0, |c| view.q[c]) + self.room;
         let u_start = std::mem::replace(&mut self.step_u, u_end);
         if !(closed(u_start, self.parts.gap) || closed(u_end, self.parts.gap)) || view.t <= view.t_prev {
             return;
@@ -674,8 +684,9 @@ impl LinkObserver {
         on_deck
     }
 
-    /// At the state `(q, v)`: the opening \[m\], the closed gap's force and
-    /// the link's whole force on the deck \[N\].
+    /// At the state `(q, v)`: the opening (with a left fuse element's room)
+    /// \[m\], the closed gap's force and the link's whole force on the deck
+    /// \[N\].
     fn forces(
         &mut self,
         q: &[f64],
@@ -683,7 +694,7 @@ impl LinkObserver {
         asm: &Assembly,
         ws: &mut quakejoint_solver::Workspace,
     ) -> (f64, f64, f64) {
-        let u = q[self.deck] - self.abutment.map_or(0.0, |c| q[c]);
+        let u = q[self.deck] - self.abutment.map_or(0.0, |c| q[c]) + self.room;
         let gap = match self.parts.contact {
             Some(i) => {
                 self.contacts.resize(asm.contact_count(), Default::default());
