@@ -364,6 +364,18 @@ pub fn service(scenario: &crate::scenario::Scenario) -> Result<ServiceResult, Mo
     (driven.bridge.transverse_period, driven.bridge.transverse_damping) = (None, None);
     // and against the abutment: an adjacent segment would be pushed away
     driven.bridge.far = None;
+    let closing = config.joint.cells() as f64 * config.joint.clear_subgap();
+    if config.joint.fuse.is_some() && config.joint.enabled && tri.amplitude >= closing {
+        return Err(ModelError::Invalid {
+            field: "service.amplitude".to_string(),
+            value: quakejoint_motion::number(tri.amplitude),
+            reason: format!(
+                "closes the whole joint (its closing movement is {} m): with [joint.fuse] that would break the fuse, \
+                 which the service case does not model; lower the amplitude",
+                quakejoint_motion::number(closing)
+            ),
+        });
+    }
     let model = build(&driven, None, Drive::Service(tri))?;
     if model.joist_boxes.is_empty() && model.geometry.is_none() {
         return Err(ModelError::Invalid {

@@ -120,3 +120,22 @@ fn a_fuse_element_that_cannot_work_is_refused_naming_its_key() {
     let e = quakejoint_model::Config::from_toml(text, "box.toml").unwrap_err().to_string();
     assert!(e.contains("joint.fuse.beam") && e.contains("fuse element's"), "{e}");
 }
+
+/// A service loop that closes the whole joint would break its fuse, which
+/// the service case does not model: refused, naming the amplitude; one
+/// that stays open runs.
+#[test]
+fn a_service_loop_that_would_break_the_fuse_is_refused() {
+    let with = |amplitude: f64| {
+        let text = format!(
+            "[joint]\ncenter_beams = 3\n[joint.fuse]\nkind = \"element\"\nbreak_force = 1e6\nbeam = 2\n\
+             [service]\namplitude = {amplitude}\ncycles = 1\n"
+        );
+        let config = quakejoint_model::Config::from_toml(&text, "service.toml").unwrap();
+        quakejoint_model::service::service(&quakejoint_model::scenario::Scenario::new(config).unwrap())
+    };
+    // (4 cells of 40 mm: the joint closes at 0.16 m)
+    let e = with(0.2).unwrap_err().to_string();
+    assert!(e.contains("service.amplitude") && e.contains("0.16"), "{e}");
+    assert!(with(0.05).is_ok());
+}
