@@ -20,7 +20,9 @@ most three side by side, then another row), panels sharing the time axis:
    (solid: how far it opens) and at the narrower end (dotted: how close
    the beams come), with zero (the beams touch) and the joint's movement
    capacity (`joint.capacity.max_subgap`) drawn, and the largest opening
-   marked and labelled when it goes beyond the capacity;
+   marked and labelled when it goes beyond the capacity (after a fuse
+   element's beam left, its two cells' halves have half its width more:
+   drawn from then on);
 5. the largest contact force across each sub-gap per time step (only for
    runs with contacts).
 A run without the joint (`simulate --no-joint`) shows the bridge alone and
@@ -66,17 +68,21 @@ def capacity(config_text):
 
 
 def fuse_break(results, config_text):
-    """(time, label) of the first joint's fuse where it broke in a run whose
-    results group is `results`, else None: a fuse box broke, a fuse
-    element's beam left the plane."""
+    """(time, label, element) of the first joint's fuse where it broke in a
+    run whose results group is `results`, else None: a fuse box broke, or a
+    fuse element's beam left the plane (then `element` is (its beam, 1 to
+    Nc, and its width [m]): its two cells are one, each reported as half
+    of it, their capacity max_subgap plus half the beam's width)."""
     if "fuse_broken" not in results or not results["fuse_broken"][()] == 1:
         return None
     try:
-        fuse = tomllib.loads(text(config_text))["joint"]["fuse"]
-    except (KeyError, tomllib.TOMLDecodeError):
-        fuse = {}
+        joint = tomllib.loads(text(config_text))["joint"]
+        fuse = joint["fuse"]
+        element = (int(fuse["beam"]), float(joint["center_beam"]["width"])) if fuse.get("kind") == "element" else None
+    except (KeyError, ValueError, TypeError, tomllib.TOMLDecodeError):
+        fuse, element = {}, None
     what = f"beam {fuse.get('beam', '?')} left the plane" if fuse.get("kind") == "element" else "fuse broke"
-    return float(results["fuse_break_time"][()]), what
+    return float(results["fuse_break_time"][()]), what, element
 
 
 def runs(f):
@@ -160,9 +166,9 @@ def figure(src, window=None, in_g=False):
             axf.set_title("force of the joint on the deck", fontsize=8)
             if s.get("fuse"):
                 # (the fuse's break, on the force and the sub-gaps)
-                t_break, what = s["fuse"]
+                t_break, what, _ = s["fuse"]
                 for a in (axf, axg):
-                    a.axvline(t_break, color="0.35", lw=1.4, ls="-.", label=f"{what}, t = {t_break:.3f} s")
+                    a.axvline(t_break, color="0.35", lw=1.4, ls="-.", label=f"{what}, {t_break:.2f} s")
                 axf.legend(fontsize=8, loc="upper right", framealpha=0.8)
         else:
             note(axd, "no joint in this run: nothing to compare")
@@ -187,12 +193,23 @@ def figure(src, window=None, in_g=False):
                 # the largest opening inside the window shown (the whole run
                 # without a window); one beyond it is named in the title
                 shown = (t >= window[0]) & (t <= window[1]) if window else np.ones(len(t), bool)
-                j_all, i_all = np.unravel_index(np.nanargmax(wide) if np.isfinite(wide).any() else 0, wide.shape)
-                if wide[j_all, i_all] > cap and not shown[i_all]:
+                # (a fuse element's merged cell: its halves' capacity has half
+                # the beam's width more)
+                excess = wide - cap
+                element = s["fuse"][2] if s.get("fuse") else None
+                if element is not None and element[0] < len(wide):
+                    k, w = element
+                    after = t >= s["fuse"][0]
+                    excess[k - 1:k + 1, after] -= 0.5 * w
+                    axg.hlines(1e3 * (cap + 0.5 * w), t[after][0], t[-1], color="tab:red", lw=1.0, ls=":",
+                               label=f"sub-gaps {k}, {k + 1} after: {1e3 * (cap + 0.5 * w):.0f} mm")
+                finite_excess = np.where(np.isfinite(excess), excess, -np.inf)
+                j_all, i_all = np.unravel_index(np.argmax(finite_excess), wide.shape)
+                if excess[j_all, i_all] > 0 and not shown[i_all]:
                     title += f"\nlargest opening {1e3 * wide[j_all, i_all]:.1f} mm at t = {t[i_all]:.2f} s, outside the window"
-                masked = np.where(shown[np.newaxis, :] & np.isfinite(wide), wide, -np.inf)
+                masked = np.where(shown[np.newaxis, :], finite_excess, -np.inf)
                 j, i = np.unravel_index(np.argmax(masked), wide.shape)
-                if shown.any() and wide[j, i] > cap:
+                if shown.any() and excess[j, i] > 0:
                     axg.plot(t[i], 1e3 * wide[j, i], "o", color="tab:red", ms=6, zorder=5)
                     axg.annotate(
                         f"sub-gap {j + 1} opens to {1e3 * wide[j, i]:.1f} mm at t = {t[i]:.2f} s",
@@ -210,7 +227,7 @@ def figure(src, window=None, in_g=False):
             if finite and top > 0:
                 axg.set_ylim(min(-0.05 * top, 1e3 * np.nanmin(gaps)), 1.45 * top)
             axg.set_title(title, fontsize=8)
-            axg.legend(fontsize=8, ncol=4 if s.get("fuse") else 3, loc="upper right", framealpha=0.9)
+            axg.legend(fontsize=8, ncol=3, loc="upper right", framealpha=0.9)
         axg.set_ylabel("sub-gap [mm]")
         if contacts:
             axc = axes[4, col]

@@ -340,8 +340,13 @@ impl Monitor {
                 take(0, -gap, s);
             }
         }
+        // (a fuse element's merged cell: two cells' capacities and the
+        // place of the beam that left, half of it each)
+        let merged = self.released.map(|(k, _)| [k - 1, k]);
+        let width = self.geometry.width;
         for (s, &gap) in largest.iter().enumerate().skip(usize::from(self.edge_free)) {
-            take(1, gap - self.max_subgap, s);
+            let place = if merged.is_some_and(|m| m.contains(&s)) { 0.5 * width } else { 0.0 };
+            take(1, gap - self.max_subgap - place, s);
         }
         let g = &self.geometry;
         let uy = self.deck_y.map_or(0.0, |c| q[c]);
@@ -435,13 +440,17 @@ impl Monitor {
         if let Some(c) = self.capacity {
             v.flags |= Flags::CAPACITY_EXCEEDED;
             let between = self.cell(c.place, c.at);
+            // (a merged cell's half has its share of the beam's place)
+            let merged = self.released.is_some_and(|(k, at)| c.at >= at && (c.place + 1 == k || c.place == k));
+            let capacity = self.max_subgap + if merged { 0.5 * self.geometry.width } else { 0.0 };
             v.findings.push(format!(
                 "capacity_exceeded: the clear sub-gap between {between} opened to {:.1} mm at t = {:.3} s, {:.1} mm \
-                 beyond the capacity of {:.0} mm (joint.capacity.max_subgap; first at t = {:.3} s)",
-                (self.max_subgap + c.worst) * 1e3,
+                 beyond the capacity of {:.0} mm (joint.capacity.max_subgap{}; first at t = {:.3} s)",
+                (capacity + c.worst) * 1e3,
                 c.at,
                 c.worst * 1e3,
-                self.max_subgap * 1e3,
+                capacity * 1e3,
+                if merged { " and half the width of the beam that left" } else { "" },
                 c.first
             ));
         }
