@@ -308,7 +308,12 @@ impl DynamicFit {
 /// `[joint]`).
 pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Calibration, ModelError> {
     options.check(|k| k.to_string())?;
-    let config = &scenario.config;
+    // the element is the joint's without its fuse (its loops and the suite
+    // run without it); the fuse is added to the link as given
+    let fused = &scenario.config;
+    let mut unfused = fused.clone();
+    unfused.joint.fuse = None;
+    let config = &unfused;
     let amplitudes = checked_amplitudes(config, options)?;
     let j = &config.joint;
     let mut warnings = Vec::new();
@@ -394,9 +399,9 @@ pub fn calibrate(scenario: &Scenario, options: &CalibrationOptions) -> Result<Ca
     let racking_from = set_racking(&mut link, &loops, &dynamic, j.clear_subgap(), &mut warnings);
     check_fitted(&link)?;
     let capacity = cells as f64 * (j.capacity.max_subgap - j.clear_subgap() - link.racking()[1]);
-    let fuse = export::FuseExport::of(config, link.gap_stiffness, &mut warnings);
+    let fuse = export::FuseExport::of(fused, link.gap_stiffness, &mut warnings);
     let gap = cells as f64 * j.clear_subgap();
-    let fuse_element = export::ElementExport::of(config, (gap, link.gap_stiffness), &mut warnings);
+    let fuse_element = export::ElementExport::of(fused, (gap, link.gap_stiffness), &mut warnings);
     Ok(Calibration {
         link,
         kinetic_mass: mass,
