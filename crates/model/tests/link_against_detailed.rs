@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 use quakejoint_model::calibrate::{calibrate, racking, CalibrationOptions};
 use quakejoint_model::config::JointKind;
 use quakejoint_model::link::{LinkParts, LinkWatch};
-use quakejoint_model::run::{simulate_records, RunOptions};
+use quakejoint_model::run::{simulate_records, RunOptions, RunResult};
 use quakejoint_model::scenario::Scenario;
 use quakejoint_model::Config;
 use quakejoint_motion::Record;
@@ -157,6 +157,22 @@ fn a_racking_that_closes_a_cell_at_rest_is_refused() {
     assert!(Config::from_toml(&ok, "link.toml").is_ok());
 }
 
+/// The medium joint with `fuse` on the paper's deck at 2.5 s under
+/// Corralitos 090 x 3, detailed and as its link (from the service loops):
+/// the two runs.
+fn with_fuse(fuse: quakejoint_model::config::FuseConfig) -> (RunResult, RunResult) {
+    let link = calibrate(&Scenario::new(medium(1e8, 2.5)).unwrap(), &CalibrationOptions::default()).unwrap().link;
+    let mut detailed = medium(1e8, 2.5);
+    detailed.joint.fuse = Some(fuse);
+    let mut linked = detailed.clone();
+    linked.joint.model = Some(JointKind::Link);
+    linked.joint.link = Some(link);
+    let r = scaled("RSN753_LOMAP_CLS090-hor2.AT2", 3.0);
+    let d = simulate_records(&detailed, &r, None, &RunOptions::default()).unwrap();
+    let l = simulate_records(&linked, &r, None, &RunOptions::default()).unwrap();
+    (d, l)
+}
+
 /// The link with a fuse box against the detailed joint with the same fuse
 /// (the fuse of docs/model.md, "Seismic fuse", on the link's closed
 /// joint: the closed joint's force breaks it, as beam 1's on the edge
@@ -168,9 +184,7 @@ fn a_racking_that_closes_a_cell_at_rest_is_refused() {
 /// stop in both and its friction dissipates the same energy (within 1 %).
 #[test]
 fn the_links_fuse_breaks_as_the_detailed_joints() {
-    let link = calibrate(&Scenario::new(medium(1e8, 2.5)).unwrap(), &CalibrationOptions::default()).unwrap().link;
-    let mut detailed = medium(1e8, 2.5);
-    detailed.joint.fuse = Some(quakejoint_model::config::FuseConfig {
+    let (d, l) = with_fuse(quakejoint_model::config::FuseConfig {
         kind: quakejoint_model::config::FuseKind::Box,
         break_force: 3e5,
         stroke: Some(0.3),
@@ -179,12 +193,6 @@ fn the_links_fuse_breaks_as_the_detailed_joints() {
         mu: 0.15,
         mass: None,
     });
-    let mut linked = detailed.clone();
-    linked.joint.model = Some(JointKind::Link);
-    linked.joint.link = Some(link);
-    let r = scaled("RSN753_LOMAP_CLS090-hor2.AT2", 3.0);
-    let d = simulate_records(&detailed, &r, None, &RunOptions::default()).unwrap();
-    let l = simulate_records(&linked, &r, None, &RunOptions::default()).unwrap();
     let (fd, fl) = (d.joints[0].fuse.unwrap(), l.joints[0].fuse.unwrap());
     eprintln!("detailed {fd:?}\nlink     {fl:?}");
     assert!(fd.broke && fl.broke);
@@ -203,24 +211,15 @@ fn the_links_fuse_breaks_as_the_detailed_joints() {
 /// with the contacts' energy as the beam left.
 #[test]
 fn the_links_fuse_element_leaves_as_the_detailed_joints() {
-    let link = calibrate(&Scenario::new(medium(1e8, 2.5)).unwrap(), &CalibrationOptions::default()).unwrap().link;
-    let mut detailed = medium(1e8, 2.5);
-    let beam = detailed.joint.center_beams.div_ceil(2);
-    detailed.joint.fuse = Some(quakejoint_model::config::FuseConfig {
+    let (d, l) = with_fuse(quakejoint_model::config::FuseConfig {
         kind: quakejoint_model::config::FuseKind::Element,
         break_force: 3e5,
         stroke: None,
-        beam: Some(beam),
+        beam: Some(5),
         ramp_deg: 0.0,
         mu: quakejoint_model::config::DEFAULT_FUSE_MU,
         mass: None,
     });
-    let mut linked = detailed.clone();
-    linked.joint.model = Some(JointKind::Link);
-    linked.joint.link = Some(link);
-    let r = scaled("RSN753_LOMAP_CLS090-hor2.AT2", 3.0);
-    let d = simulate_records(&detailed, &r, None, &RunOptions::default()).unwrap();
-    let l = simulate_records(&linked, &r, None, &RunOptions::default()).unwrap();
     let (fd, fl) = (d.joints[0].fuse.unwrap(), l.joints[0].fuse.unwrap());
     eprintln!(
         "detailed {fd:?} force {:.4e} N sa {:.5} min cell {:?}\nlink     {fl:?} force {:.4e} N sa {:.5} min cell {:?}",

@@ -143,3 +143,22 @@ pub fn run(config: &Config, amplitude: f64) -> Closed {
     assert!(finished);
     Closed { sim, fuse: watch.fuse.map(|f| f.result), peak_deck_force: watch.peak_deck_force }
 }
+
+/// Asserts that `with`, a run whose fuse never broke, is `without`, the
+/// run without one, bit for bit: state, counters and energy balance.
+pub fn assert_same_run(with: Closed, without: Closed) {
+    assert!(without.fuse.is_none() && !with.fuse.unwrap().broke);
+    let (with, without) = (with.sim, without.sim);
+    assert_eq!(
+        (with.time(), with.positions(), with.velocities(), with.stats()),
+        (without.time(), without.positions(), without.velocities(), without.stats())
+    );
+    assert_eq!(with.energy(), without.energy());
+}
+
+/// Asserts that the `strong` fuse broke after the `weak` one in the same
+/// closing, within 5 ms of `by_hand` \[s\].
+pub fn assert_breaks_later(weak: &FuseResult, strong: &FuseResult, by_hand: f64) {
+    assert!(strong.break_time > weak.break_time, "{} s against {} s", strong.break_time, weak.break_time);
+    assert!((strong.break_time - by_hand).abs() < 5e-3, "broke at {} s, by hand {by_hand} s", strong.break_time);
+}
