@@ -117,7 +117,8 @@ pub fn write_run(path: &Path, provenance: &Provenance, result: &RunResult) -> Re
         attr_str(file, "method", if result.exact_linear { "exact linear, without the joint" } else { "multibody" })?;
         write_validity(file, &result.validity)?;
         if let Some(p) = result.pounding.peak_contact_place {
-            attr_str(file, "peak_contact_place", &p.describe())?;
+            let released = result.joints.first().and_then(|j| j.fuse).and_then(|f| f.released());
+            attr_str(file, "peak_contact_place", &p.describe_after(released, result.pounding.peak_contact_time))?;
         }
         let res = file.create_group("result")?;
         for (name, value, units) in result.scalars() {

@@ -105,12 +105,35 @@ pub struct ContactPlace {
 impl ContactPlace {
     /// The sub-gap in words.
     pub fn describe(&self) -> String {
+        self.describe_after(None, 0.0)
+    }
+
+    /// The sub-gap in words at `t` \[s\], once a fuse element's beam left
+    /// the plane (`released`: the beam, 1 to `Nc`, and when \[s\]): its
+    /// merged cell's sides.
+    pub fn describe_after(&self, released: Option<(usize, f64)>, t: f64) -> String {
         let side = if self.end == 0 { "y = -L/2" } else { "y = +L/2" };
-        match self.gap {
-            0 => format!("the abutment's edge beam and center beam 1 (end {side})"),
-            g if g == self.center_beams => format!("center beam {g} and the deck's edge beam (end {side})"),
-            g => format!("center beams {g} and {} (end {side})", g + 1),
-        }
+        format!("{} (end {side})", cell_words(self.gap, self.center_beams, released, t))
+    }
+}
+
+/// Cell `gap` (0 at the abutment) of a joint of `nc` center beams at `t`
+/// \[s\] in words: the two sides it lies between, or, once a fuse
+/// element's beam left the plane (`released`: the beam, 1 to `nc`, and
+/// when \[s\]), its merged cell's.
+pub fn cell_words(gap: usize, nc: usize, released: Option<(usize, f64)>, t: f64) -> String {
+    let between = |l: usize, r: usize| match (l, r) {
+        (0, r) if r > nc => "the abutment's edge beam and the deck's edge beam".to_string(),
+        (0, r) => format!("the abutment's edge beam and center beam {r}"),
+        (l, r) if r > nc => format!("center beam {l} and the deck's edge beam"),
+        (l, r) => format!("center beams {l} and {r}"),
+    };
+    match released {
+        Some((k, at)) if t >= at && (gap + 1 == k || gap == k) => format!(
+            "{} (one cell since center beam {k} left the plane at t = {at:.3} s, its sub-gaps each half of it)",
+            between(k - 1, k + 1)
+        ),
+        _ => between(gap, gap + 1),
     }
 }
 

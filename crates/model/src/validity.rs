@@ -267,20 +267,7 @@ impl Monitor {
     /// lies between, or, once a fuse element's beam left the plane, its
     /// merged cell's.
     fn cell(&self, s: usize, t: f64) -> String {
-        let nc = self.geometry.center_beams;
-        let between = |l: usize, r: usize| match (l, r) {
-            (0, r) if r > nc => "the abutment's edge beam and the deck's edge beam".to_string(),
-            (0, r) => format!("the abutment's edge beam and center beam {r}"),
-            (l, r) if r > nc => format!("center beam {l} and the deck's edge beam"),
-            (l, r) => format!("center beams {l} and {r}"),
-        };
-        match self.released {
-            Some((k, at)) if t >= at && (s + 1 == k || s == k) => format!(
-                "{} (one cell since center beam {k} left the plane at t = {at:.3} s, its sub-gaps each half of it)",
-                between(k - 1, k + 1)
-            ),
-            _ => between(s, s + 1),
-        }
+        crate::generator::cell_words(s, self.geometry.center_beams, self.released, t)
     }
 
     /// Checks a contact's penetration `depth` \[m\] at `t` (contact number

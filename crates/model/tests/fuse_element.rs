@@ -130,3 +130,17 @@ fn a_service_loop_that_would_break_the_fuse_is_refused() {
     assert!(e.contains("service.amplitude") && e.contains("0.16"), "{e}");
     assert!(with(0.05).is_ok());
 }
+
+/// A contact of a fuse element's merged cell is named by the cell's sides
+/// after the beam left, by its own before.
+#[test]
+fn a_merged_cells_contact_is_named_by_its_sides() {
+    let place = quakejoint_model::generator::ContactPlace { gap: 0, end: 0, center_beams: 3 };
+    let released = Some((1, 3.5));
+    assert_eq!(place.describe_after(released, 3.4), "the abutment's edge beam and center beam 1 (end y = -L/2)");
+    let after = place.describe_after(released, 3.6);
+    assert!(after.starts_with("the abutment's edge beam and center beam 2 (one cell since center beam 1"), "{after}");
+    let deck = quakejoint_model::generator::ContactPlace { gap: 3, end: 1, center_beams: 3 };
+    assert!(deck.describe_after(Some((3, 1.0)), 2.0).starts_with("center beam 2 and the deck's edge beam"));
+    assert_eq!(deck.describe(), "center beam 3 and the deck's edge beam (end y = +L/2)");
+}

@@ -309,7 +309,8 @@ fn joint_lines(config: &Config, j: &JointResult, several: bool) {
         out!("  impacts                       {:>12} (beam ends)", p.impacts);
         out!("  peak contact force            {:>12.1} N at t = {:.3} s", p.peak_contact_force, p.peak_contact_time);
         if let Some(place) = p.peak_contact_place {
-            out!("    between {}", place.describe());
+            let released = j.fuse.and_then(|f| f.released());
+            out!("    between {}", place.describe_after(released, p.peak_contact_time));
         }
         out!(
             "  closed joint on the deck      {:>12.1} N (peak, through the deck's edge beam)",

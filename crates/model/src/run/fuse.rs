@@ -213,6 +213,8 @@ pub struct FuseResult {
     /// What kind of fuse (a fuse element has no stroke: its stroke's
     /// values are NaN in every output).
     pub kind: FuseKind,
+    /// A fuse element's beam, 1 to `Nc` (0 for a box).
+    pub beam: usize,
     /// Whether it broke.
     pub broke: bool,
     /// When \[s\] (NaN: it did not).
@@ -248,6 +250,12 @@ pub const FUSE_FIELDS: [Described; 7] = [
 ];
 
 impl FuseResult {
+    /// A fuse element that left the plane: its beam (1 to `Nc`) and when
+    /// \[s\] (none for a box or an element that held).
+    pub fn released(&self) -> Option<(usize, f64)> {
+        (self.kind == FuseKind::Element && self.broke).then_some((self.beam, self.break_time))
+    }
+
     /// The values of [`FUSE_FIELDS`] for a joint's fuse (NaN without one).
     pub fn values(fuse: Option<&FuseResult>) -> [f64; 7] {
         let Some(f) = fuse else { return [f64::NAN; 7] };
@@ -307,7 +315,9 @@ impl FuseWatch {
             Fuse::Box(f) => {
                 Self { lift: f.lift, resistance: f.resistance, v_eps: f.v_eps, law: f.friction_law, ..watch }
             }
-            Fuse::Element(_) => Self { result: FuseResult { kind: FuseKind::Element, ..unbroken }, ..watch },
+            Fuse::Element(e) => {
+                Self { result: FuseResult { kind: FuseKind::Element, beam: e.beam, ..unbroken }, ..watch }
+            }
         })
     }
 
