@@ -197,9 +197,9 @@ def figure(src, window=None, in_g=False):
                 # the beam's width more)
                 excess = wide - cap
                 element = s["fuse"][2] if s.get("fuse") else None
-                if element is not None and element[0] < len(wide):
+                after = t >= s["fuse"][0] if s.get("fuse") else np.zeros(len(t), bool)
+                if element is not None and element[0] < len(wide) and after.any():
                     k, w = element
-                    after = t >= s["fuse"][0]
                     excess[k - 1:k + 1, after] -= 0.5 * w
                     axg.hlines(1e3 * (cap + 0.5 * w), t[after][0], t[-1], color="tab:red", lw=1.0, ls=":",
                                label=f"sub-gaps {k}, {k + 1} after: {1e3 * (cap + 0.5 * w):.0f} mm")

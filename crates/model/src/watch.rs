@@ -21,7 +21,8 @@ pub(crate) struct Gaps {
     far: Option<usize>,
     /// x coordinate of the abutment's edge beam once its fuse broke
     edge: Option<usize>,
-    /// A fuse element's beam (index into `beams`) once it left the plane
+    /// A fuse element's beam (index into `beams`) once it left the plane:
+    /// cells `released` and `released + 1` are one
     released: Option<usize>,
     x: Vec<f64>,
     phi: Vec<f64>,
@@ -79,9 +80,13 @@ impl Gaps {
     /// and the validity limits if a monitor is given.
     pub fn check(&mut self, t: f64, q: &[f64], u: f64, monitor: Option<&mut Monitor>) {
         let equal = self.fill(q, u);
-        for &[a, b] in &self.ends {
+        // (the joists keep every beam where they would, the released one's
+        // place too: a merged cell's halves each have half its width more)
+        let merged = self.released.map(|k| [k, k + 1]);
+        for (s, &[a, b]) in self.ends.iter().enumerate() {
             self.min = self.min.min(a.min(b));
             self.max = self.max.max(a.max(b));
+            let equal = equal + if merged.is_some_and(|m| m.contains(&s)) { 0.5 * self.geometry.width } else { 0.0 };
             self.deviation = self.deviation.max((a - equal).abs().max((b - equal).abs()));
         }
         if let Some(m) = monitor {
@@ -105,10 +110,7 @@ impl Gaps {
             self.smallest.push(a.min(b));
             self.largest.push(a.max(b));
         }
-        // (the beams in the plane and the edge beams' halves take their
-        // widths; the cells share the rest)
-        let widths = (self.geometry.center_beams + 1 - usize::from(self.released.is_some())) as f64;
-        (self.geometry.gap + u - u0 - widths * self.geometry.width) / (self.geometry.center_beams + 1) as f64
+        (self.geometry.gap + u - u0) / (self.geometry.center_beams + 1) as f64 - self.geometry.width
     }
 }
 

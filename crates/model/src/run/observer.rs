@@ -252,8 +252,9 @@ impl EarthquakeObserver {
             Some(Watched::Beam { beam, room, energy }) => {
                 fuse.released(energy);
                 if let Some(l) = &mut self.link {
-                    // (its cells gained the beam's width)
-                    l.room = room;
+                    // (its gap closes the beam's width later; the joists keep
+                    // the other cells where they were)
+                    l.parts.gap += room;
                 }
                 if let Some(g) = &mut self.gaps {
                     g.release_beam(beam - 1);
@@ -560,8 +561,14 @@ impl EarthquakeObserver {
         };
         self.joint_force.update(on_deck, at.t);
         if let Some(f) = self.fuse.as_ref().filter(|_| !self.abutment_links.is_empty()) {
-            let force = f.result.break_force;
-            self.abutment_update(at, -force, asm, ws);
+            // (a box's edge beam takes the break force to the abutment; an
+            // element's beam takes its force off its neighbours, and the
+            // abutment has the edge cell's, just loaded above)
+            let pushed = match f.result.kind {
+                crate::config::FuseKind::Box => -f.result.break_force,
+                crate::config::FuseKind::Element => self.contacts.as_ref().map_or(0.0, |c| c.far_push()),
+            };
+            self.abutment_update(at, pushed, asm, ws);
         }
     }
 }
@@ -618,10 +625,6 @@ pub(super) struct LinkObserver {
     scratch: Option<quakejoint_solver::StateBuffer>,
     /// The opening at the end of the last step \[m\].
     step_u: f64,
-    /// The closing travel a fuse element gave the joint as it left (0
-    /// before) \[m\]: the link's cells and gap see the opening as this much
-    /// wider.
-    pub(super) room: f64,
 }
 
 impl LinkObserver {
@@ -640,7 +643,6 @@ impl LinkObserver {
             u: 0.0,
             scratch: None,
             step_u: 0.0,
-            room: 0.0,
         })
     }
 
@@ -651,7 +653,7 @@ impl LinkObserver {
     /// then at its end. Elsewhere the output times watch it.
     fn step(&mut self, view: &mut StepView<'_>, peak: &mut Peak) {
         let closed = |u: f64, gap: f64| u + gap < 0.0;
-        let u_end = view.q[self.deck] - self.abutment.map_or(0.0, |c| view.q[c]) + self.room;
+        let u_end = view.q[self.deck] - self.abutment.map_or(0.0, |c| view.q[c]);
         let u_start = std::mem::replace(&mut self.step_u, u_end);
         if !(closed(u_start, self.parts.gap) || closed(u_end, self.parts.gap)) || view.t <= view.t_prev {
             return;
@@ -684,9 +686,8 @@ impl LinkObserver {
         on_deck
     }
 
-    /// At the state `(q, v)`: the opening (with a left fuse element's room)
-    /// \[m\], the closed gap's force and the link's whole force on the deck
-    /// \[N\].
+    /// At the state `(q, v)`: the opening \[m\], the closed gap's force and
+    /// the link's whole force on the deck \[N\].
     fn forces(
         &mut self,
         q: &[f64],
@@ -694,7 +695,7 @@ impl LinkObserver {
         asm: &Assembly,
         ws: &mut quakejoint_solver::Workspace,
     ) -> (f64, f64, f64) {
-        let u = q[self.deck] - self.abutment.map_or(0.0, |c| q[c]) + self.room;
+        let u = q[self.deck] - self.abutment.map_or(0.0, |c| q[c]);
         let gap = match self.parts.contact {
             Some(i) => {
                 self.contacts.resize(asm.contact_count(), Default::default());
