@@ -252,9 +252,11 @@ impl EarthquakeObserver {
             Some(Watched::Beam { beam, room, energy }) => {
                 fuse.released(energy);
                 if let Some(l) = &mut self.link {
-                    // (its gap closes the beam's width later; the joists keep
-                    // the other cells where they were)
+                    // (its gap closes the beam's width later, one cell fewer
+                    // in series; the joists keep the other cells where they
+                    // were)
                     l.parts.gap += room;
+                    l.in_series -= 1;
                 }
                 if let Some(g) = &mut self.gaps {
                     g.release_beam(beam - 1);
@@ -625,6 +627,9 @@ pub(super) struct LinkObserver {
     scratch: Option<quakejoint_solver::StateBuffer>,
     /// The opening at the end of the last step \[m\].
     step_u: f64,
+    /// The cells the closed joint squeezes in series (one fewer once a
+    /// fuse element's beam left).
+    in_series: usize,
 }
 
 impl LinkObserver {
@@ -633,6 +638,7 @@ impl LinkObserver {
         let deck = asm.coordinate(parts.deck, quakejoint_solver::Coord::X)?;
         let slider = asm.coordinate(parts.slider, quakejoint_solver::Coord::X)?;
         let abutment = asm.coordinate(parts.abutment, quakejoint_solver::Coord::X);
+        let in_series = parts.cells;
         Some(Self {
             parts,
             contacts: Vec::new(),
@@ -643,6 +649,7 @@ impl LinkObserver {
             u: 0.0,
             scratch: None,
             step_u: 0.0,
+            in_series,
         })
     }
 
@@ -731,7 +738,7 @@ impl LinkObserver {
             peak_contact_force: w.peak_gap_force,
             peak_contact_time: w.peak_gap_time,
             peak_deck_contact_force: w.peak_gap_force,
-            max_penetration: w.max_overlap / self.parts.cells as f64,
+            max_penetration: w.max_overlap / self.in_series as f64,
             // (a link's closure is no one beam's impact)
             max_impact_speed: f64::NAN,
             ..Pounding::default()
