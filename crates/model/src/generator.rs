@@ -117,6 +117,13 @@ impl ContactPlace {
     }
 }
 
+/// Whether cell `gap` (0 at the abutment) is one of the two cells of
+/// center beam `beam` (1 to `Nc`): one cell once a fuse element's beam
+/// left the plane.
+pub(crate) fn beside(beam: usize, gap: usize) -> bool {
+    gap + 1 == beam || gap == beam
+}
+
 /// Cell `gap` (0 at the abutment) of a joint of `nc` center beams at `t`
 /// \[s\] in words: the two sides it lies between, or, once a fuse
 /// element's beam left the plane (`released`: the beam, 1 to `nc`, and
@@ -129,7 +136,7 @@ pub fn cell_words(gap: usize, nc: usize, released: Option<(usize, f64)>, t: f64)
         (l, r) => format!("center beams {l} and {r}"),
     };
     match released {
-        Some((k, at)) if t >= at && (gap + 1 == k || gap == k) => format!(
+        Some((k, at)) if t >= at && beside(k, gap) => format!(
             "{} (one cell since center beam {k} left the plane at t = {at:.3} s, its sub-gaps each half of it)",
             between(k - 1, k + 1)
         ),

@@ -329,10 +329,10 @@ impl Monitor {
         }
         // (a fuse element's merged cell: two cells' capacities and the
         // place of the beam that left, half of it each)
-        let merged = self.released.map(|(k, _)| [k - 1, k]);
         let width = self.geometry.width;
         for (s, &gap) in largest.iter().enumerate().skip(usize::from(self.edge_free)) {
-            let place = if merged.is_some_and(|m| m.contains(&s)) { 0.5 * width } else { 0.0 };
+            let merged = self.released.is_some_and(|(k, _)| crate::generator::beside(k, s));
+            let place = if merged { 0.5 * width } else { 0.0 };
             take(1, gap - self.max_subgap - place, s);
         }
         let g = &self.geometry;
@@ -428,7 +428,7 @@ impl Monitor {
             v.flags |= Flags::CAPACITY_EXCEEDED;
             let between = self.cell(c.place, c.at);
             // (a merged cell's half has its share of the beam's place)
-            let merged = self.released.is_some_and(|(k, at)| c.at >= at && (c.place + 1 == k || c.place == k));
+            let merged = self.released.is_some_and(|(k, at)| c.at >= at && crate::generator::beside(k, c.place));
             let capacity = self.max_subgap + if merged { 0.5 * self.geometry.width } else { 0.0 };
             v.findings.push(format!(
                 "capacity_exceeded: the clear sub-gap between {between} opened to {:.1} mm at t = {:.3} s, {:.1} mm \

@@ -82,11 +82,11 @@ impl Gaps {
         let equal = self.fill(q, u);
         // (the joists keep every beam where they would, the released one's
         // place too: a merged cell's halves each have half its width more)
-        let merged = self.released.map(|k| [k, k + 1]);
         for (s, &[a, b]) in self.ends.iter().enumerate() {
             self.min = self.min.min(a.min(b));
             self.max = self.max.max(a.max(b));
-            let equal = equal + if merged.is_some_and(|m| m.contains(&s)) { 0.5 * self.geometry.width } else { 0.0 };
+            let merged = self.released.is_some_and(|i| crate::generator::beside(i + 1, s));
+            let equal = equal + if merged { 0.5 * self.geometry.width } else { 0.0 };
             self.deviation = self.deviation.max((a - equal).abs().max((b - equal).abs()));
         }
         if let Some(m) = monitor {

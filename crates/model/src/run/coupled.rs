@@ -8,7 +8,7 @@ use std::time::Instant as Clock;
 use quakejoint_motion::Record;
 use quakejoint_solver::{Assembly, AssemblyOptions, Observer, Radau5, SolverError, StepView, TimeSeries};
 
-use super::observer::{EarthquakeObserver, Peak, Watched};
+use super::observer::{EarthquakeObserver, Peak};
 use super::{
     check_run_length, integrator_options, run_duration, series, window_to, FarSegment, JointResult, ProgressFn,
     RunOptions, RunResult, Transverse,
@@ -345,19 +345,7 @@ impl crate::run::fuse::FuseObserver for Observers {
 
     fn resumed(&mut self, asm: &Assembly, freed: &[(usize, crate::run::fuse::Freed)]) -> Result<(), ModelError> {
         for (k, j) in self.joints.iter_mut().enumerate() {
-            let watched = match freed.iter().find(|(b, _)| *b == k).map(|(_, f)| *f) {
-                Some(crate::run::fuse::Freed::Edge(parts)) => {
-                    let coord = asm
-                        .coordinate(parts.edge, quakejoint_solver::Coord::X)
-                        .ok_or_else(|| ModelError::Geometry("the freed edge beam has no x coordinate".to_string()))?;
-                    Some(Watched::Edge(coord, parts))
-                }
-                Some(crate::run::fuse::Freed::Beam { beam, room, energy }) => {
-                    Some(Watched::Beam { beam, room, energy })
-                }
-                None => None,
-            };
-            j.resumed(asm, watched);
+            j.resumed(asm, freed.iter().find(|(b, _)| *b == k).map(|(_, f)| *f))?;
         }
         Ok(())
     }

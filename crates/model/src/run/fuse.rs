@@ -74,9 +74,9 @@ pub fn run_with_fuses(
     for fuse in fuses.iter().flatten() {
         sim.set_force_threshold(fuse.threshold_contacts(), fuse.break_force())?;
     }
+    // (each broken fuse's joint, and the elastic energy its contacts held
+    // as a fuse element's beam left)
     let mut broken = Vec::new();
-    // (the elastic energy each broken fuse element's contacts held)
-    let mut released = Vec::new();
     loop {
         if sim.run(t_end, observer)? {
             return Ok((sim, true));
@@ -88,18 +88,12 @@ pub fn run_with_fuses(
                 Some(Fuse::Box(_)) => 0.0,
                 None => continue,
             };
-            broken.push(k);
-            released.push(energy);
+            broken.push((k, energy));
         }
         if broken.len() == before {
             return Ok((sim, false));
         }
-        let (sys, mut freed) = broken_system(model, &broken);
-        for ((_, f), &e) in freed.iter_mut().zip(&released) {
-            if let Freed::Beam { energy, .. } = f {
-                *energy = e;
-            }
-        }
+        let (sys, freed) = broken_system(model, &broken);
         let asm = Arc::new(Assembly::new(&sys, &AssemblyOptions::default())?);
         sim = Radau5::resume(asm.clone(), options.clone(), &sim)?;
         observer.resumed(&asm, &freed)?;
@@ -107,14 +101,16 @@ pub fn run_with_fuses(
 }
 
 /// The system of `model` with the fuses of its joints `broken` (indices
-/// into [`JointModel::joints`], in the order they broke) broken, in which
+/// into [`JointModel::joints`], in the order they broke, each with the
+/// elastic energy \[J\] its contacts held as a fuse element's beam left)
+/// broken, in which
 /// the run resumes ([`quakejoint_solver::Radau5::resume`]): a fuse box
 /// appends its freed edge beam and that beam's elements after everything
 /// else and moves center beam 1's contacts onto it; a fuse element's
 /// contacts become its neighbours' across the merged cell and contacts that
 /// never close. Returns the system and, for each broken fuse's joint, what
-/// it freed (a fuse element's energy 0: the run's to fill in).
-pub fn broken_system(model: &JointModel, broken: &[usize]) -> (System, Vec<(usize, Freed)>) {
+/// it freed.
+pub fn broken_system(model: &JointModel, broken: &[(usize, f64)]) -> (System, Vec<(usize, Freed)>) {
     let mut sys = model.system.clone();
     let joints: Vec<&JointModel> = model.joints().collect();
     if joints.len() == 1 {
@@ -128,7 +124,7 @@ pub fn broken_system(model: &JointModel, broken: &[usize]) -> (System, Vec<(usiz
     }
     let mut contacts = sys.forces().iter().filter(|(_, f)| matches!(f, ForceElement::Contact(_))).count();
     let mut freed = Vec::with_capacity(broken.len());
-    for &k in broken {
+    for &(k, energy) in broken {
         let Some(jm) = joints.get(k) else { continue };
         match &jm.fuse {
             Some(Fuse::Box(fuse)) => {
@@ -140,7 +136,7 @@ pub fn broken_system(model: &JointModel, broken: &[usize]) -> (System, Vec<(usiz
                 for (id, c) in &e.replaced {
                     *sys.force_mut(*id) = ForceElement::Contact(c.clone());
                 }
-                freed.push((k, Freed::Beam { beam: e.beam, room: e.room, energy: 0.0 }));
+                freed.push((k, Freed::Beam { beam: e.beam, room: e.room, energy }));
             }
             None => {}
         }

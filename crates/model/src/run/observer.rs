@@ -12,6 +12,7 @@ use super::Histories;
 use crate::error::ModelError;
 use crate::generator::{Bridge, JointModel};
 use crate::pounding::{ContactWatch, Pounding};
+use crate::run::fuse::Freed;
 use crate::validity::Monitor;
 use crate::watch::{Gaps, DENSE_OUTPUT};
 
@@ -38,16 +39,6 @@ impl Peak {
             self.time = t;
         }
     }
-}
-
-/// What a joint's broken fuse freed, as its observer watches it: a fuse
-/// box's edge beam (its x coordinate and parts), or a fuse element's beam
-/// (1 to `Nc`) with the closing travel the joint gained \[m\] and the
-/// energy its contacts held as it left \[J\].
-#[derive(Debug, Clone, Copy)]
-pub(super) enum Watched {
-    Edge(usize, crate::run::fuse::FreedParts),
-    Beam { beam: usize, room: f64, energy: f64 },
 }
 
 /// Evaluates the reported quantities at the output times.
@@ -219,7 +210,7 @@ impl EarthquakeObserver {
     /// Goes on watching in `asm`, the system with fuses broken: its scratch
     /// sized for it, its own group's peaks apart from a freed beam's
     /// friction, and, if its own fuse is among them, what it freed.
-    pub(super) fn resumed(&mut self, asm: &Assembly, freed: Option<Watched>) {
+    pub(super) fn resumed(&mut self, asm: &Assembly, freed: Option<Freed>) -> Result<(), ModelError> {
         self.state = quakejoint_solver::StateBuffer::new(asm);
         if let Some(l) = &mut self.link {
             l.scratch = None;
@@ -234,9 +225,12 @@ impl EarthquakeObserver {
             self.joint_groups = 1;
             self.own = quakejoint_solver::ForceExtremes { bushing: self.bushing, friction: self.friction };
         }
-        let Some(fuse) = &mut self.fuse else { return };
+        let Some(fuse) = &mut self.fuse else { return Ok(()) };
         match freed {
-            Some(Watched::Edge(coord, parts)) => {
+            Some(Freed::Edge(parts)) => {
+                let coord = asm
+                    .coordinate(parts.edge, quakejoint_solver::Coord::X)
+                    .ok_or_else(|| ModelError::Geometry("the freed edge beam has no x coordinate".to_string()))?;
                 fuse.freed(coord, parts);
                 if let Some(l) = &mut self.link {
                     // (its cells now end at the freed edge beam)
@@ -249,7 +243,7 @@ impl EarthquakeObserver {
                     m.free_edge();
                 }
             }
-            Some(Watched::Beam { beam, room, energy }) => {
+            Some(Freed::Beam { beam, room, energy }) => {
                 fuse.released(energy);
                 if let Some(l) = &mut self.link {
                     // (its gap closes the beam's width later, one cell fewer
@@ -267,6 +261,7 @@ impl EarthquakeObserver {
             }
             None => {}
         }
+        Ok(())
     }
 
     /// The sub-gaps and the validity limits at time `t` (positions `q`).
